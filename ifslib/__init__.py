@@ -1,0 +1,27 @@
+"""ifslib: differentiable iterated function systems.
+
+The paper's pipeline, one module a step::
+
+    JSON / pattern -> IFS -> maps -> leaves -> nearest leaf -> distance -> render / loss -> fit -> IFS
+
+Typical use::
+
+    import ifslib
+    ifs = ifslib.patterns.koch(depth=4)
+    image = ifslib.render(ifs, 256)            # (256, 256) tensor in [0, 1], differentiable
+"""
+from . import patterns
+from .distance import distance_field
+from .errors import IFSError
+from .ifs import IFS
+from .io import load_ifs, save_ifs
+from .leaves import expand
+from .nearest import nearest_leaf, pixel_centres
+from .primitives import Primitive
+from .render import default_sigma, render
+from .rules import Rule, rule_maps
+
+__version__ = "0.1.0"
+
+__all__ = ["IFS", "IFSError", "Primitive", "Rule", "default_sigma", "distance_field", "expand", "load_ifs",
+           "nearest_leaf", "patterns", "pixel_centres", "render", "rule_maps", "save_ifs"]

@@ -1,0 +1,173 @@
+"""The IFS object: control points, symmetry rules, primitives and a depth, validated.
+
+An `IFS` is what the paper calls ``(P, L, D)`` plus the recursion depth ``K``. Its ``points`` are a
+leaf tensor that requires grad: fitting moves them. `IFS.maps` builds the rules' matrices from them.
+"""
+from __future__ import annotations
+
+import copy
+import math
+from typing import Any, Iterable, Sequence
+
+import torch
+
+from .errors import IFSError
+from .primitives import Primitive
+from .rules import Rule, check_gradient_mode, check_rule_lengths, map_scales, rule_maps
+
+
+def _as_rule(rule: Rule | dict) -> Rule:
+    if isinstance(rule, Rule):
+        return rule
+    return Rule(rule["kind"], tuple(rule["from"]), tuple(rule["to"]))
+
+
+def _as_primitive(prim: Primitive | dict) -> Primitive:
+    if isinstance(prim, Primitive):
+        return prim
+    return Primitive(prim["kind"], tuple(prim["points"]), prim.get("radius", 0.0))
+
+
+class IFS:
+    """An iterated function system defined on control points.
+
+    Parameters
+    ----------
+    points : array-like
+        Control points, ``(n, 2)``, in plane units (the image plane is ``[-0.5, 0.5]^2``).
+    rules : sequence of Rule (or dicts with ``kind``, ``from``, ``to``)
+        The ``m`` symmetry rules; each makes one map.
+    primitives : sequence of Primitive (or dicts with ``kind``, ``points``, ``radius``)
+        The shapes drawn at the leaves.
+    depth : int
+        Number of Hutchinson steps ``K`` (0 draws the primitives as they are).
+    name : str
+        A label, saved in the JSON file.
+    fixed : iterable of int
+        Indices of control points that fitting must not move.
+    sigma : float, optional
+        Rendering width in plane units; `ifslib.render` uses it when given no ``sigma``.
+    meta : dict, optional
+        Free-form metadata (a fit's history, say), saved in the JSON file.
+    dtype : torch.dtype
+        Floating type of ``points`` (float32 by default; float64 on request).
+
+    Raises
+    ------
+    IFSError
+        On a bad shape, a NaN point, an out-of-range index or a negative depth.
+    """
+
+    def __init__(self, points: Any, rules: Sequence[Rule | dict], primitives: Sequence[Primitive | dict],
+                 depth: int = 3, name: str = "", fixed: Iterable[int] = (), sigma: float | None = None,
+                 meta: dict | None = None, dtype: torch.dtype = torch.float32) -> None:
+        pts = torch.as_tensor(points.detach() if isinstance(points, torch.Tensor) else points, dtype=dtype)
+        self.points = pts.clone().requires_grad_(True)
+        self.rules = [_as_rule(r) for r in rules]
+        self.primitives = [_as_primitive(p) for p in primitives]
+        self.depth = depth
+        self.name = str(name)
+        self.fixed = tuple(sorted(set(int(i) for i in fixed)))
+        self.sigma = None if sigma is None else float(sigma)
+        self.meta = dict(meta or {})
+        self.validate()
+
+    # -- checks --------------------------------------------------------------------------------
+    def validate(self) -> None:
+        """Check shapes, indices, finiteness and depth; raise `IFSError` naming the problem."""
+        pts = self.points
+        if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] == 0:
+            raise IFSError(f"points must have shape (n, 2) with n >= 1, got {tuple(pts.shape)}")
+        if not pts.dtype.is_floating_point:
+            raise IFSError(f"points must be floating point, got {pts.dtype}")
+        bad = (~torch.isfinite(pts.detach())).any(dim=1).nonzero().flatten().tolist()
+        if bad:
+            raise IFSError(f"control point(s) {bad} are not finite (NaN or inf): {pts.detach()[bad].tolist()}")
+        n = pts.shape[0]
+        if not self.rules:
+            raise IFSError("an IFS needs at least one rule")
+        if not self.primitives:
+            raise IFSError("an IFS needs at least one primitive")
+        for i, rule in enumerate(self.rules):
+            for j in rule.source + rule.target:
+                if not 0 <= j < n:
+                    raise IFSError(f"rule {i} uses point index {j}, out of range for {n} points (0..{n - 1})")
+        for i, prim in enumerate(self.primitives):
+            for j in prim.points:
+                if not 0 <= j < n:
+                    raise IFSError(f"primitive {i} uses point index {j}, out of range for {n} points (0..{n - 1})")
+        for j in self.fixed:
+            if not 0 <= j < n:
+                raise IFSError(f"fixed point index {j} is out of range for {n} points (0..{n - 1})")
+        check_depth(self.depth)
+        if self.sigma is not None and not (self.sigma > 0 and math.isfinite(self.sigma)):
+            raise IFSError(f"sigma must be a finite number > 0, got {self.sigma!r}")
+
+    def check_contractive(self, depth: int | None = None, maps: torch.Tensor | None = None) -> None:
+        """Raise `IFSError` if a rule's scale is >= 1 while ``depth`` > 0 (no attractor then)."""
+        depth = self.depth if depth is None else depth
+        if depth == 0:
+            return
+        scales = map_scales(self.maps() if maps is None else maps).detach()
+        for i, s in enumerate(scales.tolist()):
+            if not s < 1:
+                raise IFSError(f"rule {i} ({self.rules[i].kind}) is not contractive: its scale is {s:.4g} >= 1, "
+                               f"so depth {depth} > 0 has no attractor to converge to")
+
+    # -- maps ----------------------------------------------------------------------------------
+    def maps(self, gradient: str = "exact") -> torch.Tensor:
+        """The rules' maps as ``(m, 3, 3)`` homogeneous matrices, differentiable in ``points``.
+
+        Parameters
+        ----------
+        gradient : {"exact", "paper"}
+            ``"paper"`` cuts the gradient through segment rules' rotations, as the paper's code did.
+        """
+        self.validate()
+        return rule_maps(self.points, self.rules, gradient)
+
+    def scales(self) -> torch.Tensor:
+        """Contraction factor of each rule, ``(m,)`` (no gradient)."""
+        return map_scales(self.maps().detach())
+
+    @property
+    def n_points(self) -> int:
+        """Number of control points ``n``."""
+        return self.points.shape[0]
+
+    def n_leaves(self, depth: int | None = None) -> int:
+        """Number of leaf shapes at ``depth``: ``m**depth * len(primitives)``."""
+        depth = self.depth if depth is None else check_depth(depth)
+        return len(self.rules) ** depth * len(self.primitives)
+
+    # -- copies --------------------------------------------------------------------------------
+    def clone(self, points: Any = None) -> "IFS":
+        """A copy with fresh leaf ``points`` (the given ones, or a copy of these)."""
+        new = copy.copy(self)
+        src = self.points if points is None else torch.as_tensor(points, dtype=self.points.dtype)
+        new.points = src.detach().clone().requires_grad_(True)
+        new.meta = copy.deepcopy(self.meta)
+        new.validate()
+        return new
+
+    def to(self, dtype: torch.dtype) -> "IFS":
+        """A copy whose points have floating type ``dtype``."""
+        new = self.clone()
+        new.points = new.points.detach().to(dtype).requires_grad_(True)
+        return new
+
+    def __repr__(self) -> str:
+        kinds = sorted({r.kind for r in self.rules})
+        prims = sorted({p.kind for p in self.primitives})
+        return (f"IFS(name={self.name!r}, points={self.n_points}, rules={len(self.rules)} {'/'.join(kinds)}, "
+                f"primitives={len(self.primitives)} {'/'.join(prims)}, depth={self.depth})")
+
+
+def check_depth(depth: Any) -> int:
+    """Return ``depth`` if it is an int >= 0, else raise `IFSError`."""
+    if isinstance(depth, bool) or not isinstance(depth, int) or depth < 0:
+        raise IFSError(f"depth must be an integer >= 0, got {depth!r}")
+    return depth
+
+
+__all__ = ["IFS", "Rule", "Primitive", "check_depth", "check_gradient_mode", "check_rule_lengths"]

@@ -1,0 +1,39 @@
+"""Shared helpers for the tests: small random IFSs of every rule and primitive kind."""
+import math
+
+import pytest
+import torch
+
+import ifslib
+
+
+def perturbed(ifs, scale=0.01, seed=0, dtype=torch.float64):
+    """A copy of ``ifs`` with its points jittered by U(-scale, scale), in ``dtype``."""
+    g = torch.Generator().manual_seed(seed)
+    pts = ifs.points.detach().double() + (torch.rand(ifs.points.shape, generator=g, dtype=torch.float64) * 2 - 1) * scale
+    return ifs.to(dtype).clone(pts.to(dtype))
+
+
+def mixed(depth=2, dtype=torch.float64):
+    """Segment rules drawing a thick segment, a disk and a box: every primitive kind, rotations included."""
+    s = math.sqrt(3) / 6
+    points = [[-0.4, -0.1], [-0.1, -0.1], [0.0, -0.1 + 0.8 * s], [0.1, -0.1], [0.4, -0.1],
+              [0.05, 0.2], [-0.2, 0.1], [-0.1, 0.25]]
+    rules = [{"kind": "segment", "from": [0, 4], "to": [i, i + 1]} for i in range(4)]
+    prims = [{"kind": "segment", "points": [0, 4], "radius": 0.01},
+             {"kind": "disk", "points": [5], "radius": 0.06},
+             {"kind": "box", "points": [6, 7]}]
+    return ifslib.IFS(points, rules, prims, depth=depth, dtype=dtype)
+
+
+PATTERNS = {
+    "koch": lambda: ifslib.patterns.koch(),
+    "carpet": lambda: ifslib.patterns.sierpinski_carpet(),
+    "grid2": lambda: ifslib.patterns.grid(2),
+    "mixed": lambda: mixed(),
+}
+
+
+@pytest.fixture(params=sorted(PATTERNS))
+def pattern_name(request):
+    return request.param
