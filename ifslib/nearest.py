@@ -25,7 +25,10 @@ import torch
 from .leaves import Leaves, sdf_pairs
 
 #: Above this many (block, leaf) pairs a level is processed in chunks of blocks.
-MAX_PAIRS = 1 << 22
+MAX_PAIRS = 1 << 20
+#: The walk starts at the deepest level whose blocks x leaves stay within this many pairs: with few
+#: leaves the top levels prune little and cost only per-level overhead.
+START_PAIRS = 1 << 16
 
 
 @dataclass
@@ -87,7 +90,6 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
     top = side.bit_length() - 1
     best_leaf = torch.full((size * size,), -1, dtype=torch.long, device=device)
     best_dist = torch.full((size * size,), math.inf, dtype=dtype, device=device)
-    zero = torch.zeros(1, dtype=torch.long, device=device)
     quad_r = torch.tensor([0, 0, 1, 1], device=device)
     quad_c = torch.tensor([0, 1, 0, 1], device=device)
 
@@ -95,9 +97,16 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
         off = (block - 1) / 2 + 0.5
         return -0.5 + (cols.to(dtype) * block + off) / size, 0.5 - (rows.to(dtype) * block + off) / size
 
+    start = 0
+    while start < top and 4 ** (start + 1) * n_leaves <= START_PAIRS:
+        start += 1
+    grid = torch.arange(1 << start, device=device)
+    rows, cols = grid.repeat_interleave(1 << start), grid.repeat(1 << start)
+    inside = (rows * (side >> start) < size) & (cols * (side >> start) < size)
+    rows, cols = rows[inside], cols[inside]
     # a task: (level, block rows, block cols, pair -> block, pair -> leaf)
-    stack = [(0, zero, zero, torch.zeros(n_leaves, dtype=torch.long, device=device),
-              torch.arange(n_leaves, device=device))]
+    stack = [(start, rows, cols, torch.arange(rows.numel(), device=device).repeat_interleave(n_leaves),
+              torch.arange(n_leaves, device=device).repeat(rows.numel()))]
     evaluated = 0
     while stack:
         level, rows, cols, pair_block, pair_leaf = stack.pop()

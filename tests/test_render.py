@@ -1,0 +1,40 @@
+"""Rendering: range, the sigma default, and the pixel grid of CONVENTIONS.md."""
+import math
+
+import pytest
+import torch
+
+import ifslib
+
+
+def test_pixel_grid_orientation():
+    """A disk in the upper-right quadrant lights rows at the top and columns at the right."""
+    pts = [[0.25, 0.25], [-0.5, -0.5], [0.5, 0.5], [-0.1, -0.1], [0.1, 0.1]]
+    ifs = ifslib.IFS(pts, [{"kind": "square", "from": [1, 2], "to": [3, 4]}], [{"kind": "disk", "points": [0], "radius": 0.05}],
+                     depth=0)
+    img = ifslib.render(ifs, 20).detach()
+    r, c = divmod(int(img.argmax()), 20)
+    assert (r, c) in {(4, 14), (4, 15), (5, 14), (5, 15)}  # pixel (r, c): x = -0.5 + (c + .5)/20, y = 0.5 - (r + .5)/20
+    d = ifslib.distance_field(ifs, 20).detach()
+    x = -0.5 + (15 + 0.5) / 20
+    y = 0.5 - (4 + 0.5) / 20
+    assert d[4, 15].item() == pytest.approx(math.hypot(x - 0.25, y - 0.25) - 0.05, abs=1e-6)
+
+
+def test_render_range_default_sigma_and_override():
+    ifs = ifslib.patterns.koch(depth=2)
+    img = ifslib.render(ifs, 32).detach()
+    assert img.shape == (32, 32) and 0 <= img.min() and img.max() <= 1
+    d = ifslib.distance_field(ifs, 32).detach()
+    torch.testing.assert_close(img, torch.exp(-torch.relu(d) ** 2 * 32 ** 2))  # sigma = one pixel
+    wide = ifslib.render(ifs, 32, sigma=4 / 32).detach()
+    assert wide.sum() > img.sum()
+    ifs.sigma = 4 / 32
+    torch.testing.assert_close(ifslib.render(ifs, 32).detach(), wide)
+    with pytest.raises(ValueError, match="sigma must be a finite number > 0"):
+        ifslib.render(ifs, 32, sigma=0)
+
+
+def test_inside_boxes_render_as_one():
+    img = ifslib.render(ifslib.patterns.grid(2, depth=1), 16).detach()
+    assert img[8, 8] == 1.0 and img[0, 0] < 0.5  # the plane's centre is inside, the corner outside
