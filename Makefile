@@ -22,7 +22,7 @@ test: $(VENV)/.installed  ## run the whole test suite
 	$(PY) -m pytest -q
 
 figures: $(VENV)/.installed  ## render the figures (paper preset; PRESET=ci for the quick run)
-	$(PY) -m ifslib render ifslib:koch --size 512 --depth 6 -o figures/koch.png
+	$(PY) -m ifslib render koch --size 512 --depth 6 -o figures/koch.png
 
 bench: $(VENV)/.installed  ## print the renderer's speed and memory
 	$(PY) benchmarks/render.py

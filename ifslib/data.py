@@ -1,0 +1,66 @@
+"""The paper's target images, resolved by name at run time (never committed to this repository).
+
+`path` looks in the folder named by the ``IFSLIB_DATA`` environment variable first; otherwise it
+uses a cache folder (``IFSLIB_CACHE``, default ``~/.cache/ifslib``), downloading the file on first
+use from the paper's public repository (github.com/cory-b-scott/diff_ifs, ``main`` branch).
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+from .errors import IFSError
+
+NAMES = ("koch", "sierpinski", "apple", "flower")
+BASE_URL = "https://raw.githubusercontent.com/cory-b-scott/diff_ifs/main/"
+
+
+def cache_dir() -> Path:
+    """The download cache: ``$IFSLIB_CACHE`` or ``~/.cache/ifslib``."""
+    return Path(os.environ.get("IFSLIB_CACHE", Path.home() / ".cache" / "ifslib"))
+
+
+def path(name: str, base_url: str | None = None, timeout: float = 30.0) -> Path:
+    """Local path of one of the paper's images (``koch``, ``sierpinski``, ``apple``, ``flower``).
+
+    Parameters
+    ----------
+    name : str
+        Image name, with or without ``.png``.
+    base_url : str, optional
+        Where to download from (``$IFSLIB_DATA_URL`` or the paper's repository by default).
+    timeout : float
+        Seconds to wait for the download.
+
+    Raises
+    ------
+    IFSError
+        Unknown name, or the file is neither in ``IFSLIB_DATA`` nor downloadable.
+    """
+    stem = name[:-4] if name.endswith(".png") else name
+    if stem not in NAMES:
+        raise IFSError(f"unknown image {name!r}; the paper's images are: {', '.join(NAMES)}")
+    filename = f"{stem}.png"
+    folder = os.environ.get("IFSLIB_DATA")
+    if folder and (Path(folder) / filename).is_file():
+        return Path(folder) / filename
+    cached = cache_dir() / filename
+    if cached.is_file():
+        return cached
+    url = (base_url or os.environ.get("IFSLIB_DATA_URL") or BASE_URL).rstrip("/") + "/" + filename
+    try:
+        with urllib.request.urlopen(url, timeout=timeout) as response:
+            payload = response.read()
+    except (urllib.error.URLError, OSError) as exc:
+        where = f"IFSLIB_DATA={folder!r} has no {filename}" if folder else "IFSLIB_DATA is not set"
+        raise IFSError(f"cannot find {filename}: {where}, and downloading {url} failed ({exc}). Either set "
+                       f"IFSLIB_DATA to a folder holding the paper's images, or allow the download.") from None
+    cached.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=cached.parent, suffix=".part")
+    with os.fdopen(fd, "wb") as fh:
+        fh.write(payload)
+    os.replace(tmp, cached)
+    return cached

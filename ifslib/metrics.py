@@ -1,0 +1,70 @@
+"""How good a fit is: IoU and F1 of the masks, symmetric Chamfer distance, control-point error."""
+from __future__ import annotations
+
+import numpy as np
+import torch
+from scipy import ndimage
+
+from .ifs import IFS
+from .targets import Target
+
+
+def figure_mask(ifs: IFS, size: int, depth: int | None = None, sigma: float | None = None) -> np.ndarray:
+    """The fractal's pixels: where its render is >= 0.5 (``(size, size)`` bool)."""
+    from .render import render
+
+    with torch.no_grad():
+        return render(ifs, size, depth, sigma).cpu().numpy() >= 0.5
+
+
+def iou(pred: np.ndarray, true: np.ndarray) -> float:
+    """Intersection over union of two boolean masks (1.0 when both are empty)."""
+    union = np.logical_or(pred, true).sum()
+    return float(np.logical_and(pred, true).sum() / union) if union else 1.0
+
+
+def f1(pred: np.ndarray, true: np.ndarray) -> float:
+    """F1 score (Dice) of a predicted mask against the true one."""
+    total = pred.sum() + true.sum()
+    return float(2 * np.logical_and(pred, true).sum() / total) if total else 1.0
+
+
+def chamfer(pred: np.ndarray, true: np.ndarray) -> float:
+    """Symmetric Chamfer distance in pixels: the mean of the two directed mean distances.
+
+    Each directed term is the mean, over one mask's pixels, of the distance to the other mask's
+    nearest pixel (from `scipy.ndimage.distance_transform_edt`). ``inf`` if one mask is empty.
+    """
+    if not pred.any() or not true.any():
+        return float("inf")
+    to_true = ndimage.distance_transform_edt(~true)
+    to_pred = ndimage.distance_transform_edt(~pred)
+    return float(0.5 * (to_true[pred].mean() + to_pred[true].mean()))
+
+
+def evaluate(ifs: IFS, target: Target, depth: int | None = None, sigma: float | None = None) -> dict[str, float]:
+    """IoU, F1 and Chamfer (pixels) of an IFS's figure against a target."""
+    pred = figure_mask(ifs, target.size, depth, sigma)
+    return {"iou": iou(pred, target.mask), "f1": f1(pred, target.mask), "chamfer": chamfer(pred, target.mask)}
+
+
+def _normalize(points: np.ndarray, a: int, b: int) -> np.ndarray:
+    """Points under the similarity taking point a to (0, 0) and point b to (1, 0)."""
+    z = points[:, 0] + 1j * points[:, 1]
+    w = (z - z[a]) / (z[b] - z[a])
+    return np.stack([w.real, w.imag], 1)
+
+
+def point_error(ifs: IFS, reference: IFS) -> float:
+    """Control-point error against a known IFS, up to similarity and reflection.
+
+    Both point sets are mapped by the similarity taking the first rule's source segment onto
+    ``(0, 0) -> (1, 0)``; the error is the root-mean-square distance between corresponding points,
+    the smaller of the direct and the reflected (``y -> -y``) comparison. For the Koch curve, a fit
+    traversed backwards is such a reflection.
+    """
+    a, b = reference.rules[0].source
+    p = _normalize(ifs.points.detach().cpu().double().numpy(), a, b)
+    q = _normalize(reference.points.detach().cpu().double().numpy(), a, b)
+    flipped = p * np.array([1.0, -1.0])
+    return float(min(np.sqrt(((p - q) ** 2).sum(1).mean()), np.sqrt(((flipped - q) ** 2).sum(1).mean())))
