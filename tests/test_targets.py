@@ -69,10 +69,8 @@ def test_bad_targets(tmp_path):
     outside = koch.clone(koch.points.detach() + 3.0)  # drawn entirely outside the frame
     with pytest.raises(ValueError, match="no foreground pixel"):
         ifslib.load_target(outside, 8)
-    full = np.ones((8, 8))
-    full[0, 0] = 0.9
     with pytest.raises(ValueError, match="all foreground"):
-        ifslib.load_target(full, 8, threshold=0.01)
+        ifslib.load_target(ifslib.patterns.grid(2, depth=0, extent=1.2), 8)  # a box over the whole frame
     with pytest.raises(ValueError, match="cannot make a target from a list"):
         ifslib.load_target([[0, 1]], 8)
 
