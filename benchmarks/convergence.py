@@ -53,7 +53,7 @@ def main() -> None:
         rows = list(pool.map(one, jobs))
     print(f"Koch at {args.size}^2/depth {args.depth}, {args.steps} Adam steps, lr {args.lr}, best-fit-line start "
           f"with jitter U(-{args.jitter}, {args.jitter}), {args.seeds} seeds per loss")
-    print(f"| loss | recovered (point error < 0.02) | median final IoU | median Chamfer (px) | median s/fit |")
+    print("| loss | recovered (point error < 0.02) | median final IoU | median Chamfer (px) | median s/fit |")
     print("|---|---|---|---|---|")
     for loss in ifslib.LOSSES:
         mine = [r for r in rows if r["loss"] == loss]

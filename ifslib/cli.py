@@ -59,6 +59,8 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
 
 def cmd_info(args: argparse.Namespace) -> None:
+    from .leaves import leaf_count_text
+
     ifs = _spec(args.spec)
     depth = ifs.depth if args.depth is None else args.depth
     print(repr(ifs))
@@ -67,8 +69,7 @@ def cmd_info(args: argparse.Namespace) -> None:
     for i, (rule, t, s) in enumerate(zip(ifs.rules, maps, scales)):
         print(f"rule {i}: {rule.kind} {list(rule.source)} -> {list(rule.target)}  contraction {s:.4f}")
         print(f"  [[{t[0, 0]: .4f} {t[0, 1]: .4f} {t[0, 2]: .4f}]\n   [{t[1, 0]: .4f} {t[1, 1]: .4f} {t[1, 2]: .4f}]]")
-    m, p = len(ifs.rules), len(ifs.primitives)
-    print(f"leaves at depth {depth}: {m}^{depth} x {p} = {m ** depth * p:,}")
+    print(f"leaves at depth {depth}: {leaf_count_text(ifs, depth)}")
 
 
 def build_parser() -> argparse.ArgumentParser:
