@@ -17,7 +17,7 @@ from __future__ import annotations
 import torch
 from torch.utils.checkpoint import checkpoint
 
-from .errors import IFSError
+from .errors import IFSError, check_int
 from .ifs import IFS, check_depth
 from .leaves import Leaves, check_budget, expand, sdf_dense, sdf_pairs
 from .nearest import nearest_leaf, pixel_centres
@@ -40,9 +40,7 @@ def resolve_device(device: str | torch.device = "auto") -> torch.device:
 
 def check_size(size) -> int:
     """Return ``size`` if it is an int >= 1, else raise `IFSError`."""
-    if isinstance(size, bool) or not isinstance(size, int) or size < 1:
-        raise IFSError(f"size must be an integer >= 1 (pixels per side), got {size!r}")
-    return size
+    return check_int(size, "size", 1, " (pixels per side)")
 
 
 def _brute(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:

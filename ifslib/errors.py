@@ -7,3 +7,10 @@ field, index or value at fault.
 
 class IFSError(ValueError):
     """A bad IFS, file, argument or request (the message says which and why)."""
+
+
+def check_int(value, name: str, minimum: int, hint: str = "") -> int:
+    """Return ``value`` if it is an int (not a bool) >= ``minimum``, else raise `IFSError`."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise IFSError(f"{name} must be an integer >= {minimum}{hint}, got {value!r}")
+    return value

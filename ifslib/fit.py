@@ -21,7 +21,7 @@ import torch
 from tqdm.auto import tqdm
 
 from .distance import distance_field
-from .errors import IFSError
+from .errors import IFSError, check_int
 from .ifs import IFS, check_depth
 from .io import load_ifs, save_ifs
 from .losses import loss as loss_fn
@@ -53,10 +53,15 @@ class FitResult:
 
 
 def _adam_state(opt: torch.optim.Adam) -> dict:
+    """A copy of Adam's state for the one parameter (tensors)."""
     state = opt.state[opt.param_groups[0]["params"][0]]
     if not state:
         return {}
-    return {"step": float(state["step"]), "exp_avg": state["exp_avg"].tolist(), "exp_avg_sq": state["exp_avg_sq"].tolist()}
+    return {"step": float(state["step"]), "exp_avg": state["exp_avg"].clone(), "exp_avg_sq": state["exp_avg_sq"].clone()}
+
+
+def _as_lists(state: dict) -> dict:
+    return {k: v.tolist() if isinstance(v, torch.Tensor) else v for k, v in state.items()}
 
 
 def _set_adam_state(opt: torch.optim.Adam, saved: dict, lr: float) -> None:
@@ -65,8 +70,8 @@ def _set_adam_state(opt: torch.optim.Adam, saved: dict, lr: float) -> None:
     opt.state.clear()
     if saved:
         opt.state[param] = {"step": torch.tensor(saved["step"]),
-                            "exp_avg": torch.tensor(saved["exp_avg"], dtype=param.dtype),
-                            "exp_avg_sq": torch.tensor(saved["exp_avg_sq"], dtype=param.dtype)}
+                            "exp_avg": torch.as_tensor(saved["exp_avg"], dtype=param.dtype).clone(),
+                            "exp_avg_sq": torch.as_tensor(saved["exp_avg_sq"], dtype=param.dtype).clone()}
 
 
 def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: str | Callable = "multiscale_pixel",
@@ -112,8 +117,7 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
     -------
     FitResult
     """
-    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 0:
-        raise IFSError(f"steps must be an integer >= 0, got {steps!r}")
+    check_int(steps, "steps", 0)
     if not (isinstance(lr, (int, float)) and lr > 0 and math.isfinite(lr)):
         raise IFSError(f"lr must be a finite number > 0, got {lr!r}")
     depth = ifs.depth if depth is None else check_depth(depth)
@@ -141,7 +145,7 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
 
     def save(step_done: int) -> None:
         snap = work.clone()
-        snap.meta["fit"] = {"next_step": step_done, "lr": lr, "adam": _adam_state(opt), "best_loss": best_loss,
+        snap.meta["fit"] = {"next_step": step_done, "lr": lr, "adam": _as_lists(_adam_state(opt)), "best_loss": best_loss,
                             "best_step": best_step, "best_points": best_points.tolist(), "history": history,
                             "loss": loss if isinstance(loss, str) else "custom", "depth": depth, "size": target.size}
         save_ifs(snap, checkpoint)

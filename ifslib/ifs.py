@@ -11,7 +11,7 @@ from typing import Any, Iterable, Sequence
 
 import torch
 
-from .errors import IFSError
+from .errors import IFSError, check_int
 from .primitives import Primitive
 from .rules import Rule, check_gradient_mode, check_rule_lengths, map_scales, rule_maps
 
@@ -100,8 +100,8 @@ class IFS:
             if not 0 <= j < n:
                 raise IFSError(f"fixed point index {j} is out of range for {n} points (0..{n - 1})")
         check_depth(self.depth)
-        if self.sigma is not None and not (self.sigma > 0 and math.isfinite(self.sigma)):
-            raise IFSError(f"sigma must be a finite number > 0, got {self.sigma!r}")
+        if self.sigma is not None:
+            check_sigma(self.sigma)
 
     def check_contractive(self, depth: int | None = None, maps: torch.Tensor | None = None) -> None:
         """Raise `IFSError` if a rule's scale is >= 1 while ``depth`` > 0 (no attractor then)."""
@@ -165,9 +165,18 @@ class IFS:
 
 def check_depth(depth: Any) -> int:
     """Return ``depth`` if it is an int >= 0, else raise `IFSError`."""
-    if isinstance(depth, bool) or not isinstance(depth, int) or depth < 0:
-        raise IFSError(f"depth must be an integer >= 0, got {depth!r}")
-    return depth
+    return check_int(depth, "depth", 0)
+
+
+def check_sigma(sigma: Any) -> float:
+    """Return ``sigma`` as a float if it is finite and > 0, else raise `IFSError`."""
+    try:
+        value = float(sigma)
+    except (TypeError, ValueError):
+        raise IFSError(f"sigma must be a number > 0, got {sigma!r}") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise IFSError(f"sigma must be a finite number > 0, got {sigma!r}")
+    return value
 
 
 __all__ = ["IFS", "Rule", "Primitive", "check_depth", "check_gradient_mode", "check_rule_lengths"]

@@ -11,14 +11,15 @@ import numpy as np
 import torch
 
 from .ifs import IFS
+from .nearest import pixel_centres
 from .targets import Target
 
 
 def foreground_points(target: Target) -> np.ndarray:
     """Plane coordinates ``(k, 2)`` of the target's foreground pixel centres."""
-    rows, cols = np.nonzero(target.mask)
-    size = target.size
-    return np.stack([-0.5 + (cols + 0.5) / size, 0.5 - (rows + 0.5) / size], 1)
+    x, y = pixel_centres(target.size)
+    flat = torch.from_numpy(target.mask.reshape(-1))
+    return torch.stack([x[flat], y[flat]], 1).numpy()
 
 
 def best_fit_line(target: Target) -> tuple[np.ndarray, np.ndarray, float, float]:

@@ -2,19 +2,11 @@
 from __future__ import annotations
 
 import numpy as np
-import torch
 from scipy import ndimage
 
 from .ifs import IFS
+from .render import figure_mask
 from .targets import Target
-
-
-def figure_mask(ifs: IFS, size: int, depth: int | None = None, sigma: float | None = None) -> np.ndarray:
-    """The fractal's pixels: where its render is >= 0.5 (``(size, size)`` bool)."""
-    from .render import render
-
-    with torch.no_grad():
-        return render(ifs, size, depth, sigma).cpu().numpy() >= 0.5
 
 
 def iou(pred: np.ndarray, true: np.ndarray) -> float:

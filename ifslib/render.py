@@ -6,29 +6,15 @@ resolution. Pixels inside a closed shape (negative distance) are 1.
 """
 from __future__ import annotations
 
-import math
-
 import torch
 
 from .distance import check_size, distance_field
-from .errors import IFSError
-from .ifs import IFS
+from .ifs import IFS, check_sigma
 
 
 def default_sigma(size: int) -> float:
     """The default rendering width: one pixel, ``1 / size`` plane units."""
     return 1.0 / check_size(size)
-
-
-def check_sigma(sigma) -> float:
-    """Return ``sigma`` as a float if it is finite and > 0, else raise `IFSError`."""
-    try:
-        value = float(sigma)
-    except (TypeError, ValueError):
-        raise IFSError(f"sigma must be a number > 0, got {sigma!r}") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise IFSError(f"sigma must be a finite number > 0, got {sigma!r}")
-    return value
 
 
 def shade(distance: torch.Tensor, sigma: float) -> torch.Tensor:
@@ -59,3 +45,9 @@ def render(ifs: IFS, size: int, depth: int | None = None, sigma: float | None = 
     if sigma is None:
         sigma = ifs.sigma if ifs.sigma is not None else default_sigma(size)
     return shade(distance_field(ifs, size, depth, **kwargs), sigma)
+
+
+def figure_mask(ifs: IFS, size: int, depth: int | None = None, sigma: float | None = None):
+    """The fractal's pixels: where its render is >= 0.5, as a ``(size, size)`` bool numpy array."""
+    with torch.no_grad():
+        return render(ifs, size, depth, sigma).cpu().numpy() >= 0.5

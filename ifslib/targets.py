@@ -141,13 +141,10 @@ def load_target(source, size: int, invert: bool = False, threshold: float | None
     """
     size = check_size(size)
     if isinstance(source, IFS):
-        from .render import render
+        from .render import figure_mask
 
-        with torch.no_grad():
-            img = render(source, size, depth).cpu().numpy()
-        if invert:
-            img = 1 - img
-        return target_from_mask(img >= 0.5, source.name or "ifs")
+        mask = figure_mask(source, size, depth)
+        return target_from_mask(~mask if invert else mask, source.name or "ifs")
     if isinstance(source, torch.Tensor):
         source = source.detach().cpu().numpy()
     if isinstance(source, np.ndarray):
