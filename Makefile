@@ -21,7 +21,8 @@ setup: $(VENV)/.installed  ## create .venv and install ifslib (editable) with it
 test: $(VENV)/.installed  ## run the whole test suite
 	$(PY) -m pytest -q
 
-figures: $(VENV)/.installed  ## render the figures (paper preset; PRESET=ci for the quick run)
+figures: $(VENV)/.installed  ## run every notebook with papermill (paper preset; PRESET=ci for the quick run)
+	$(PY) notebooks/run.py --preset $(PRESET)
 	$(PY) -m ifslib render koch --size 512 --depth 6 -o figures/koch.png
 
 bench: $(VENV)/.installed  ## print the renderer's speed and memory

@@ -50,12 +50,13 @@ def cmd_fit(args: argparse.Namespace) -> None:
         ifs.depth = args.depth
     start = initialize(ifs, target, jitter=args.jitter, seed=args.seed)
     result = fit(start, target, steps=args.steps, lr=args.lr, loss=args.loss, seed=args.seed,
-                 checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet)
+                 checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet, strategy=args.strategy)
     save_ifs(result.best, args.output)
     m = evaluate(result.best, target)
     print(f"wrote {args.output}: best loss {result.best_loss:.4g} at step {result.best_step}; "
           f"IoU {m['iou']:.3f}, F1 {m['f1']:.3f}, Chamfer {m['chamfer']:.2f} px"
-          + (f"; {len(result.history['rollbacks'])} rolled-back steps" if result.history["rollbacks"] else ""))
+          + (f"; {len(result.history['rollbacks'])} rolled-back steps" if result.history["rollbacks"] else "")
+          + (f"; {result.history['cost']} steps spent ({args.strategy})" if args.strategy != "plain" else ""))
 
 
 def cmd_info(args: argparse.Namespace) -> None:
@@ -77,7 +78,7 @@ def build_parser() -> argparse.ArgumentParser:
                                      "render an IFS, fit one to an image, or describe one.")
     sub = parser.add_subparsers(dest="command", required=True, metavar="{render,fit,info}")
     r = sub.add_parser("render", help="render an IFS (JSON file or pattern name) to a PNG")
-    r.add_argument("spec", help="an ifslib/1 JSON file, or a pattern: koch, carpet, gridN")
+    r.add_argument("spec", help="an ifslib/1 JSON file, or a pattern: koch, koch_paper, carpet, gridN, rosetteN")
     r.add_argument("--size", type=int, default=512, help="pixels per side (default 512)")
     r.add_argument("--depth", type=int, help="recursion depth (default: the file's)")
     r.add_argument("--sigma", type=float, help="line width in plane units (default: one pixel)")
@@ -85,7 +86,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(run=cmd_render)
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
     f.add_argument("target", help="target image (white figure on black), or koch/sierpinski/apple/flower")
-    f.add_argument("--pattern", default="koch", help="koch, carpet, gridN, or an ifslib/1 JSON file (default koch)")
+    f.add_argument("--pattern", default="koch",
+                   help="koch, koch_paper, carpet, gridN, rosetteN, or an ifslib/1 JSON file (default koch)")
     f.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     f.add_argument("--depth", type=int, help="render depth (default: the pattern's, 3)")
     f.add_argument("--steps", type=int, default=1500, help="Adam steps (default 1500, as the paper)")
@@ -97,6 +99,8 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--invert", action="store_true", help="the target is a dark figure on a light background")
     f.add_argument("--checkpoint", help="write a resumable checkpoint here every 100 steps")
     f.add_argument("--resume", help="continue from this checkpoint")
+    f.add_argument("--strategy", default="plain",
+                   help="plain (one run, default), coarse_to_fine, multistart, restart or anneal")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     f.add_argument("-o", "--output", required=True, help="JSON file for the fitted IFS")
     f.set_defaults(run=cmd_fit)

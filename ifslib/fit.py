@@ -23,7 +23,7 @@ from tqdm.auto import tqdm
 from .distance import distance_field
 from .errors import IFSError, check_int
 from .ifs import IFS, check_depth
-from .io import load_ifs, save_ifs
+from .io import ifs_to_dict, load_ifs, save_ifs
 from .losses import loss as loss_fn
 from .targets import Target
 
@@ -78,7 +78,8 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         depth: int | None = None, seed: int = 0, callback: Callable | None = None, checkpoint: str | Path | None = None,
         checkpoint_every: int = 100, resume: str | Path | None = None, progress: bool = True,
         sigma: float | None = None, levels: int = 5, method: str = "fast", device: str = "auto",
-        gradient: str = "exact", max_rollbacks: int = 20) -> FitResult:
+        gradient: str = "exact", max_rollbacks: int = 20, keep_every: int | None = None,
+        strategy: str = "plain") -> FitResult:
     """Fit an IFS's control points to a target with Adam.
 
     Parameters
@@ -112,12 +113,32 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         Passed to `ifslib.distance_field` (``gradient="paper"`` reproduces the paper's cut gradient).
     max_rollbacks : int
         Stop after this many consecutive rolled-back steps.
+    keep_every : int, optional
+        Keep the control points every ``keep_every`` steps (and after the last step) in
+        ``history["snapshots"]``, with the pattern in ``history["pattern"]``, for `ifslib.animate`.
+        None (the default) keeps nothing and costs nothing.
+    strategy : str
+        ``"plain"`` (one run, the paper's procedure) or a strategy of `ifslib.strategies`
+        (``coarse_to_fine``, ``multistart``, ``restart``, ``anneal``) that spends steps over several
+        runs; ``history["cost"]`` counts every step of every run.
 
     Returns
     -------
     FitResult
     """
     check_int(steps, "steps", 0)
+    if strategy != "plain":
+        from .strategies import check_strategy, run
+
+        check_strategy(strategy)
+        if checkpoint is not None or resume is not None:
+            raise IFSError("checkpoint and resume work with strategy='plain' only")
+        return run(strategy, fit, ifs, target, steps, seed,
+                   dict(lr=lr, loss=loss, depth=depth, callback=callback, progress=progress, sigma=sigma,
+                        levels=levels, method=method, device=device, gradient=gradient,
+                        max_rollbacks=max_rollbacks, keep_every=keep_every))
+    if keep_every is not None:
+        check_int(keep_every, "keep_every", 1)
     if not (isinstance(lr, (int, float)) and lr > 0 and math.isfinite(lr)):
         raise IFSError(f"lr must be a finite number > 0, got {lr!r}")
     depth = ifs.depth if depth is None else check_depth(depth)
@@ -140,6 +161,9 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         start, best_loss, best_step = state["next_step"], state["best_loss"], state["best_step"]
         best_points = torch.tensor(state["best_points"], dtype=work.points.dtype)
         history = state["history"]
+    if keep_every is not None and "snapshots" not in history:
+        history["pattern"] = ifs_to_dict(ifs)
+        history["snapshots"] = {"step": [], "points": []}
     previous = (work.points.detach().clone(), _adam_state(opt))
     consecutive = 0
 
@@ -190,6 +214,9 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
             history["step"].append(step)
             history["loss"].append(current)
             history["seconds"].append(time.perf_counter() - t0)
+            if keep_every is not None and step % keep_every == 0:
+                history["snapshots"]["step"].append(step)
+                history["snapshots"]["points"].append(previous[0].tolist())
             if progress and step % 10 == 0:
                 bar.set_postfix(loss=f"{current:.3g}")
         bar.update(1)
@@ -198,8 +225,12 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         if checkpoint is not None and (step + 1) % checkpoint_every == 0:
             save(step + 1)
     bar.close()
+    if keep_every is not None:
+        history["snapshots"]["step"].append(history["step"][-1] + 1 if history["step"] else start)
+        history["snapshots"]["points"].append(work.points.detach().tolist())
     if checkpoint is not None:
         save(steps)
+    history["cost"] = len(history["step"]) + len(history["rollbacks"])
     best = work.clone(best_points)
     best.meta["history"] = copy.deepcopy(history)
     final = work.clone()

@@ -44,13 +44,29 @@ def best_fit_line(target: Target) -> tuple[np.ndarray, np.ndarray, float, float]
     return centre, direction, float(proj.min()), float(proj.max())
 
 
+def is_curve(ifs: IFS) -> bool:
+    """Whether the rules replace one segment by a chain of segments, as the Koch curve's do.
+
+    True when every rule is a ``segment`` rule with the same source ``(a, b)`` and the rules' targets,
+    in order, form a chain from ``a`` to ``b``.
+    """
+    rules = ifs.rules
+    if not rules or any(r.kind != "segment" or r.source != rules[0].source for r in rules):
+        return False
+    chain = [rules[0].target[0]] + [r.target[1] for r in rules]
+    joined = all(rules[i].target[1] == rules[i + 1].target[0] for i in range(len(rules) - 1))
+    return joined and chain[0] == rules[0].source[0] and chain[-1] == rules[0].source[1]
+
+
 def initialize(ifs: IFS, target: Target, jitter: float = 0.0, seed: int | None = None) -> IFS:
     """A copy of ``ifs`` with initial points fitted to the target.
 
     Parameters
     ----------
     ifs : IFS
-        The pattern (its rules decide the method: square rules use the bounding box).
+        The pattern. A curve (see `is_curve`, as for the Koch curve) gets
+        its points evenly spaced along the target's best-fit line, the paper's advice; any other
+        pattern (grids, the carpet, rosettes) is stretched onto the target's bounding box.
     target : Target
     jitter : float
         Half-width of the uniform jitter added to every coordinate (plane units).
@@ -62,7 +78,7 @@ def initialize(ifs: IFS, target: Target, jitter: float = 0.0, seed: int | None =
     IFS
     """
     n = ifs.n_points
-    if all(r.kind == "square" for r in ifs.rules):
+    if not is_curve(ifs):
         fg = foreground_points(target)
         lo, hi = fg.min(0), fg.max(0)
         pts = ifs.points.detach().double().numpy()

@@ -1,10 +1,14 @@
-"""How good a fit is: IoU and F1 of the masks, symmetric Chamfer distance, control-point error."""
+"""How good a fit is: IoU and F1 of the masks, symmetric Chamfer distance, control-point error,
+and a curve's self-crossings."""
 from __future__ import annotations
 
 import numpy as np
+import torch
 from scipy import ndimage
 
-from .ifs import IFS
+from .errors import IFSError
+from .ifs import IFS, check_depth
+from .leaves import compose_words
 from .render import figure_mask
 from .targets import Target
 
@@ -60,3 +64,64 @@ def point_error(ifs: IFS, reference: IFS) -> float:
     q = _normalize(reference.points.detach().cpu().double().numpy(), a, b)
     flipped = p * np.array([1.0, -1.0])
     return float(min(np.sqrt(((p - q) ** 2).sum(1).mean()), np.sqrt(((flipped - q) ** 2).sum(1).mean())))
+
+
+def curve_segments(ifs: IFS, depth: int | None = None) -> np.ndarray:
+    """The depth-K copies of a curve's segment primitives, in drawing order.
+
+    Parameters
+    ----------
+    ifs : IFS
+        Every primitive must be a segment (radius ignored).
+    depth : int, optional
+        ``ifs.depth`` when None.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(W * p, 2, 2)``: start and end point of each leaf segment, words in lexicographic order.
+    """
+    if any(p.kind != "segment" for p in ifs.primitives):
+        raise IFSError("curve_segments needs an IFS whose primitives are all segments")
+    depth = ifs.depth if depth is None else check_depth(depth)
+    with torch.no_grad():
+        points = ifs.points.detach().double()
+        words = compose_words(ifs.maps().double(), depth)                      # (W, 3, 3)
+        ends = torch.stack([points[list(p.points)] for p in ifs.primitives])   # (p, 2, 2)
+        homog = torch.cat([ends, torch.ones(*ends.shape[:2], 1, dtype=ends.dtype)], -1)
+        moved = torch.einsum("wij,pkj->wpki", words[:, :2, :], homog)          # (W, p, 2, 2)
+    return moved.reshape(-1, 2, 2).numpy()
+
+
+def self_crossings(ifs: IFS, depth: int | None = None) -> int:
+    """How many pairs of a curve's depth-K segments properly cross each other.
+
+    Two segments cross when each one's endpoints lie strictly on opposite sides of the other's line;
+    segments that only touch (as consecutive pieces of a curve do) do not count. The Koch curve
+    itself has none; the paper remarks that its fits' local minima coincide with self-crossings.
+
+    Parameters
+    ----------
+    ifs : IFS
+        A curve: every primitive a segment.
+    depth : int, optional
+        ``ifs.depth`` when None.
+
+    Returns
+    -------
+    int
+    """
+    seg = curve_segments(ifs, depth)
+    a, b = seg[:, None, 0], seg[:, None, 1]          # (S, 1, 2)
+    c, d = seg[None, :, 0], seg[None, :, 1]          # (1, S, 2)
+
+    # Orientation of r relative to p -> q; |cross product| below a tolerance counts as collinear, so
+    # rounding cannot turn segments that meet at a vertex or overlap on one line into a crossing.
+    tol = 1e-9 * max(1.0, float(np.abs(seg).max())) ** 2
+
+    def side(p, q, r):
+        z = (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+        return np.where(np.abs(z) <= tol, 0.0, np.sign(z))
+
+    cross = (side(a, b, c) * side(a, b, d) < 0) & (side(c, d, a) * side(c, d, b) < 0)
+    return int(np.triu(cross, 1).sum())

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from .errors import IFSError
+from .errors import IFSError, check_int
 from .ifs import IFS
 
 
@@ -57,13 +57,51 @@ def sierpinski_carpet(depth: int = 3, extent: float = 0.8) -> IFS:
     return ifs
 
 
-PATTERNS = {"koch": koch, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet}
+def koch_paper(seed: int = 0, depth: int = 3, jitter: float = 0.1) -> IFS:
+    """The paper's own Koch start (its repository's ``koch_setup.py``), in our conventions.
+
+    Five control points evenly spaced on the vertical line ``x = 0.05`` from ``y = 0.4`` down to
+    ``y = -0.4``, each coordinate jittered by ``U(-jitter, jitter)`` from ``numpy``'s generator seeded
+    with ``seed``; the four Koch segment rules; as primitives the four segments ``p_i -> p_{i+1}``
+    with radius 0.005 (each leaf's radius scales with its map).
+    """
+    rng = np.random.default_rng(seed)
+    points = np.stack([np.full(5, 0.05), np.linspace(0.4, -0.4, 5)], 1) + rng.uniform(-jitter, jitter, (5, 2))
+    rules = [{"kind": "segment", "from": [0, 4], "to": [i, i + 1]} for i in range(4)]
+    prims = [{"kind": "segment", "points": [i, i + 1], "radius": 0.005} for i in range(4)]
+    return IFS(points.tolist(), rules, prims, depth=depth, name="koch_paper")
+
+
+def rosette(n: int = 6, depth: int = 3, radius: float = 0.4, inner: float = 0.05, width: float = 0.03) -> IFS:
+    """An ``n``-fold rosette: ``n`` rotated, scaled copies of the whole, one per petal.
+
+    Control points: ``p0`` the centre, ``p1`` the tip of the base petal (pointing right), then a pair
+    ``(a_i, b_i)`` per petal ``i``, ``a_i`` at distance ``inner`` and ``b_i`` at ``radius`` from the
+    centre along the petal's direction. Rule ``i`` maps the base segment ``p0 -> p1`` onto
+    ``a_i -> b_i``, so each petal is the whole rosette shrunk by ``(radius - inner) / radius`` and
+    turned to point outwards. The primitive is the base petal, the segment ``p0 -> p1`` as a capsule
+    of radius ``width``. With ``n = 6`` this has the six-fold symmetry of the MPEG-7 flower.
+    """
+    check_int(n, "n", 2)
+    points = [[0.0, 0.0], [radius, 0.0]]
+    for i in range(n):
+        angle = 2 * math.pi * i / n
+        c, s = math.cos(angle), math.sin(angle)
+        points += [[inner * c, inner * s], [radius * c, radius * s]]
+    rules = [{"kind": "segment", "from": [0, 1], "to": [2 + 2 * i, 3 + 2 * i]} for i in range(n)]
+    return IFS(points, rules, [{"kind": "segment", "points": [0, 1], "radius": width}], depth=depth, name=f"rosette{n}")
+
+
+PATTERNS = {"koch": koch, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper}
 
 
 def by_name(name: str, depth: int = 3) -> IFS:
-    """A pattern by name: ``koch``, ``carpet`` / ``sierpinski_carpet``, or ``gridN`` (e.g. ``grid3``)."""
+    """A pattern by name: ``koch``, ``koch_paper`` (seed 0), ``carpet`` / ``sierpinski_carpet``,
+    ``gridN`` (e.g. ``grid3``) or ``rosetteN`` (e.g. ``rosette6``)."""
     if name in PATTERNS:
         return PATTERNS[name](depth=depth)
-    if name.startswith("grid") and name[4:].isdigit():
-        return grid(int(name[4:]), depth=depth)
-    raise IFSError(f"unknown pattern {name!r}; known: koch, carpet, sierpinski_carpet, gridN (e.g. grid3)")
+    for prefix, build in (("grid", grid), ("rosette", rosette)):
+        if name.startswith(prefix) and name[len(prefix):].isdigit():
+            return build(int(name[len(prefix):]), depth=depth)
+    raise IFSError(f"unknown pattern {name!r}; known: koch, koch_paper, carpet, sierpinski_carpet, "
+                   "gridN (e.g. grid3), rosetteN (e.g. rosette6)")

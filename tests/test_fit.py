@@ -137,3 +137,34 @@ def test_cli_render_fit_info(tmp_path, capsys):
     assert capsys.readouterr().err.strip().startswith("ifslib fit: error: no image file at")
     with pytest.raises(SystemExit):
         cli(["render"])
+
+
+def test_keep_every_snapshots_and_gif_animation(tmp_path):
+    from PIL import Image
+
+    from ifslib.animate import GAP
+
+    target = ifslib.load_target(ifslib.patterns.koch(depth=2), 24)
+    start = ifslib.initialize(ifslib.patterns.koch(depth=2), target, jitter=0.03, seed=1)
+    plain = ifslib.fit(start, target, steps=12, progress=False)
+    kept = ifslib.fit(start, target, steps=12, progress=False, keep_every=5)
+    assert "snapshots" not in plain.history
+    assert kept.history["snapshots"]["step"] == [0, 5, 10, 12]
+    assert torch.equal(kept.best.points, plain.best.points)  # keeping snapshots changes nothing
+    assert kept.history["snapshots"]["points"][0] == start.points.detach().tolist()
+    path = ifslib.animate(kept.history, target, tmp_path / "fit.gif", progress=False)
+    with Image.open(path) as gif:
+        assert gif.n_frames == 4
+        assert gif.size == (3 * 24 + 2 * GAP, 24)
+
+
+def test_animate_needs_snapshots_and_a_known_format(tmp_path):
+    target = ifslib.load_target(ifslib.patterns.koch(depth=1), 16)
+    result = ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, keep_every=1)
+    with pytest.raises(ifslib.IFSError, match="keep_every"):
+        ifslib.animate(ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=1, progress=False).history,
+                       target, tmp_path / "a.gif")
+    with pytest.raises(ifslib.IFSError, match=r"\.gif or \.mp4"):
+        ifslib.animate(result.history, target, tmp_path / "a.png")
+    with pytest.raises(ifslib.IFSError, match="keep_every"):
+        ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=1, keep_every=0)

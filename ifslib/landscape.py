@@ -1,0 +1,97 @@
+"""The loss landscape around an optimum: how the gradient points as one control point moves.
+
+The paper's Figure "vecfield" moves ``p2`` of the Koch construction over a grid while the other
+points stay at the optimum, and compares the descent direction of each loss with the direction to
+the optimum. `gradient_field` computes those descent directions and `alignment` scores them.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+import torch
+from tqdm.auto import tqdm
+
+from .distance import distance_field
+from .errors import IFSError, check_int
+from .ifs import IFS
+from .losses import loss as loss_fn
+from .targets import Target
+
+
+def gradient_field(ifs: IFS, target: Target, index: int, xs: np.ndarray, ys: np.ndarray,
+                   loss: str | Callable = "multiscale_pixel", *, depth: int | None = None,
+                   sigma: float | None = None, levels: int = 5, progress: bool = True) -> np.ndarray:
+    """Descent direction of a loss for control point ``index`` placed at each grid position.
+
+    Parameters
+    ----------
+    ifs : IFS
+        The other points stay where they are here (at the optimum, for the paper's figure).
+    target : Target
+    index : int
+        The control point that moves.
+    xs, ys : numpy.ndarray
+        ``(nx,)`` and ``(ny,)`` grid coordinates in plane units.
+    loss : str or callable
+        As for `ifslib.loss`.
+    depth, sigma, levels
+        Render depth (``ifs.depth`` when None), pixel-loss width and multiscale levels.
+    progress : bool
+        Show a progress bar over the grid.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(ny, nx, 2)``: minus the gradient of the loss with respect to ``points[index]`` (zero
+        where the gradient vanishes, e.g. far from the figure for a pixel loss).
+    """
+    check_int(index, "index", 0)
+    if index >= ifs.n_points:
+        raise IFSError(f"index {index} is out of range for an IFS with {ifs.n_points} points")
+    xs, ys = np.asarray(xs, dtype=float), np.asarray(ys, dtype=float)
+    field = np.zeros((len(ys), len(xs), 2))
+    base = ifs.points.detach()
+    cells = [(j, i) for j in range(len(ys)) for i in range(len(xs))]
+    for j, i in tqdm(cells, desc=f"gradient field ({loss if isinstance(loss, str) else 'custom'})",
+                     disable=not progress, leave=False):
+        points = base.clone()
+        points[index] = torch.tensor([xs[i], ys[j]], dtype=base.dtype)
+        moved = ifs.clone(points)
+        value = loss_fn(distance_field(moved, target.size, depth), target, loss, sigma=sigma, levels=levels)
+        (grad,) = torch.autograd.grad(value, moved.points)
+        field[j, i] = -grad[index].double().numpy()
+    return field
+
+
+def toward(xs: np.ndarray, ys: np.ndarray, optimum) -> np.ndarray:
+    """Unit vectors from each grid position to ``optimum``: ``(ny, nx, 2)`` (zero at the optimum)."""
+    gx, gy = np.meshgrid(np.asarray(xs, float), np.asarray(ys, float))
+    vec = np.stack([optimum[0] - gx, optimum[1] - gy], -1)
+    norm = np.linalg.norm(vec, axis=-1, keepdims=True)
+    return np.divide(vec, norm, out=np.zeros_like(vec), where=norm > 0)
+
+
+def alignment(vectors: np.ndarray, directions: np.ndarray) -> tuple[float, float]:
+    """How well a vector field points along given directions.
+
+    Parameters
+    ----------
+    vectors, directions : numpy.ndarray
+        ``(..., 2)`` each.
+
+    Returns
+    -------
+    mean_cosine : float
+        Mean cosine of the angle between them, over the positions where both are non-zero.
+    fraction_toward : float
+        Fraction of those positions where the cosine is positive (the vector points toward).
+    """
+    v = np.asarray(vectors, float).reshape(-1, 2)
+    d = np.asarray(directions, float).reshape(-1, 2)
+    nv, nd = np.linalg.norm(v, axis=1), np.linalg.norm(d, axis=1)
+    ok = (nv > 0) & (nd > 0)
+    if not ok.any():
+        return float("nan"), float("nan")
+    cos = (v[ok] * d[ok]).sum(1) / (nv[ok] * nd[ok])
+    return float(cos.mean()), float((cos > 0).mean())

@@ -1,0 +1,228 @@
+"""The explorer: move an IFS's control points with sliders and watch the fractal, its maps and its fit.
+
+``Explorer()`` shows, for a pattern (Koch, the paper's Koch start, the carpet, a grid, a rosette or an
+``ifslib/1`` JSON file): the render, the outlines of the copies that make it up, every map's matrix
+with its contraction factor and, when a target is chosen, the loss and IoU, all redrawn when a
+slider moves. An invalid state (a zero-length segment, a map that does not contract) shows a
+readable warning instead of a traceback. Without a frontend (papermill, nbval) nothing waits for
+input: `Explorer.figure` draws the current state as a static matplotlib figure.
+
+Needs ``ipywidgets`` (installed with ``pip install -e '.[dev]'``).
+"""
+from __future__ import annotations
+
+import html
+import io
+import time
+
+import numpy as np
+import torch
+from PIL import Image, ImageDraw
+
+try:
+    import ipywidgets as w
+except ImportError as exc:  # pragma: no cover - depends on the environment
+    raise ImportError("ifslib.widgets needs ipywidgets: pip install ipywidgets (or pip install -e '.[dev]')") from exc
+
+from . import figures
+from .distance import distance_field
+from .errors import IFSError
+from .ifs import IFS
+from .io import load_ifs
+from .losses import loss as loss_fn
+from .metrics import iou
+from .patterns import by_name
+from .render import shade
+from .targets import Target, load_target
+
+PATTERNS = ("koch", "koch_paper", "carpet", "grid3", "rosette6", "JSON file")
+TARGETS = ("none", "koch", "sierpinski", "apple", "flower")
+
+
+def _maps_table(ifs: IFS) -> str:
+    """HTML table of each rule's map (top two rows of the 3 x 3 matrix) and contraction factor."""
+    maps = ifs.maps().detach().double().numpy()
+    scales = ifs.scales().double().numpy()
+    rows = "".join(
+        f"<tr><td>T{i + 1}</td><td>[{m[0, 0]:+.3f} {m[0, 1]:+.3f} | {m[0, 2]:+.3f}]<br>"
+        f"[{m[1, 0]:+.3f} {m[1, 1]:+.3f} | {m[1, 2]:+.3f}]</td>"
+        f"<td style='color:{'inherit' if s < 1 else 'red'}'>{s:.3f}</td></tr>"
+        for i, (m, s) in enumerate(zip(maps, scales)))
+    return ("<table style='font-family:monospace;font-size:11px'><tr><th>map</th><th>[A | t]</th>"
+            f"<th>scale</th></tr>{rows}</table>")
+
+
+class Explorer:
+    """Sliders for an IFS's control points, depth and sigma, with a live render.
+
+    Parameters
+    ----------
+    pattern : str
+        One of ``PATTERNS`` (``"JSON file"`` reads ``json_path``).
+    depth : int
+        Initial depth.
+    size : int
+        Render size in pixels.
+    target : str
+        ``"none"`` or a paper image name; the loss (multiscale distance) and IoU are shown against it.
+    json_path : str, optional
+        An ``ifslib/1`` file for the ``"JSON file"`` pattern.
+    """
+
+    def __init__(self, pattern: str = "koch", depth: int = 3, size: int = 256, target: str = "none",
+                 json_path: str = "") -> None:
+        self.size = size
+        self._targets: dict[str, Target] = {}
+        self.pattern = w.Dropdown(options=PATTERNS, value=pattern, description="pattern")
+        self.json_path = w.Text(value=json_path, placeholder="path/to/ifs.json", description="JSON")
+        self.depth = w.IntSlider(value=depth, min=0, max=7, description="depth")
+        self.sigma = w.FloatSlider(value=1.0, min=0.25, max=8.0, step=0.25, description="σ (pixels)")
+        self.target = w.Dropdown(options=TARGETS, value=target, description="target")
+        self.show_outlines = w.Checkbox(value=True, description="copy outlines")
+        self.image = w.Image(format="png", width=size, height=size)
+        self.info = w.HTML()
+        self.warning = w.HTML()
+        self.points = w.VBox()
+        self.sliders: list[tuple[w.FloatSlider, w.FloatSlider]] = []
+        self.last: dict = {}
+        self._quiet = False
+        self.ifs = self._load_pattern()
+        self._build_sliders()
+        for control in (self.depth, self.sigma, self.target, self.show_outlines):
+            control.observe(self.update, names="value")
+        self.pattern.observe(self._pattern_changed, names="value")
+        self.json_path.observe(self._pattern_changed, names="value")
+        self.update()
+
+    # -- state -------------------------------------------------------------------------------------
+    def _load_pattern(self) -> IFS:
+        if self.pattern.value == "JSON file":
+            return load_ifs(self.json_path.value) if self.json_path.value else by_name("koch")
+        return by_name(self.pattern.value)
+
+    def _pattern_changed(self, _change=None) -> None:
+        try:
+            self.ifs = self._load_pattern()
+        except (IFSError, OSError) as exc:
+            self._warn(f"cannot load the pattern: {exc}")
+            return
+        self._build_sliders()
+        self.update()
+
+    def _build_sliders(self) -> None:
+        self._quiet = True
+        self.sliders = []
+        rows = []
+        for i, (x, y) in enumerate(self.ifs.points.detach().double().numpy()):
+            pair = tuple(w.FloatSlider(value=float(v), min=-0.6, max=0.6, step=0.001, readout_format=".3f",
+                                       continuous_update=False, description=f"p{i}.{axis}",
+                                       layout=w.Layout(width="260px"))
+                         for v, axis in ((x, "x"), (y, "y")))
+            for s in pair:
+                s.observe(self.update, names="value")
+            self.sliders.append(pair)
+            rows.append(w.HBox(list(pair)))
+        self.points.children = rows
+        self._quiet = False
+
+    def current(self) -> IFS:
+        """The IFS the sliders describe (a fresh copy)."""
+        pts = torch.tensor([[sx.value, sy.value] for sx, sy in self.sliders], dtype=self.ifs.points.dtype)
+        ifs = self.ifs.clone(pts)
+        ifs.depth = self.depth.value
+        return ifs
+
+    def set_point(self, index: int, x: float, y: float) -> dict:
+        """Move control point ``index`` to ``(x, y)`` and redraw once (for scripts and tests)."""
+        self._quiet = True
+        self.sliders[index][0].value, self.sliders[index][1].value = x, y
+        self._quiet = False
+        return self.update()
+
+    def _target(self) -> Target | None:
+        name = self.target.value
+        if name == "none":
+            return None
+        if name not in self._targets:
+            self._targets[name] = load_target(name, self.size)
+        return self._targets[name]
+
+    # -- drawing -----------------------------------------------------------------------------------
+    def _warn(self, message: str) -> None:
+        self.warning.value = (f"<div style='background:#fff3cd;color:#664d03;padding:4px'>⚠ "
+                              f"{html.escape(message)}</div>")
+        self.last = {"warning": message}
+
+    def _png(self, image: np.ndarray, outlines: np.ndarray | None) -> bytes:
+        pil = Image.fromarray((np.clip(image, 0, 1) * 255).astype(np.uint8)).convert("RGB")
+        if outlines is not None:
+            draw = ImageDraw.Draw(pil)
+            for quad in outlines:
+                pix = [((x + 0.5) * self.size - 0.5, (0.5 - y) * self.size - 0.5) for x, y in quad]
+                draw.line(pix, fill=(255, 140, 0), width=1)
+        buf = io.BytesIO()
+        pil.save(buf, format="png")
+        return buf.getvalue()
+
+    def update(self, _change=None) -> dict:
+        """Redraw from the controls; returns what was drawn.
+
+        Returns
+        -------
+        dict
+            ``image`` ((size, size) array), ``scales``, ``seconds``, ``warning`` (None when valid) and,
+            with a target, ``loss`` and ``iou``. On an invalid state only ``warning``.
+        """
+        if self._quiet:
+            return self.last
+        started = time.perf_counter()
+        ifs = self.current()
+        try:
+            with torch.no_grad():
+                dist = distance_field(ifs, self.size)
+                image = shade(dist, self.sigma.value / self.size).numpy()
+                outlines = (figures.copy_outlines(ifs, ifs.depth, self.size)
+                            if self.show_outlines.value and ifs.depth > 0 else None)
+                target = self._target()
+                state = {"image": image, "scales": ifs.scales().numpy(), "warning": None}
+                text = _maps_table(ifs)
+                if target is not None:
+                    state["loss"] = float(loss_fn(dist, target, "multiscale_distance"))
+                    state["iou"] = iou(image >= 0.5, target.mask)
+                    text += f"<p>multiscale distance loss {state['loss']:.3e}, IoU {state['iou']:.3f}</p>"
+        except IFSError as exc:
+            self._warn(str(exc))
+            return self.last
+        self.image.value = self._png(image, outlines)
+        state["seconds"] = time.perf_counter() - started
+        self.info.value = text + f"<p style='color:gray'>redrawn in {1000 * state['seconds']:.0f} ms</p>"
+        self.warning.value = ""
+        self.last = state
+        return state
+
+    def figure(self):
+        """The current state as a static matplotlib figure (what a headless run shows)."""
+        import matplotlib.pyplot as plt
+
+        ifs = self.current()
+        fig, ax = plt.subplots(figsize=(4, 4))
+        if self.last.get("image") is not None:
+            figures.show_image(ax, self.last["image"], f"{self.pattern.value}, depth {ifs.depth}")
+            if self.show_outlines.value and ifs.depth > 0:
+                figures.draw_outlines(ax, figures.copy_outlines(ifs, ifs.depth, self.size))
+            figures.draw_points(ax, ifs)
+        else:
+            ax.text(0.5, 0.5, self.last.get("warning", ""), ha="center", va="center", wrap=True)
+            ax.set_axis_off()
+        return fig
+
+    @property
+    def widget(self) -> w.Widget:
+        """The whole explorer as one widget."""
+        controls = w.VBox([self.pattern, self.json_path, self.depth, self.sigma, self.target, self.show_outlines])
+        return w.VBox([w.HBox([controls, self.image]), self.warning, w.HBox([self.points, self.info])])
+
+    def _ipython_display_(self) -> None:
+        from IPython.display import display
+
+        display(self.widget)

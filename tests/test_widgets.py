@@ -1,0 +1,96 @@
+"""The explorer driven programmatically, and the tutorial's exercise checks."""
+import numpy as np
+import pytest
+
+import ifslib
+from ifslib import exercises
+
+widgets = pytest.importorskip("ifslib.widgets")
+
+
+@pytest.fixture
+def explorer():
+    return widgets.Explorer("koch", depth=3, size=48)
+
+
+def test_moving_a_slider_changes_the_image_and_the_maps(explorer):
+    before = explorer.last
+    assert before["warning"] is None and before["image"].shape == (48, 48)
+    png = explorer.image.value
+    explorer.sliders[2][1].value = 0.05            # lower the peak: a real slider event
+    after = explorer.last
+    assert not np.array_equal(after["image"], before["image"])
+    assert explorer.image.value != png
+    assert "T2" in explorer.info.value and "scale" in explorer.info.value
+    assert np.all(after["scales"] < 1)
+
+
+def test_target_shows_loss_and_iou_that_respond_to_points(explorer):
+    explorer.target.value = "koch"
+    at_start = dict(explorer.last)
+    assert {"loss", "iou"} <= set(at_start) and "IoU" in explorer.info.value
+    moved = explorer.set_point(2, 0.2, -0.3)
+    assert moved["loss"] != at_start["loss"]
+
+
+def test_depth_and_sigma_change_the_render(explorer):
+    ink = explorer.last["image"].sum()
+    explorer.sigma.value = 4.0
+    assert explorer.last["image"].sum() > ink
+    explorer.depth.value = 1
+    assert explorer.current().depth == 1
+
+
+def test_degenerate_state_warns_instead_of_raising(explorer):
+    x0, y0 = explorer.current().points[0].tolist()
+    state = explorer.set_point(4, x0, y0)
+    assert "zero length" in state["warning"]
+    assert "zero length" in explorer.warning.value
+    x, y = ifslib.patterns.koch().points[4].tolist()
+    assert explorer.set_point(4, x, y)["warning"] is None
+    assert explorer.warning.value == ""
+
+
+def test_non_contractive_map_warns(explorer):
+    state = explorer.set_point(1, 0.45, 0.45)   # segment p0 -> p1 longer than the base
+    assert "contractive" in state["warning"]
+
+
+def test_pattern_switch_and_json_file(explorer, tmp_path):
+    explorer.pattern.value = "carpet"
+    assert len(explorer.sliders) == 16 and explorer.last["warning"] is None
+    path = ifslib.save_ifs(ifslib.patterns.grid(2, depth=2), tmp_path / "g.json")
+    explorer.json_path.value = str(path)
+    explorer.pattern.value = "JSON file"
+    assert len(explorer.sliders) == 9
+    explorer.json_path.value = str(tmp_path / "missing.json")
+    assert "cannot load" in explorer.warning.value
+
+
+def test_static_figure_of_the_state(explorer):
+    fig = explorer.figure()
+    assert len(fig.axes) == 1 and fig.axes[0].images
+
+
+def test_exercise_checks_accept_right_and_hint_on_wrong(capsys):
+    r3 = np.sqrt(3)
+    assert exercises.check_koch_map([[1 / 6, r3 / 6, 1 / 2], [-r3 / 6, 1 / 6, r3 / 6], [0, 0, 1]], 3)
+    assert not exercises.check_koch_map([[1 / 6, r3 / 6, 1 / 3], [-r3 / 6, 1 / 6, 0], [0, 0, 1]], 3)
+    assert "translation" in capsys.readouterr().out
+    assert not exercises.check_koch_map(None, 3)
+    assert "(3, 3)" in capsys.readouterr().out
+    assert exercises.check_leaf_count(8 ** 4, "carpet", 4) and not exercises.check_leaf_count(4 ** 8, "carpet", 4)
+    assert exercises.check_scaled_distance(0.1, 1 / 3, 0.3)
+    capsys.readouterr()
+    assert not exercises.check_scaled_distance(0.9, 1 / 3, 0.3)
+    assert "erratum" in capsys.readouterr().out
+    assert exercises.check_pixel_value(np.exp(-1)) and not exercises.check_pixel_value(0.5)
+    assert not exercises.check_initialization("koch", None)
+
+
+def test_exercise_checks_on_ifs_answers():
+    target = ifslib.load_target(ifslib.patterns.koch(depth=2), 32)
+    assert exercises.check_initialization(ifslib.initialize(ifslib.patterns.koch(depth=2), target), target)
+    assert not exercises.check_initialization(ifslib.patterns.koch_paper(1, depth=2), target)  # upright, not lying
+    assert exercises.check_fit(ifslib.patterns.koch(depth=2), target)
+    assert not exercises.check_fit(ifslib.patterns.koch_paper(1, depth=2), target)
