@@ -168,3 +168,14 @@ def test_animate_needs_snapshots_and_a_known_format(tmp_path):
         ifslib.animate(result.history, target, tmp_path / "a.png")
     with pytest.raises(ifslib.IFSError, match="keep_every"):
         ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=1, keep_every=0)
+
+
+def test_animate_mp4_without_ffmpeg_says_so(tmp_path, monkeypatch):
+    import importlib
+
+    animate_module = importlib.import_module("ifslib.animate")  # the module, not the function of that name
+    target = ifslib.load_target(ifslib.patterns.koch(depth=1), 16)
+    result = ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, keep_every=1)
+    monkeypatch.setattr(animate_module.shutil, "which", lambda name: None)
+    with pytest.raises(ifslib.IFSError, match="ffmpeg"):
+        ifslib.animate(result.history, target, tmp_path / "fit.mp4", progress=False)
