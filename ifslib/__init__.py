@@ -26,7 +26,7 @@ __version__ = "0.1.0"
 __all__ = ["IFS", "IFSError", "Primitive", "Rule", "default_sigma", "distance_field", "expand", "load_ifs",
            "nearest_leaf", "patterns", "pixel_centres", "render", "rule_maps", "save_ifs"]
 
-from . import data, exercises, figures, initialization, landscape, metrics  # noqa: E402
+from . import data, exercises, figures, initialization, landscape, metrics, strategies, sweep  # noqa: E402
 from .animate import animate  # noqa: E402
 from .fit import FitResult, fit  # noqa: E402
 from .initialization import best_fit_line, initialize  # noqa: E402
@@ -35,4 +35,5 @@ from .metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
 from .targets import Target, load_target  # noqa: E402
 
 __all__ += ["FitResult", "LOSSES", "animate", "Target", "best_fit_line", "chamfer", "data", "evaluate", "f1", "fit",
-            "exercises", "figures", "initialization", "initialize", "landscape", "iou", "load_target", "loss", "metrics", "point_error"]
+            "exercises", "figures", "initialization", "initialize", "landscape", "iou", "load_target", "loss",
+            "metrics", "point_error", "strategies", "sweep"]

@@ -23,6 +23,7 @@ import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
 from .ifs import IFS  # noqa: E402
+from .metrics import crossing_points  # noqa: E402
 from .nearest import pixel_centres  # noqa: E402
 from .render import figure_mask, render  # noqa: E402
 
@@ -89,6 +90,16 @@ def draw_points(ax: plt.Axes, ifs: IFS, color: str = "tab:red", labels: bool = T
     if labels:
         for i, (x, y) in enumerate(pts):
             ax.annotate(f"p{i}", (x, y), textcoords="offset points", xytext=(3, 3), fontsize=7, color=color)
+
+
+def draw_crossings(ax: plt.Axes, ifs: IFS, color: str = "red") -> int:
+    """Mark where a curve crosses itself (`ifslib.metrics.crossing_points`); returns how many."""
+    pts = crossing_points(ifs)
+    if len(pts):
+        ax.plot(pts[:, 0], pts[:, 1], "o", mfc="none", mec=color, ms=5, mew=1)
+    ax.set_xlim(EXTENT[:2])
+    ax.set_ylim(EXTENT[2:])
+    return len(pts)
 
 
 def gallery(images: Sequence[Sequence], col_titles: Sequence[str] = (), row_titles: Sequence[str] = (),

@@ -93,12 +93,11 @@ def curve_segments(ifs: IFS, depth: int | None = None) -> np.ndarray:
     return moved.reshape(-1, 2, 2).numpy()
 
 
-def self_crossings(ifs: IFS, depth: int | None = None) -> int:
-    """How many pairs of a curve's depth-K segments properly cross each other.
+def crossing_points(ifs: IFS, depth: int | None = None) -> np.ndarray:
+    """Where a curve's depth-K segments properly cross each other: ``(k, 2)`` points, one per pair.
 
     Two segments cross when each one's endpoints lie strictly on opposite sides of the other's line;
-    segments that only touch (as consecutive pieces of a curve do) do not count. The Koch curve
-    itself has none; the paper remarks that its fits' local minima coincide with self-crossings.
+    segments that only touch (as consecutive pieces of a curve do) or overlap on one line do not.
 
     Parameters
     ----------
@@ -106,22 +105,33 @@ def self_crossings(ifs: IFS, depth: int | None = None) -> int:
         A curve: every primitive a segment.
     depth : int, optional
         ``ifs.depth`` when None.
-
-    Returns
-    -------
-    int
     """
     seg = curve_segments(ifs, depth)
     a, b = seg[:, None, 0], seg[:, None, 1]          # (S, 1, 2)
     c, d = seg[None, :, 0], seg[None, :, 1]          # (1, S, 2)
-
     # Orientation of r relative to p -> q; |cross product| below a tolerance counts as collinear, so
     # rounding cannot turn segments that meet at a vertex or overlap on one line into a crossing.
     tol = 1e-9 * max(1.0, float(np.abs(seg).max())) ** 2
 
+    def cross(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+
     def side(p, q, r):
-        z = (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+        z = cross(p, q, r)
         return np.where(np.abs(z) <= tol, 0.0, np.sign(z))
 
-    cross = (side(a, b, c) * side(a, b, d) < 0) & (side(c, d, a) * side(c, d, b) < 0)
-    return int(np.triu(cross, 1).sum())
+    hits = np.triu((side(a, b, c) * side(a, b, d) < 0) & (side(c, d, a) * side(c, d, b) < 0), 1)
+    i, j = np.nonzero(hits)
+    # The crossing lies on segment i at the fraction |cross(c, d, a)| / (|cross(c, d, a)| + |cross(c, d, b)|).
+    za, zb = np.abs(cross(seg[j, 0], seg[j, 1], seg[i, 0])), np.abs(cross(seg[j, 0], seg[j, 1], seg[i, 1]))
+    t = (za / (za + zb))[:, None]
+    return seg[i, 0] + t * (seg[i, 1] - seg[i, 0])
+
+
+def self_crossings(ifs: IFS, depth: int | None = None) -> int:
+    """How many pairs of a curve's depth-K segments properly cross each other (see `crossing_points`).
+
+    The Koch curve itself has none; the paper remarks that its fits' local minima coincide with
+    self-crossings.
+    """
+    return len(crossing_points(ifs, depth))

@@ -128,3 +128,10 @@ def test_rosette_is_six_fold_and_contractive():
 def test_curves_are_recognized():
     assert is_curve(ifslib.patterns.koch()) and is_curve(ifslib.patterns.koch_paper(0))
     assert not is_curve(ifslib.patterns.rosette(6)) and not is_curve(ifslib.patterns.grid(3))
+
+
+def test_crossing_points_lie_on_both_segments():
+    bow = polyline_ifs([[-0.3, -0.3], [0.3, 0.3], [0.3, -0.3], [-0.1, 0.1]])
+    pts = metrics.crossing_points(bow)
+    assert pts.shape == (1, 2) and np.allclose(pts[0], [0.0, 0.0])
+    assert metrics.crossing_points(ifslib.patterns.koch(depth=3)).shape == (0, 2)

@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[1]
 REFERENCE = ROOT / "tests" / "reference"
 FIGURES = {"01_koch_iterations": "koch_iterations", "02_fitting_gallery": "fitting_gallery",
            "03_gradient_fields": "gradient_fields", "04_local_minima": "local_minima",
-           "05_more_examples": "more_examples"}
+           "05_more_examples": "more_examples", "06_convergence_study": "convergence_study"}
 MIN_SSIM = 0.9  # tolerates last-bit differences between CPUs; a changed figure scores far lower
 
 

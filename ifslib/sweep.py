@@ -1,0 +1,208 @@
+"""Convergence sweeps: many seeded Koch fits per cell (strategy x gradient x start x loss), on Dask.
+
+A *cell* fixes how a fit is made; a sweep runs every cell for a list of seeds and judges each fit
+on the image: recovered when the symmetric Chamfer distance between its figure and the target mask
+is at most ``success_chamfer`` pixels at the target's size. Each task is a batch of seeds of one
+cell, run in a worker with one torch thread, so a run is reproducible and the serial result equals
+the distributed one.
+
+``scheduler``: ``"serial"`` runs in this process; ``"local"`` starts a ``dask.distributed``
+``LocalCluster``; any other string is the address of a running scheduler. Dask is an optional
+extra (``pip install -e '.[sweep]'``, which ``make setup`` installs).
+"""
+from __future__ import annotations
+
+import csv
+import json
+import os
+import statistics
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from .errors import IFSError, check_int
+
+INITS = ("paper", "line")
+
+
+@dataclass(frozen=True)
+class Cell:
+    """How the fits of one table row are made.
+
+    Attributes
+    ----------
+    strategy : str
+        A name from `ifslib.strategies.STRATEGIES`.
+    gradient : {"exact", "paper"}
+    init : {"paper", "line"}
+        ``paper``: `ifslib.patterns.koch_paper` (the paper's own start); ``line``: the best-fit line
+        of the target with jitter U(-0.05, 0.05).
+    loss : str
+        One of `ifslib.LOSSES`.
+    """
+
+    strategy: str = "plain"
+    gradient: str = "exact"
+    init: str = "paper"
+    loss: str = "multiscale_distance"
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What every fit of a sweep shares: the target and the fit's size, depth, steps and lr.
+
+    ``target`` is one of the paper's images by name (``"koch"``: its ``koch.png``) or ``"rendered"``:
+    the library's own Koch curve drawn at ``size``, which needs no data files.
+    """
+
+    target: str = "koch"
+    size: int = 128
+    depth: int = 3
+    steps: int = 1500
+    lr: float = 0.003
+    success_chamfer: float = 1.0
+
+
+def start_for(cell: Cell, seed: int, setup: Setup, target=None):
+    """The starting IFS of one fit: the paper's Koch start, or the jittered best-fit line of ``target``."""
+    from . import patterns
+    from .initialization import initialize
+
+    if cell.init == "paper":
+        return patterns.koch_paper(seed, depth=setup.depth)
+    return initialize(patterns.koch(depth=setup.depth), target, jitter=0.05, seed=seed)
+
+
+def load_setup_target(setup: Setup):
+    """The sweep's `Target`: a paper image by name, or the library's Koch curve (``"rendered"``)."""
+    from . import patterns
+    from .targets import load_target
+
+    return load_target(patterns.koch(depth=setup.depth) if setup.target == "rendered" else setup.target, setup.size)
+
+
+def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
+    """Fit one cell for each seed; one row per fit (the task a worker runs)."""
+    import torch
+
+    from .fit import fit
+    from .metrics import evaluate, self_crossings
+
+    torch.set_num_threads(1)
+    target = load_setup_target(setup)
+    rows = []
+    for seed in seeds:
+        start = start_for(cell, seed, setup, target)
+        t0 = time.perf_counter()
+        result = fit(start, target, steps=setup.steps, lr=setup.lr, loss=cell.loss, seed=seed, progress=False,
+                     gradient=cell.gradient, strategy=cell.strategy)
+        seconds = time.perf_counter() - t0
+        m = evaluate(result.best, target)
+        rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
+                     "chamfer": m["chamfer"], "iou": m["iou"], "crossings": self_crossings(result.best),
+                     "steps": result.history["cost"], "seconds": seconds,
+                     "points": result.best.points.detach().tolist()})
+    return rows
+
+
+def _check(cells: list[Cell], seeds: list[int]) -> None:
+    from .losses import LOSSES
+    from .rules import check_gradient_mode
+    from .strategies import check_strategy
+
+    if not cells or not seeds:
+        raise IFSError("a sweep needs at least one cell and one seed")
+    for cell in cells:
+        check_strategy(cell.strategy)
+        check_gradient_mode(cell.gradient)
+        if cell.init not in INITS:
+            raise IFSError(f"unknown init {cell.init!r}; known: {', '.join(INITS)}")
+        if cell.loss not in LOSSES:
+            raise IFSError(f"unknown loss {cell.loss!r}; known losses: {', '.join(LOSSES)}")
+
+
+def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch: int = 2,
+          scheduler: str = "local", workers: int = 2) -> list[dict]:
+    """Run every cell for every seed.
+
+    Parameters
+    ----------
+    cells : list of Cell
+    seeds : list of int
+    setup : Setup
+    batch : int
+        Seeds per task.
+    scheduler : str
+        ``"serial"``, ``"local"`` (a ``LocalCluster`` of ``workers`` processes, one thread each) or a
+        scheduler address such as ``"tcp://10.0.0.5:8786"``.
+    workers : int
+        Worker processes of the local cluster.
+
+    Returns
+    -------
+    list of dict
+        One row per fit, in cell order then seed order.
+    """
+    _check(cells, seeds)
+    check_int(batch, "batch", 1)
+    tasks = [(cell, seeds[i:i + batch]) for cell in cells for i in range(0, len(seeds), batch)]
+    if scheduler == "serial":
+        parts = [run_batch(cell, chunk, setup) for cell, chunk in tasks]
+    else:
+        try:
+            from dask.distributed import Client, LocalCluster, progress
+        except ImportError as exc:
+            raise IFSError("a Dask sweep needs dask.distributed: pip install -e '.[sweep]' "
+                           "(or use scheduler='serial')") from exc
+        env = {"IFSLIB_DATA": os.environ.get("IFSLIB_DATA", ""), "OMP_NUM_THREADS": "1"}
+        if scheduler == "local":
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=None, env=env)
+            client = Client(cluster)
+        else:
+            cluster, client = None, Client(scheduler)
+        try:
+            futures = [client.submit(run_batch, cell, chunk, setup, pure=False) for cell, chunk in tasks]
+            if os.environ.get("IFSLIB_PROGRESS", "1") != "0":
+                progress(futures)
+            parts = client.gather(futures)
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    return [row for part in parts for row in part]
+
+
+def summarize(rows: list[dict]) -> list[dict]:
+    """One row per cell: recovered / fits, median Chamfer, median steps spent, median seconds per fit."""
+    keys = ("strategy", "gradient", "init", "loss")
+    cells: dict[tuple, list[dict]] = {}
+    for row in rows:
+        cells.setdefault(tuple(row[k] for k in keys), []).append(row)
+    return [{**dict(zip(keys, key)), "recovered": sum(r["recovered"] for r in mine), "fits": len(mine),
+             "median_chamfer": statistics.median(r["chamfer"] for r in mine),
+             "crossing": sum(r["crossings"] > 0 for r in mine),
+             "median_steps": statistics.median(r["steps"] for r in mine),
+             "median_seconds": statistics.median(r["seconds"] for r in mine)} for key, mine in cells.items()]
+
+
+def table(summary: list[dict]) -> str:
+    """A markdown table of `summarize`'s rows."""
+    lines = ["| start | gradient | loss | strategy | recovered | median Chamfer (px) | crossing at the end | "
+             "median steps spent | median s/fit |", "|---|---|---|---|---|---|---|---|---|"]
+    for s in summary:
+        lines.append(f"| {s['init']} | {s['gradient']} | {s['loss']} | {s['strategy']} | {s['recovered']}/{s['fits']} | "
+                     f"{s['median_chamfer']:.2f} | {s['crossing']}/{s['fits']} | {s['median_steps']:.0f} | "
+                     f"{s['median_seconds']:.1f} |")
+    return "\n".join(lines)
+
+
+def write_csv(rows: list[dict], path: str | os.PathLike) -> Path:
+    """Write the per-fit rows as CSV (the fitted points as a JSON list)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows({**r, "points": json.dumps(r["points"])} if "points" in r else r for r in rows)
+    return path

@@ -1,0 +1,47 @@
+"""Strategies on small sizes: each runs, counts its steps, and returns a result at least as good as its start."""
+import pytest
+
+import ifslib
+from ifslib.strategies import STRATEGIES
+
+SIZE, STEPS = 32, 12
+
+
+@pytest.fixture(scope="module")
+def target():
+    return ifslib.load_target(ifslib.patterns.koch(depth=2), SIZE)
+
+
+@pytest.mark.parametrize("strategy", STRATEGIES)
+def test_strategy_runs_and_counts_its_cost(strategy, target):
+    start = ifslib.patterns.koch_paper(1, depth=2)
+    result = ifslib.fit(start, target, steps=STEPS, loss="multiscale_distance", progress=False, strategy=strategy)
+    cost = result.history["cost"]
+    assert result.history.get("strategy", "plain") == strategy
+    if strategy == "multistart":
+        assert STEPS < cost <= 3 * STEPS
+    elif strategy == "restart":
+        assert 0 < cost <= 3 * STEPS
+    else:
+        assert cost == STEPS
+    start_loss = ifslib.fit(start, target, steps=1, loss="multiscale_distance", progress=False).best_loss
+    assert result.best_loss <= start_loss
+
+
+def test_coarse_to_fine_ends_at_full_depth(target):
+    result = ifslib.fit(ifslib.patterns.koch_paper(1, depth=2), target, steps=6, loss="distance",
+                        progress=False, strategy="coarse_to_fine")
+    assert result.best.depth == 2
+
+
+def test_restart_stops_early_on_success(target):
+    start = ifslib.initialize(ifslib.patterns.koch(depth=2), target)
+    result = ifslib.fit(start, target, steps=30, loss="multiscale_distance", progress=False, strategy="restart")
+    assert result.history["cost"] == 10  # the first window already lies within a pixel
+
+
+def test_unknown_strategy_and_checkpoint_are_refused(target, tmp_path):
+    with pytest.raises(ifslib.IFSError, match="known strategies"):
+        ifslib.fit(ifslib.patterns.koch(depth=2), target, steps=2, strategy="magic")
+    with pytest.raises(ifslib.IFSError, match="plain"):
+        ifslib.fit(ifslib.patterns.koch(depth=2), target, steps=2, strategy="multistart", checkpoint=tmp_path / "c.json")
