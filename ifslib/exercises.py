@@ -14,7 +14,7 @@ import torch
 from .ifs import IFS
 from .initialization import is_curve
 from .metrics import evaluate, self_crossings
-from .patterns import by_name, koch
+from .patterns import by_name, koch_unit
 from .targets import Target
 
 
@@ -37,9 +37,7 @@ def _matrix(answer, shape: tuple[int, ...], name: str) -> np.ndarray | None:
 
 def koch_map(i: int) -> np.ndarray:
     """The true ``3 x 3`` map ``T_i`` (1-based) of the Koch curve on the base ``(0,0) -> (1,0)``."""
-    unit = koch(width=1.0)
-    unit = unit.clone(unit.points.detach().double() + torch.tensor([0.5, 0.0], dtype=torch.float64))
-    return unit.maps().detach().double().numpy()[i - 1]
+    return koch_unit().maps().detach().double().numpy()[i - 1]
 
 
 def check_koch_map(answer, i: int = 3) -> bool:

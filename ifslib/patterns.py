@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import torch
 
 from .errors import IFSError, check_int
 from .ifs import IFS
@@ -26,6 +27,19 @@ def koch(depth: int = 3, width: float = 0.8, radius: float = 0.0) -> IFS:
     points = [[-w / 2, 0.0], [-w / 6, 0.0], [0.0, w * math.sqrt(3) / 6], [w / 6, 0.0], [w / 2, 0.0]]
     rules = [{"kind": "segment", "from": [0, 4], "to": [i, i + 1]} for i in range(4)]
     return IFS(points, rules, [{"kind": "segment", "points": [0, 4], "radius": radius}], depth=depth, name="koch")
+
+
+def koch_unit(depth: int = 3) -> IFS:
+    """The Koch curve in the frame of the paper's Eq. (1): base segment from ``(0, 0)`` to ``(1, 0)``.
+
+    Its maps are Eq. (1)'s ``T1 .. T4`` (with ``T3``'s translation corrected to ``(1/2, sqrt(3)/6)``).
+    Points in float64. The curve does not fit the image plane ``[-0.5, 0.5]^2``; use it for the
+    maps, not for drawing.
+    """
+    ifs = koch(depth=depth, width=1.0).to(torch.float64)
+    ifs = ifs.clone(ifs.points.detach() + torch.tensor([0.5, 0.0], dtype=torch.float64))
+    ifs.name = "koch_unit"
+    return ifs
 
 
 def grid(n: int, depth: int = 3, extent: float = 0.8, skip: tuple[tuple[int, int], ...] = ()) -> IFS:

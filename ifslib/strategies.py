@@ -48,6 +48,11 @@ def _jittered(ifs: IFS, jitter: float, rng: np.random.Generator) -> IFS:
     return ifs.clone(torch.as_tensor(pts + rng.uniform(-jitter, jitter, pts.shape), dtype=ifs.points.dtype))
 
 
+def _split(steps: int, parts: int) -> list[int]:
+    """``steps`` split into ``parts`` stages as evenly as possible (the first ones one longer)."""
+    return [steps // parts + (i < steps % parts) for i in range(parts)]
+
+
 def _combine(results: list, total_cost: int):
     """The result with the lowest best loss, its history extended with the strategy's cost."""
     best = min(results, key=lambda r: r.best_loss)
@@ -83,9 +88,8 @@ def run(strategy: str, fit, ifs: IFS, target: Target, steps: int, seed: int, kwa
         result = _combine([one(ifs, steps)], steps)
     elif strategy == "coarse_to_fine":
         stages = list(range(1, depth + 1))
-        split = [steps // len(stages) + (i < steps % len(stages)) for i in range(len(stages))]
         current, results = ifs, []
-        for d, n in zip(stages, split):
+        for d, n in zip(stages, _split(steps, len(stages))):
             results.append(one(current, n, depth=d))
             current = results[-1].best
         result = results[-1]
@@ -119,9 +123,8 @@ def run(strategy: str, fit, ifs: IFS, target: Target, steps: int, seed: int, kwa
         result = _combine(results, spent)
     else:  # anneal
         loss = kwargs.get("loss", "multiscale_pixel")
-        split = [steps // 4 + (i < steps % 4) for i in range(4)]
         current, results = ifs, []
-        for stage, n in enumerate(split):
+        for stage, n in enumerate(_split(steps, 4)):
             if isinstance(loss, str) and loss.endswith("pixel"):
                 extra = {"sigma": 2.0 ** (3 - stage) / target.size}
             else:

@@ -91,3 +91,8 @@ def test_non_contractive_rule_at_positive_depth():
     with pytest.raises(ValueError, match=r"rule 0 \(segment\) is not contractive: its scale is 4 >= 1"):
         ifslib.distance_field(ifs, 8)
     assert ifslib.distance_field(ifs, 8, depth=0).shape == (8, 8)  # depth 0 needs no contraction
+
+
+def test_koch_unit_is_eq1_frame():
+    unit = ifslib.patterns.koch_unit()
+    torch.testing.assert_close(unit.points.detach(), torch.tensor(paper_koch_points(), dtype=torch.float64))

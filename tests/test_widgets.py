@@ -9,7 +9,13 @@ widgets = pytest.importorskip("ifslib.widgets")
 
 
 @pytest.fixture
-def explorer():
+def explorer(tmp_path, monkeypatch):
+    # A self-contained "koch" target: the library's own curve saved where IFSLIB_DATA points.
+    from PIL import Image
+
+    image = ifslib.render(ifslib.patterns.koch(depth=4), 48).detach().numpy()
+    Image.fromarray((image * 255).astype(np.uint8)).save(tmp_path / "koch.png")
+    monkeypatch.setenv("IFSLIB_DATA", str(tmp_path))
     return widgets.Explorer("koch", depth=3, size=48)
 
 
