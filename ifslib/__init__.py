@@ -28,12 +28,13 @@ __all__ = ["IFS", "IFSError", "Primitive", "Rule", "default_sigma", "distance_fi
 
 from . import data, exercises, figures, initialization, landscape, metrics, strategies, sweep  # noqa: E402
 from .animate import animate  # noqa: E402
+from .batch import fit_many  # noqa: E402
 from .fit import FitResult, fit  # noqa: E402
 from .initialization import best_fit_line, initialize  # noqa: E402
 from .losses import LOSSES, loss  # noqa: E402
 from .metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
 from .targets import Target, load_target  # noqa: E402
 
-__all__ += ["FitResult", "LOSSES", "animate", "Target", "best_fit_line", "chamfer", "data", "evaluate", "f1", "fit",
+__all__ += ["FitResult", "LOSSES", "animate", "Target", "best_fit_line", "chamfer", "data", "evaluate", "f1", "fit", "fit_many",
             "exercises", "figures", "initialization", "initialize", "landscape", "iou", "load_target", "loss",
             "metrics", "point_error", "strategies", "sweep"]

@@ -43,12 +43,23 @@ class Leaves:
         ``(p, 5)`` packed primitive geometry (see `ifslib.primitives.primitive_params`).
     kinds : tuple of str
         ``(p,)`` kind of each primitive.
+    words_per_item : int
+        0 for the leaves of one IFS. For a batch of ``B`` point sets of one pattern (see
+        `expand_batch`), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
+        ``(B * p, 5)``, and leaf ids run over the whole batch, item ``b`` owning the ids
+        ``b * m**K * p`` to ``(b + 1) * m**K * p - 1``.
     """
 
     inverse: torch.Tensor
     scale: torch.Tensor
     params: torch.Tensor
     kinds: tuple[str, ...]
+    words_per_item: int = 0
+
+    @property
+    def n_items(self) -> int:
+        """Number of point sets: 1, or ``B`` for a batch."""
+        return self.n_words // self.words_per_item if self.words_per_item else 1
 
     @property
     def n_words(self) -> int:
@@ -63,7 +74,7 @@ class Leaves:
 
     def detach(self) -> "Leaves":
         """The same leaves with no autograd history."""
-        return Leaves(self.inverse.detach(), self.scale.detach(), self.params.detach(), self.kinds)
+        return Leaves(self.inverse.detach(), self.scale.detach(), self.params.detach(), self.kinds, self.words_per_item)
 
 
 def estimate_bytes(n_leaves_words: int, n_pixels: int, method: str = "fast") -> int:
@@ -98,18 +109,19 @@ def compose_words(maps: torch.Tensor, depth: int) -> torch.Tensor:
     Parameters
     ----------
     maps : torch.Tensor
-        ``(m, 3, 3)`` rule maps.
+        ``(m, 3, 3)`` rule maps, or ``(B, m, 3, 3)`` for a batch.
     depth : int
         ``K``.
 
     Returns
     -------
     torch.Tensor
-        ``(m**K, 3, 3)``, words in lexicographic order (``w_1`` slowest).
+        ``(m**K, 3, 3)`` (``(B, m**K, 3, 3)``), words in lexicographic order (``w_1`` slowest).
     """
-    words = torch.eye(3, dtype=maps.dtype, device=maps.device)[None]
+    batch = maps.shape[:-3]
+    words = torch.eye(3, dtype=maps.dtype, device=maps.device).expand(*batch, 1, 3, 3)
     for _ in range(depth):
-        words = (words[:, None] @ maps[None]).reshape(-1, 3, 3)
+        words = (words[..., :, None, :, :] @ maps[..., None, :, :, :]).reshape(*batch, -1, 3, 3)
     return words
 
 
@@ -119,7 +131,7 @@ def invert_similarities(words: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor
     Parameters
     ----------
     words : torch.Tensor
-        ``(W, 3, 3)`` maps.
+        ``(W, 3, 3)`` maps (any leading shape).
 
     Returns
     -------
@@ -128,11 +140,11 @@ def invert_similarities(words: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor
     scale : torch.Tensor
         ``(W,)``, ``sqrt(|det A|)``.
     """
-    a, b, c, d = words[:, 0, 0], words[:, 0, 1], words[:, 1, 0], words[:, 1, 1]
-    tx, ty = words[:, 0, 2], words[:, 1, 2]
+    a, b, c, d = words[..., 0, 0], words[..., 0, 1], words[..., 1, 0], words[..., 1, 1]
+    tx, ty = words[..., 0, 2], words[..., 1, 2]
     det = a * d - b * c
     ia, ib, ic, id_ = d / det, -b / det, -c / det, a / det
-    inverse = torch.stack([ia, ib, -(ia * tx + ib * ty), ic, id_, -(ic * tx + id_ * ty)], -1).view(-1, 2, 3)
+    inverse = torch.stack([ia, ib, -(ia * tx + ib * ty), ic, id_, -(ic * tx + id_ * ty)], -1).view(*words.shape[:-2], 2, 3)
     return inverse, map_scales(words)
 
 
@@ -164,25 +176,63 @@ def expand(ifs: IFS, depth: int | None = None, *, device: torch.device | str = "
                   tuple(p.kind for p in ifs.primitives))
 
 
+def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gradient: str = "exact") -> Leaves:
+    """Expand a batch of point sets of one pattern to their leaves, in one computation.
+
+    Parameters
+    ----------
+    ifs : IFS
+        The pattern: rules and primitives (its own points are not used).
+    points : torch.Tensor
+        ``(B, n, 2)`` point sets, on the device and in the dtype to build with. They are not
+        checked here: the caller makes sure every item's rules are non-degenerate and contractive
+        (`ifslib.rules.rule_lengths`, `ifslib.rules.map_scales`).
+    depth : int, optional
+        ``K``; ``ifs.depth`` when None.
+    gradient : {"exact", "paper"}
+
+    Returns
+    -------
+    Leaves
+        ``B * m**K`` words with ``words_per_item = m**K``; item ``b``'s leaves are those of
+        ``expand(ifs.clone(points[b]))``.
+    """
+    depth = ifs.depth if depth is None else check_depth(depth)
+    if points.ndim != 3 or points.shape[1:] != ifs.points.shape:
+        raise IFSError(f"points must have shape (B, {ifs.n_points}, 2), got {tuple(points.shape)}")
+    words = compose_words(rule_maps(points, ifs.rules, gradient), depth)  # (B, W, 3, 3)
+    inverse, scale = invert_similarities(words)
+    n_items, per_item = words.shape[:2]
+    return Leaves(inverse.reshape(-1, 2, 3), scale.reshape(-1), primitive_params(points, ifs.primitives).reshape(-1, 5),
+                  tuple(p.kind for p in ifs.primitives), per_item)
+
+
 def leaf_count_text(ifs: IFS, depth: int) -> str:
     """A one-line description of the leaf count, e.g. ``4^3 x 1 = 64 leaves``."""
     m, p = len(ifs.rules), len(ifs.primitives)
     return f"{m}^{depth} x {p} = {m ** depth * p:,} leaves"
 
 
-__all__ = ["Leaves", "expand", "compose_words", "invert_similarities", "estimate_bytes", "check_budget",
+__all__ = ["Leaves", "expand", "expand_batch", "compose_words", "invert_similarities", "estimate_bytes", "check_budget",
            "DEFAULT_MEMORY_BUDGET", "leaf_count_text"]
 
 
 
 def _gather_words(leaves: Leaves, leaf: torch.Tensor):
-    """Per-pair inverse-map rows, scale and primitive index for leaf ids ``leaf`` (N,)."""
+    """Per-pair inverse-map rows, scale, local primitive index and ``params`` row for leaf ids ``leaf`` (N,).
+
+    The primitive index and the row are None when every pair uses ``params[0]`` (one IFS, one primitive).
+    """
     p = leaves.n_prims
     word = leaf if p == 1 else torch.div(leaf, p, rounding_mode="floor")
     inv = leaves.inverse.reshape(-1, 6).index_select(0, word)
     scale = leaves.scale.index_select(0, word)
     prim = None if p == 1 else leaf - word * p
-    return inv, scale, prim
+    row = prim
+    if leaves.words_per_item:
+        item = torch.div(word, leaves.words_per_item, rounding_mode="floor")
+        row = item * p if prim is None else item * p + prim
+    return inv, scale, prim, row
 
 
 def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
@@ -203,19 +253,63 @@ def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tens
     """
     from .primitives import local_sdf
 
-    inv, scale, prim = _gather_words(leaves, leaf)
+    inv, scale, prim, row = _gather_words(leaves, leaf)
     qx = inv[:, 0] * x + inv[:, 1] * y + inv[:, 2]
     qy = inv[:, 3] * x + inv[:, 4] * y + inv[:, 5]
-    if prim is None:
-        return scale * local_sdf(leaves.kinds[0], qx, qy, leaves.params[0])
+    kinds = sorted(set(leaves.kinds))
+    if len(kinds) == 1:
+        params = leaves.params[0] if row is None else leaves.params.index_select(0, row)
+        return scale * local_sdf(kinds[0], qx, qy, params)
     out = torch.zeros_like(qx)
-    kind_codes = torch.tensor([sorted(set(leaves.kinds)).index(k) for k in leaves.kinds], device=leaf.device)
-    for code, kind in enumerate(sorted(set(leaves.kinds))):
+    kind_codes = torch.tensor([kinds.index(k) for k in leaves.kinds], device=leaf.device)
+    for code, kind in enumerate(kinds):
         sel = (kind_codes[prim] == code).nonzero().flatten()
         if sel.numel():
-            d = local_sdf(kind, qx[sel], qy[sel], leaves.params[prim[sel]])
+            d = local_sdf(kind, qx[sel], qy[sel], leaves.params[row[sel]])
             out = out.index_put((sel,), scale[sel] * d)
     return out
+
+
+def leaf_table(leaves: Leaves) -> torch.Tensor | None:
+    """Every leaf's inverse map, scale and primitive geometry in one row, for fast no-grad lookups.
+
+    Returns
+    -------
+    torch.Tensor or None
+        ``(L, 12)``: the 6 inverse-map entries, the scale and the 5 packed primitive numbers of each
+        leaf id; None when the primitives are of several kinds (use `sdf_pairs` then).
+    """
+    if len(set(leaves.kinds)) != 1:
+        return None
+    leaf = torch.arange(len(leaves), device=leaves.inverse.device)
+    inv, scale, _, row = _gather_words(leaves, leaf)
+    params = leaves.params[0].expand(len(leaf), 5) if row is None else leaves.params.index_select(0, row)
+    return torch.cat([inv, scale[:, None], params], 1).detach()
+
+
+def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
+    """`sdf_pairs` from a `leaf_table` (one gather per pair): the same values, bit for bit, no gradient.
+
+    Parameters
+    ----------
+    table : torch.Tensor
+        ``(L, 12)`` from `leaf_table`.
+    kind : str
+        The primitives' one kind.
+    x, y, leaf : torch.Tensor
+        ``(N,)`` query coordinates and leaf ids.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(N,)``.
+    """
+    from .primitives import local_sdf
+
+    row = table.index_select(0, leaf)
+    qx = row[:, 0] * x + row[:, 1] * y + row[:, 2]
+    qy = row[:, 3] * x + row[:, 4] * y + row[:, 5]
+    return row[:, 6] * local_sdf(kind, qx, qy, row[:, 7:])
 
 
 def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
@@ -234,6 +328,8 @@ def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     """
     from .primitives import local_sdf
 
+    if leaves.words_per_item:
+        raise IFSError("sdf_dense takes the leaves of one IFS, not a batch")
     inv = leaves.inverse.reshape(-1, 6)
     x, y = x[:, None], y[:, None]
     qx = inv[:, 0] * x + inv[:, 1] * y + inv[:, 2]
@@ -242,4 +338,4 @@ def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     return torch.stack(per_prim, -1).reshape(x.shape[0], -1)
 
 
-__all__ += ["sdf_pairs", "sdf_dense"]
+__all__ += ["sdf_pairs", "sdf_dense", "leaf_table", "sdf_table"]

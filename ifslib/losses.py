@@ -24,8 +24,9 @@ LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
 
 
 def mse(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-    """Mean squared error of two equal-shape tensors (a scalar)."""
-    return (a - b).square().mean()
+    """Mean squared error of two images ``(h, w)`` (a scalar), or per image of a batch ``(B, h, w)`` (``(B,)``)."""
+    err = (a - b).square()
+    return err.mean() if err.ndim == 2 else err.mean(dim=(-2, -1))
 
 
 def pyramid(image: torch.Tensor, levels: int, mode: str = "avg") -> list[torch.Tensor]:
@@ -34,7 +35,7 @@ def pyramid(image: torch.Tensor, levels: int, mode: str = "avg") -> list[torch.T
     Parameters
     ----------
     image : torch.Tensor
-        ``(h, w)``.
+        ``(h, w)``, or ``(B, h, w)``.
     levels : int
         Number of pooled copies (stops early when a copy reaches 1 x 1).
     mode : {"avg", "min"}
@@ -45,12 +46,13 @@ def pyramid(image: torch.Tensor, levels: int, mode: str = "avg") -> list[torch.T
         ``[image, pooled_1, ...]``.
     """
     out = [image]
-    x = image[None, None]
+    lead = image.shape[:-2]
+    x = image.reshape(-1, 1, *image.shape[-2:])
     for _ in range(levels):
         if min(x.shape[-2:]) <= 1:
             break
         x = F.avg_pool2d(x, 2, ceil_mode=True) if mode == "avg" else -F.max_pool2d(-x, 2, ceil_mode=True)
-        out.append(x[0, 0])
+        out.append(x.reshape(*lead, *x.shape[-2:]))
     return out
 
 
@@ -66,7 +68,8 @@ def loss(distance: torch.Tensor, target: Target, kind: str | Callable = "multisc
     Parameters
     ----------
     distance : torch.Tensor
-        ``(size, size)`` signed distance field of the fractal (`ifslib.distance_field`).
+        ``(size, size)`` signed distance field of the fractal (`ifslib.distance_field`), or a batch
+        ``(B, size, size)`` (`ifslib.distance.distance_fields`).
     target : Target
         Same size.
     kind : str or callable
@@ -80,16 +83,19 @@ def loss(distance: torch.Tensor, target: Target, kind: str | Callable = "multisc
     Returns
     -------
     torch.Tensor
-        A scalar, differentiable in the distance field.
+        A scalar (``(B,)`` for a batch: a callable is then called on each item), differentiable in the
+        distance field.
     """
     if callable(kind):
+        if distance.ndim == 3:
+            return torch.stack([kind(d, target) for d in distance])
         return kind(distance, target)
     if kind not in LOSSES:
         raise IFSError(f"unknown loss {kind!r}; known losses: {', '.join(LOSSES)}")
-    if distance.shape != target.mask.shape:
+    if distance.shape[-2:] != target.mask.shape or distance.ndim not in (2, 3):
         raise IFSError(f"the distance field is {tuple(distance.shape)} but the target is {target.mask.shape}")
     if kind.endswith("pixel"):
-        a = shade(distance, sigma or default_sigma(distance.shape[0]))
+        a = shade(distance, sigma or default_sigma(distance.shape[-1]))
         b, mode = target.image.to(a.device, a.dtype), "avg"
     else:
         a = torch.relu(distance)

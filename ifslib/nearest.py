@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import torch
 
-from .leaves import Leaves, sdf_pairs
+from .leaves import Leaves, leaf_table, sdf_pairs, sdf_table
 
 #: Above this many (block, leaf) pairs a level is processed in chunks of blocks.
 MAX_PAIRS = 1 << 20
@@ -38,9 +38,10 @@ class NearestResult:
     Attributes
     ----------
     leaf : torch.Tensor
-        ``(size * size,)`` id of each pixel's nearest leaf (row-major pixels).
+        ``(size * size,)`` id of each pixel's nearest leaf (row-major pixels); for batched leaves
+        ``(B * size * size,)``, item-major, with the batch's global leaf ids.
     distance : torch.Tensor
-        ``(size * size,)`` its signed distance (float64, no gradient).
+        Same shape: its signed distance (in the leaves' dtype, no gradient).
     pairs : int
         Number of (block, leaf) distance evaluations the search made.
     """
@@ -70,7 +71,8 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
     Parameters
     ----------
     leaves : Leaves
-        The leaves (their gradients are not used). The search runs in their dtype and on their
+        The leaves (their gradients are not used), of one IFS or of a batch (`ifslib.leaves.expand_batch`:
+        each item's pixels then search only that item's leaves). The search runs in their dtype and on their
         device; float32 rounding is absorbed by a small slack in the pruning test, so the
         surviving candidates are always a superset of the true minimisers.
     size : int
@@ -86,10 +88,12 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
     device, dtype = leaves.inverse.device, leaves.inverse.dtype
     slack = 1e-5 if dtype == torch.float32 else 1e-12
     n_leaves = len(leaves)
+    n_items = leaves.n_items
+    per_item = n_leaves // n_items
     side = 1 << max(size - 1, 0).bit_length()  # the quadtree covers the next power of two
     top = side.bit_length() - 1
-    best_leaf = torch.full((size * size,), -1, dtype=torch.long, device=device)
-    best_dist = torch.full((size * size,), math.inf, dtype=dtype, device=device)
+    best_leaf = torch.full((n_items * size * size,), -1, dtype=torch.long, device=device)
+    best_dist = torch.full((n_items * size * size,), math.inf, dtype=dtype, device=device)
     quad_r = torch.tensor([0, 0, 1, 1], device=device)
     quad_c = torch.tensor([0, 1, 0, 1], device=device)
 
@@ -98,29 +102,38 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
         return -0.5 + (cols.to(dtype) * block + off) / size, 0.5 - (rows.to(dtype) * block + off) / size
 
     start = 0
-    while start < top and 4 ** (start + 1) * n_leaves <= START_PAIRS:
+    while start < top and 4 ** (start + 1) * per_item <= START_PAIRS:
         start += 1
     grid = torch.arange(1 << start, device=device)
     rows, cols = grid.repeat_interleave(1 << start), grid.repeat(1 << start)
     inside = (rows * (side >> start) < size) & (cols * (side >> start) < size)
-    rows, cols = rows[inside], cols[inside]
-    # a task: (level, block rows, block cols, pair -> block, pair -> leaf)
-    stack = [(start, rows, cols, torch.arange(rows.numel(), device=device).repeat_interleave(n_leaves),
-              torch.arange(n_leaves, device=device).repeat(rows.numel()))]
+    rows, cols = rows[inside].repeat(n_items), cols[inside].repeat(n_items)
+    # every block belongs to one item (one point set of a batch) and pairs only with its leaves
+    items = torch.arange(n_items, device=device).repeat_interleave(rows.numel() // n_items)
+    # a task: (level, block items, block rows, block cols, pair -> block, pair -> leaf)
+    stack = [(start, items, rows, cols, torch.arange(rows.numel(), device=device).repeat_interleave(per_item),
+              (items[:, None] * per_item + torch.arange(per_item, device=device)).flatten())]
+    table = leaf_table(leaves)
+
+    def distances(x, y, leaf):
+        if table is None:
+            return sdf_pairs(leaves, x, y, leaf)
+        return sdf_table(table, leaves.kinds[0], x, y, leaf)
+
     evaluated = 0
     while stack:
-        level, rows, cols, pair_block, pair_leaf = stack.pop()
+        level, items, rows, cols, pair_block, pair_leaf = stack.pop()
         block = side >> level
         bx, by = centres(rows, cols, block)
-        d = sdf_pairs(leaves, bx[pair_block], by[pair_block], pair_leaf)
+        d = distances(bx.index_select(0, pair_block), by.index_select(0, pair_block), pair_leaf)
         evaluated += d.numel()
         dmin = torch.full((rows.numel(),), math.inf, dtype=dtype, device=device)
         dmin = dmin.scatter_reduce(0, pair_block, d, "amin")
         # the smallest leaf id at the minimum of each block (at a pixel: its nearest leaf)
         best = torch.full((rows.numel(),), n_leaves, dtype=torch.long, device=device)
-        best = best.scatter_reduce(0, pair_block, torch.where(d <= dmin[pair_block], pair_leaf, n_leaves), "amin")
+        best = best.scatter_reduce(0, pair_block, torch.where(d <= dmin.index_select(0, pair_block), pair_leaf, n_leaves), "amin")
         if level == top:
-            pix = rows * size + cols
+            pix = (items * size + rows) * size + cols
             best_leaf[pix], best_dist[pix] = best, dmin
             continue
         # Children that overlap the image. For child c of block b, the block's best leaf j0 gives
@@ -129,22 +142,26 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
         # distance). So (b, j) passes to c only if d_j(b) - h_b <= U_c.
         child = block // 2
         half_diag, child_half_diag = [(n - 1) / 2 * math.sqrt(2) / size for n in (block, child)]
+        child_items = items.repeat_interleave(4)
         child_rows = (2 * rows[:, None] + quad_r).flatten()
         child_cols = (2 * cols[:, None] + quad_c).flatten()
         inside = (child_rows * child < size) & (child_cols * child < size)
         cx, cy = centres(child_rows, child_cols, child)
-        upper = sdf_pairs(leaves, cx, cy, best.repeat_interleave(4)) + child_half_diag
+        upper = distances(cx, cy, best.repeat_interleave(4)) + child_half_diag
         upper = torch.where(inside, upper, -math.inf).view(-1, 4)
         lower = d - half_diag - slack
-        passes = lower[:, None] <= upper[pair_block]  # (pairs, 4)
+        passes = lower[:, None] <= upper.index_select(0, pair_block)  # (pairs, 4)
         child_id = torch.where(inside, torch.cumsum(inside.long(), 0) - 1, -1).view(-1, 4)
-        new_block = child_id[pair_block][passes]
-        new_leaf = pair_leaf[:, None].expand(-1, 4)[passes]
-        child_rows, child_cols = child_rows[inside], child_cols[inside]
+        hit = passes.view(-1).nonzero().squeeze(1)  # pair * 4 + quadrant of every pair that passes
+        pair = torch.div(hit, 4, rounding_mode="floor")
+        new_block = child_id.view(-1).index_select(0, pair_block.index_select(0, pair) * 4 + (hit - pair * 4))
+        new_leaf = pair_leaf.index_select(0, pair)
+        child_items, child_rows, child_cols = child_items[inside], child_rows[inside], child_cols[inside]
         # split into chunks of children when there are too many pairs (keeps memory bounded)
         n_chunks = max(1, math.ceil(new_block.numel() / max_pairs))
         bounds = torch.linspace(0, child_rows.numel(), n_chunks + 1).round().long().tolist()
         for lo, hi in zip(bounds[:-1], bounds[1:]):
             sel = ((new_block >= lo) & (new_block < hi)) if n_chunks > 1 else slice(None)
-            stack.append((level + 1, child_rows[lo:hi], child_cols[lo:hi], new_block[sel] - lo, new_leaf[sel]))
+            stack.append((level + 1, child_items[lo:hi], child_rows[lo:hi], child_cols[lo:hi], new_block[sel] - lo,
+                          new_leaf[sel]))
     return NearestResult(best_leaf, best_dist, evaluated)

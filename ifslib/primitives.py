@@ -63,28 +63,28 @@ def primitive_params(points: torch.Tensor, primitives: list[Primitive]) -> torch
     Parameters
     ----------
     points : torch.Tensor
-        Control points, ``(n, 2)``.
+        Control points, ``(n, 2)``, or a batch ``(B, n, 2)``.
     primitives : list of Primitive
         The ``p`` primitives.
 
     Returns
     -------
     torch.Tensor
-        ``(p, 5)``: segment ``(ax, ay, bx, by, radius)``; box ``(lo_x, lo_y, hi_x, hi_y, 0)``;
+        ``(p, 5)`` (``(B, p, 5)`` for a batch): segment ``(ax, ay, bx, by, radius)``; box ``(lo_x, lo_y, hi_x, hi_y, 0)``;
         disk ``(cx, cy, radius, 0, 0)``.
     """
     rows = []
     for prim in primitives:
         if prim.kind == "segment":
-            a, b = points[prim.points[0]], points[prim.points[1]]
-            rows.append(torch.cat([a, b, a.new_tensor([prim.radius])]))
+            a, b = points[..., prim.points[0], :], points[..., prim.points[1], :]
+            rows.append(torch.cat([a, b, a.new_tensor([prim.radius]).expand(*a.shape[:-1], 1)], -1))
         elif prim.kind == "box":
-            a, b = points[prim.points[0]], points[prim.points[1]]
-            rows.append(torch.cat([torch.minimum(a, b), torch.maximum(a, b), a.new_zeros(1)]))
+            a, b = points[..., prim.points[0], :], points[..., prim.points[1], :]
+            rows.append(torch.cat([torch.minimum(a, b), torch.maximum(a, b), a.new_zeros(*a.shape[:-1], 1)], -1))
         else:
-            c = points[prim.points[0]]
-            rows.append(torch.cat([c, c.new_tensor([prim.radius, 0.0, 0.0])]))
-    return torch.stack(rows)
+            c = points[..., prim.points[0], :]
+            rows.append(torch.cat([c, c.new_tensor([prim.radius, 0.0, 0.0]).expand(*c.shape[:-1], 3)], -1))
+    return torch.stack(rows, -2)
 
 
 def _safe_norm(x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:

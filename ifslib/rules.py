@@ -72,32 +72,32 @@ def check_gradient_mode(gradient: str) -> str:
 
 
 def _segment_coefficients(points: torch.Tensor, rules: list[Rule], gradient: str) -> tuple[torch.Tensor, torch.Tensor]:
-    """Complex coefficients (alpha, beta) of the segment rules, as real pairs: (k, 2) and (k, 2)."""
+    """Complex coefficients (alpha, beta) of the segment rules, as real pairs: (..., k, 2) and (..., k, 2)."""
     idx = torch.tensor([r.source + r.target for r in rules], device=points.device)
-    pa, pb, pc, pd = (points[idx[:, j]] for j in range(4))
+    pa, pb, pc, pd = (points[..., idx[:, j], :] for j in range(4))
     u, v = pb - pa, pd - pc
     uu = (u * u).sum(-1)
     # alpha = v / u = v * conj(u) / |u|^2
-    alpha = torch.stack([(v[:, 0] * u[:, 0] + v[:, 1] * u[:, 1]) / uu,
-                         (v[:, 1] * u[:, 0] - v[:, 0] * u[:, 1]) / uu], -1)
+    alpha = torch.stack([(v[..., 0] * u[..., 0] + v[..., 1] * u[..., 1]) / uu,
+                         (v[..., 1] * u[..., 0] - v[..., 0] * u[..., 1]) / uu], -1)
     if gradient == "paper":
         # The paper's code: the rotation is a constant, the scale |v| / |u| keeps its gradient.
         scale = torch.sqrt((v * v).sum(-1) / uu)
         rotation = alpha.detach() / alpha.detach().norm(dim=-1, keepdim=True)
-        alpha = scale[:, None] * rotation
-    beta = pc - torch.stack([alpha[:, 0] * pa[:, 0] - alpha[:, 1] * pa[:, 1],
-                             alpha[:, 1] * pa[:, 0] + alpha[:, 0] * pa[:, 1]], -1)
+        alpha = scale[..., None] * rotation
+    beta = pc - torch.stack([alpha[..., 0] * pa[..., 0] - alpha[..., 1] * pa[..., 1],
+                             alpha[..., 1] * pa[..., 0] + alpha[..., 0] * pa[..., 1]], -1)
     return alpha, beta
 
 
 def _square_coefficients(points: torch.Tensor, rules: list[Rule]) -> tuple[torch.Tensor, torch.Tensor]:
-    """Scale s (k,) and translation t (k, 2) of the square rules."""
+    """Scale s (..., k) and translation t (..., k, 2) of the square rules."""
     idx = torch.tensor([r.source + r.target for r in rules], device=points.device)
-    q1, q2, r1, r2 = (points[idx[:, j]] for j in range(4))
+    q1, q2, r1, r2 = (points[..., idx[:, j], :] for j in range(4))
     scale = (r2 - r1).norm(dim=-1) / (q2 - q1).norm(dim=-1)
     lower_left_p = torch.minimum(q1, q2)
     lower_left_r = torch.minimum(r1, r2)
-    return scale, lower_left_r - scale[:, None] * lower_left_p
+    return scale, lower_left_r - scale[..., None] * lower_left_p
 
 
 def check_rule_lengths(points: torch.Tensor, rules: list[Rule]) -> None:
@@ -112,13 +112,20 @@ def check_rule_lengths(points: torch.Tensor, rules: list[Rule]) -> None:
                            f"has zero length ({length:.3g}), so no map is defined")
 
 
+def rule_lengths(points: torch.Tensor, rules: list[Rule]) -> torch.Tensor:
+    """Length of each rule's source segment (or diagonal), ``(..., m)`` for points ``(..., n, 2)`` (no gradient)."""
+    idx = torch.tensor([r.source for r in rules], device=points.device)
+    pts = points.detach()
+    return (pts[..., idx[:, 1], :] - pts[..., idx[:, 0], :]).norm(dim=-1)
+
+
 def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") -> torch.Tensor:
     """Build the map matrices of the rules from the control points.
 
     Parameters
     ----------
     points : torch.Tensor
-        Control points, ``(n, 2)``.
+        Control points, ``(n, 2)``, or a batch of point sets ``(B, n, 2)`` (any leading shape).
     rules : list of Rule
         The ``m`` symmetry rules.
     gradient : {"exact", "paper"}
@@ -127,28 +134,35 @@ def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") 
     Returns
     -------
     torch.Tensor
-        ``(m, 3, 3)`` homogeneous matrices, differentiable in ``points``.
+        ``(m, 3, 3)`` homogeneous matrices (``(B, m, 3, 3)`` for a batch), differentiable in ``points``.
+
+    Raises
+    ------
+    IFSError
+        For one point set, when a rule's source has zero length. A batch is not checked here: its
+        caller checks each item with `rule_lengths`.
     """
     check_gradient_mode(gradient)
-    check_rule_lengths(points, rules)
-    m = len(rules)
-    maps = torch.zeros(m, 3, 3, dtype=points.dtype, device=points.device)
-    maps[:, 2, 2] = 1
+    if points.ndim == 2:
+        check_rule_lengths(points, rules)
+    batch, m = points.shape[:-2], len(rules)
     seg = [i for i, r in enumerate(rules) if r.kind == "segment"]
     sq = [i for i, r in enumerate(rules) if r.kind == "square"]
-    rows = []
+    parts = []
     if seg:
         alpha, beta = _segment_coefficients(points, [rules[i] for i in seg], gradient)
-        rows.append((seg, torch.stack([alpha[:, 0], -alpha[:, 1], beta[:, 0],
-                                       alpha[:, 1], alpha[:, 0], beta[:, 1]], -1)))
+        parts.append(torch.stack([alpha[..., 0], -alpha[..., 1], beta[..., 0],
+                                  alpha[..., 1], alpha[..., 0], beta[..., 1]], -1))
     if sq:
         scale, t = _square_coefficients(points, [rules[i] for i in sq])
         zero = torch.zeros_like(scale)
-        rows.append((sq, torch.stack([scale, zero, t[:, 0], zero, scale, t[:, 1]], -1)))
-    top = torch.zeros(m, 6, dtype=points.dtype, device=points.device)
-    for index, values in rows:
-        top = top.index_put((torch.tensor(index, device=points.device),), values)
-    return torch.cat([top.view(m, 2, 3), maps[:, 2:, :]], dim=1)
+        parts.append(torch.stack([scale, zero, t[..., 0], zero, scale, t[..., 1]], -1))
+    top = torch.cat(parts, -2)  # (..., m, 6), segment rules first
+    order = seg + sq
+    if order != list(range(m)):
+        top = top[..., torch.tensor([order.index(i) for i in range(m)], device=points.device), :]
+    bottom = torch.tensor([0.0, 0.0, 1.0], dtype=points.dtype, device=points.device).expand(*batch, m, 1, 3)
+    return torch.cat([top.reshape(*batch, m, 2, 3), bottom], dim=-2)
 
 
 def map_scales(maps: torch.Tensor) -> torch.Tensor:
