@@ -8,6 +8,12 @@ cluster, ``--scheduler serial`` for no Dask. Prints a markdown table and writes 
 
     python benchmarks/convergence.py --seeds 30 --size 256 --strategies plain multistart \\
         --gradients exact paper --inits paper line --losses multiscale_distance
+
+``--cell STRATEGY:GRADIENT:INIT:LOSS`` (repeatable) runs exactly the cells given instead of the
+product of the lists, all on one cluster:
+
+    python benchmarks/convergence.py --seeds 8 --size 128 --cell plain:exact:paper:multiscale_distance \\
+        --cell plain:paper:paper:multiscale_distance --cell multistart:exact:line:multiscale_distance
 """
 from __future__ import annotations
 
@@ -29,17 +35,36 @@ def main() -> None:
     parser.add_argument("--gradients", nargs="*", default=["exact", "paper"])
     parser.add_argument("--inits", nargs="*", default=["paper", "line"])
     parser.add_argument("--losses", nargs="*", default=["multiscale_distance"])
+    parser.add_argument("--cell", action="append", default=[], metavar="STRATEGY:GRADIENT:INIT:LOSS",
+                        help="run this cell (repeatable); replaces the product of the lists above")
     parser.add_argument("--batch", type=int, default=2, help="seeds per Dask task")
     parser.add_argument("--scheduler", default="local", help="'local' (default), 'serial', or a scheduler address")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--csv", default="build/convergence.csv")
     args = parser.parse_args()
 
-    cells = [Cell(s, g, i, loss) for i, g, loss, s in
-             itertools.product(args.inits, args.gradients, args.losses, args.strategies)]
+    if args.cell:
+        parts = [c.split(":") for c in args.cell]
+        bad = [c for c, p in zip(args.cell, parts) if len(p) != 4]
+        if bad:
+            parser.error(f"--cell takes STRATEGY:GRADIENT:INIT:LOSS, got {bad[0]!r}")
+        cells = [Cell(*p) for p in parts]
+    else:
+        cells = [Cell(s, g, i, loss) for i, g, loss, s in
+                 itertools.product(args.inits, args.gradients, args.losses, args.strategies)]
     setup = Setup(target=args.target, size=args.size, depth=args.depth, steps=args.steps)
+    done: list[dict] = []
+    total = len(cells) * args.seeds
+
+    def save(rows: list[dict]) -> None:  # keep every finished fit on disk as the sweep goes
+        done.extend(rows)
+        write_csv(done, args.csv)
+        for r in rows:
+            print(f"[{len(done)}/{total}] {r['strategy']} {r['gradient']} {r['init']} {r['loss']} seed {r['seed']}: "
+                  f"Chamfer {r['chamfer']:.2f} px, {r['crossings']} crossings, {r['seconds']:.0f} s", flush=True)
+
     rows = sweep(cells, list(range(args.seeds)), setup, batch=args.batch, scheduler=args.scheduler,
-                 workers=args.workers)
+                 workers=args.workers, on_rows=save)
     print(f"target {args.target} at {args.size}^2/depth {args.depth}, {args.steps} steps per plain fit, "
           f"lr 0.003, {args.seeds} seeds per cell; recovered = symmetric Chamfer <= 1 px")
     print(table(summarize(rows)))

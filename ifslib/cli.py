@@ -56,7 +56,8 @@ def cmd_fit(args: argparse.Namespace) -> None:
     print(f"wrote {args.output}: best loss {result.best_loss:.4g} at step {result.best_step}; "
           f"IoU {m['iou']:.3f}, F1 {m['f1']:.3f}, Chamfer {m['chamfer']:.2f} px"
           + (f"; {len(result.history['rollbacks'])} rolled-back steps" if result.history["rollbacks"] else "")
-          + (f"; {result.history['cost']} steps spent ({args.strategy})" if args.strategy != "plain" else ""))
+          + (f"; {result.history['cost']} steps spent ({result.history.get('strategy', 'plain')})"
+             if result.history.get("strategy", "plain") != "plain" else ""))
 
 
 def cmd_info(args: argparse.Namespace) -> None:
@@ -99,8 +100,9 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--invert", action="store_true", help="the target is a dark figure on a light background")
     f.add_argument("--checkpoint", help="write a resumable checkpoint here every 100 steps")
     f.add_argument("--resume", help="continue from this checkpoint")
-    f.add_argument("--strategy", default="plain",
-                   help="plain (one run, default), coarse_to_fine, multistart, restart or anneal")
+    f.add_argument("--strategy", default=None,
+                   help="multistart (the default; a single run with --checkpoint/--resume), plain (one run, the "
+                        "paper's), coarse_to_fine, restart, anneal or uncross")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     f.add_argument("-o", "--output", required=True, help="JSON file for the fitted IFS")
     f.set_defaults(run=cmd_fit)

@@ -6,9 +6,8 @@ import numpy as np
 import torch
 from scipy import ndimage
 
-from .errors import IFSError
-from .ifs import IFS, check_depth
-from .leaves import compose_words
+from .crossings import leaf_segments
+from .ifs import IFS
 from .render import figure_mask
 from .targets import Target
 
@@ -81,16 +80,8 @@ def curve_segments(ifs: IFS, depth: int | None = None) -> np.ndarray:
     numpy.ndarray
         ``(W * p, 2, 2)``: start and end point of each leaf segment, words in lexicographic order.
     """
-    if any(p.kind != "segment" for p in ifs.primitives):
-        raise IFSError("curve_segments needs an IFS whose primitives are all segments")
-    depth = ifs.depth if depth is None else check_depth(depth)
     with torch.no_grad():
-        points = ifs.points.detach().double()
-        words = compose_words(ifs.maps().double(), depth)                      # (W, 3, 3)
-        ends = torch.stack([points[list(p.points)] for p in ifs.primitives])   # (p, 2, 2)
-        homog = torch.cat([ends, torch.ones(*ends.shape[:2], 1, dtype=ends.dtype)], -1)
-        moved = torch.einsum("wij,pkj->wpki", words[:, :2, :], homog)          # (W, p, 2, 2)
-    return moved.reshape(-1, 2, 2).numpy()
+        return leaf_segments(ifs.to(torch.float64), depth).numpy()
 
 
 def crossing_points(ifs: IFS, depth: int | None = None) -> np.ndarray:

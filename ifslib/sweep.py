@@ -14,11 +14,13 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import os
 import statistics
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Callable
 
 from .errors import IFSError, check_int
 
@@ -85,8 +87,9 @@ def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
     """Fit one cell for each seed; one row per fit (the task a worker runs)."""
     import torch
 
+    from . import patterns
     from .fit import fit
-    from .metrics import evaluate, self_crossings
+    from .metrics import evaluate, point_error, self_crossings
 
     torch.set_num_threads(1)
     target = load_setup_target(setup)
@@ -100,6 +103,7 @@ def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
         m = evaluate(result.best, target)
         rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
                      "chamfer": m["chamfer"], "iou": m["iou"], "crossings": self_crossings(result.best),
+                     "point_error": point_error(result.best, patterns.koch()),
                      "steps": result.history["cost"], "seconds": seconds,
                      "points": result.best.points.detach().tolist()})
     return rows
@@ -122,7 +126,7 @@ def _check(cells: list[Cell], seeds: list[int]) -> None:
 
 
 def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch: int = 2,
-          scheduler: str = "local", workers: int = 2) -> list[dict]:
+          scheduler: str = "local", workers: int = 2, on_rows: Callable[[list[dict]], None] | None = None) -> list[dict]:
     """Run every cell for every seed.
 
     Parameters
@@ -137,6 +141,9 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
         scheduler address such as ``"tcp://10.0.0.5:8786"``.
     workers : int
         Worker processes of the local cluster.
+    on_rows : callable, optional
+        Called with each task's rows as soon as that task ends (in completion order), so that a long
+        sweep can save its results as it goes.
 
     Returns
     -------
@@ -147,10 +154,14 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
     check_int(batch, "batch", 1)
     tasks = [(cell, seeds[i:i + batch]) for cell in cells for i in range(0, len(seeds), batch)]
     if scheduler == "serial":
-        parts = [run_batch(cell, chunk, setup) for cell, chunk in tasks]
+        parts = []
+        for cell, chunk in tasks:
+            parts.append(run_batch(cell, chunk, setup))
+            if on_rows is not None:
+                on_rows(parts[-1])
     else:
         try:
-            from dask.distributed import Client, LocalCluster, progress
+            from dask.distributed import Client, LocalCluster, as_completed, progress
         except ImportError as exc:
             raise IFSError("a Dask sweep needs dask.distributed: pip install -e '.[sweep]' "
                            "(or use scheduler='serial')") from exc
@@ -163,7 +174,10 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
             cluster, client = None, Client(scheduler)
         try:
             futures = [client.submit(run_batch, cell, chunk, setup, pure=False) for cell, chunk in tasks]
-            if os.environ.get("IFSLIB_PROGRESS", "1") != "0":
+            if on_rows is not None:
+                for future in as_completed(futures):
+                    on_rows(future.result())
+            elif os.environ.get("IFSLIB_PROGRESS", "1") != "0":
                 progress(futures)
             parts = client.gather(futures)
         finally:
@@ -174,13 +188,18 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
 
 
 def summarize(rows: list[dict]) -> list[dict]:
-    """One row per cell: recovered / fits, median Chamfer, median steps spent, median seconds per fit."""
+    """One row per cell: recovered / fits, median Chamfer and point error, median steps spent and seconds per fit.
+
+    The point error (`ifslib.metrics.point_error`) compares the fitted control points with the Koch
+    curve's, up to similarity and reflection, so it needs no knowledge of the target's pose.
+    """
     keys = ("strategy", "gradient", "init", "loss")
     cells: dict[tuple, list[dict]] = {}
     for row in rows:
         cells.setdefault(tuple(row[k] for k in keys), []).append(row)
     return [{**dict(zip(keys, key)), "recovered": sum(r["recovered"] for r in mine), "fits": len(mine),
              "median_chamfer": statistics.median(r["chamfer"] for r in mine),
+             "median_point_error": statistics.median(r.get("point_error", math.nan) for r in mine),
              "crossing": sum(r["crossings"] > 0 for r in mine),
              "median_steps": statistics.median(r["steps"] for r in mine),
              "median_seconds": statistics.median(r["seconds"] for r in mine)} for key, mine in cells.items()]
@@ -188,12 +207,12 @@ def summarize(rows: list[dict]) -> list[dict]:
 
 def table(summary: list[dict]) -> str:
     """A markdown table of `summarize`'s rows."""
-    lines = ["| start | gradient | loss | strategy | recovered | median Chamfer (px) | crossing at the end | "
-             "median steps spent | median s/fit |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| start | gradient | loss | strategy | recovered | median Chamfer (px) | median point error | "
+             "crossing at the end | median steps spent | median s/fit |", "|---|---|---|---|---|---|---|---|---|---|"]
     for s in summary:
         lines.append(f"| {s['init']} | {s['gradient']} | {s['loss']} | {s['strategy']} | {s['recovered']}/{s['fits']} | "
-                     f"{s['median_chamfer']:.2f} | {s['crossing']}/{s['fits']} | {s['median_steps']:.0f} | "
-                     f"{s['median_seconds']:.1f} |")
+                     f"{s['median_chamfer']:.2f} | {s.get('median_point_error', math.nan):.3f} | "
+                     f"{s['crossing']}/{s['fits']} | {s['median_steps']:.0f} | {s['median_seconds']:.1f} |")
     return "\n".join(lines)
 
 

@@ -52,6 +52,33 @@ def test_self_crossings_match_brute_force_on_folded_koch_curves(seed):
     assert metrics.self_crossings(ifs) == brute_crossings(seg)
 
 
+def test_crossing_penalty_is_zero_without_crossings_and_the_depth_of_a_bow_tie():
+    from ifslib.crossings import crossing_penalty
+
+    assert crossing_penalty(ifslib.patterns.koch(depth=3)).item() == 0
+    bow = polyline_ifs([[-0.3, -0.3], [0.3, 0.3], [0.3, -0.3], [-0.1, 0.3]]).to(torch.float64)
+    # segments 0 and 2 cross; the shallowest way out moves (-0.1, 0.3) onto the line y = x
+    assert crossing_penalty(bow).item() == pytest.approx(0.4 / math.sqrt(2), rel=1e-6)  # float32 corners
+
+
+@pytest.mark.parametrize("seed", [2, 8])
+def test_crossing_penalty_gradient_matches_finite_differences(seed):
+    from conftest import perturbed
+    from ifslib.crossings import crossing_penalty
+
+    ifs = perturbed(ifslib.patterns.koch(depth=2), 0.2, seed=seed)  # float64, jittered enough to cross itself
+    value = crossing_penalty(ifs)
+    assert value.item() > 0.01
+    value.backward()
+    eps, pts = 1e-7, ifs.points.detach()
+    for i, j in [(1, 0), (2, 1), (3, 0)]:
+        up, down = pts.clone(), pts.clone()
+        up[i, j] += eps
+        down[i, j] -= eps
+        fd = (crossing_penalty(ifs.clone(up)) - crossing_penalty(ifs.clone(down))).item() / (2 * eps)
+        assert ifs.points.grad[i, j].item() == pytest.approx(fd, rel=1e-5, abs=1e-8)
+
+
 def test_self_crossings_need_segment_primitives():
     with pytest.raises(ifslib.IFSError, match="segments"):
         metrics.self_crossings(ifslib.patterns.sierpinski_carpet(depth=1))

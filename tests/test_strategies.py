@@ -2,7 +2,7 @@
 import pytest
 
 import ifslib
-from ifslib.strategies import STRATEGIES
+from ifslib.strategies import DEFAULT_STRATEGY, STRATEGIES, UNCROSS_WEIGHT
 
 SIZE, STEPS = 32, 12
 
@@ -24,7 +24,9 @@ def test_strategy_runs_and_counts_its_cost(strategy, target):
         assert 0 < cost <= 3 * STEPS
     else:
         assert cost == STEPS
-    start_loss = ifslib.fit(start, target, steps=1, loss="multiscale_distance", progress=False).best_loss
+    weight = UNCROSS_WEIGHT if strategy == "uncross" else 0.0  # its loss includes the crossing barrier
+    start_loss = ifslib.fit(start, target, steps=1, loss="multiscale_distance", progress=False, strategy="plain",
+                            crossing_weight=weight).best_loss
     assert result.best_loss <= start_loss
 
 
@@ -45,3 +47,19 @@ def test_unknown_strategy_and_checkpoint_are_refused(target, tmp_path):
         ifslib.fit(ifslib.patterns.koch(depth=2), target, steps=2, strategy="magic")
     with pytest.raises(ifslib.IFSError, match="plain"):
         ifslib.fit(ifslib.patterns.koch(depth=2), target, steps=2, strategy="multistart", checkpoint=tmp_path / "c.json")
+
+
+def test_uncross_needs_a_curve(target):
+    with pytest.raises(ifslib.IFSError, match="needs a curve"):
+        ifslib.fit(ifslib.patterns.sierpinski_carpet(depth=1), target, steps=2, progress=False, strategy="uncross")
+    with pytest.raises(ifslib.IFSError, match="crossing_weight must be"):
+        ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, crossing_weight=-1)
+
+
+def test_default_is_multistart_and_a_single_run_when_checkpointing(target, tmp_path):
+    start = ifslib.patterns.koch_paper(1, depth=2)
+    result = ifslib.fit(start, target, steps=STEPS, loss="multiscale_distance", progress=False)
+    assert result.history["strategy"] == DEFAULT_STRATEGY == "multistart"
+    assert STEPS < result.history["cost"] <= 3 * STEPS
+    single = ifslib.fit(start, target, steps=4, progress=False, checkpoint=tmp_path / "c.json")
+    assert single.history["cost"] == 4 and "strategy" not in single.history

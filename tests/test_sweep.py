@@ -1,4 +1,6 @@
 """A tiny convergence sweep: serial and on a 2-worker Dask LocalCluster give the same rows."""
+import math
+
 import pytest
 
 from ifslib import IFSError
@@ -13,11 +15,14 @@ def strip(rows):
 
 
 def test_serial_sweep_rows_and_summary(tmp_path):
-    rows = sweep(CELLS, [0, 1, 2], SETUP, batch=2, scheduler="serial")
+    streamed = []
+    rows = sweep(CELLS, [0, 1, 2], SETUP, batch=2, scheduler="serial", on_rows=streamed.append)
     assert len(rows) == 9
+    assert [r for part in streamed for r in part] == rows and [len(p) for p in streamed] == [2, 1] * 3
     assert [(r["strategy"], r["gradient"], r["init"], r["seed"]) for r in rows[:3]] == \
         [("plain", "exact", "paper", 0), ("plain", "exact", "paper", 1), ("plain", "exact", "paper", 2)]
     assert all(r["steps"] == 4 for r in rows)
+    assert all(math.isfinite(r["point_error"]) and r["point_error"] >= 0 for r in rows)
     summary = summarize(rows)
     assert [s["fits"] for s in summary] == [3, 3, 3]
     assert "| paper | exact | multiscale_distance | plain |" in table(summary)
@@ -30,8 +35,11 @@ def test_dask_local_cluster_equals_serial(monkeypatch):
     monkeypatch.setenv("IFSLIB_PROGRESS", "0")
     seeds = [0, 1]
     serial = sweep(CELLS[:2], seeds, SETUP, batch=1, scheduler="serial")
-    distributed = sweep(CELLS[:2], seeds, SETUP, batch=1, scheduler="local", workers=2)
+    streamed = []
+    distributed = sweep(CELLS[:2], seeds, SETUP, batch=1, scheduler="local", workers=2,
+                        on_rows=lambda rows: streamed.extend(rows))
     assert strip(distributed) == strip(serial)
+    assert sorted(map(str, strip(streamed))) == sorted(map(str, strip(serial)))  # every row, in completion order
 
 
 def test_bad_cells_are_refused():
