@@ -3,7 +3,9 @@
 Draws the Koch curve rotated, scaled and shifted (a similarity of the library's own curve, rendered
 at ``--size``), writes each as a PNG, runs the command-line fit on it with its defaults (the
 best-fit-line start and the default strategy) in a subprocess, and judges the fitted IFS on the
-image: recovered when the symmetric Chamfer distance to the target mask is at most 1 pixel.
+image: recovered when the symmetric Chamfer distance to the target mask is at most 1 pixel. The point
+error (`ifslib.point_error`, up to similarity and reflection) compares the fitted points with the
+posed curve's.
 
     python benchmarks/cli_poses.py [--size 128] [--steps 1500]
 """
@@ -42,8 +44,8 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=1500)
     args = parser.parse_args()
     print(f"python -m ifslib fit <png> --pattern koch --size {args.size} --steps {args.steps} (default strategy)")
-    print("| rotation | scale | shift | recovered | Chamfer (px) | IoU | self-crossings | s |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| rotation | scale | shift | recovered | Chamfer (px) | IoU | point error | self-crossings | s |")
+    print("|---|---|---|---|---|---|---|---|---|")
     recovered = 0
     with tempfile.TemporaryDirectory() as tmp:
         for angle, scale, dx, dy in POSES:
@@ -61,7 +63,8 @@ def main() -> None:
             ok = m["chamfer"] <= 1.0
             recovered += ok
             print(f"| {angle}° | {scale} | ({dx}, {dy}) | {'yes' if ok else 'no'} | {m['chamfer']:.2f} | "
-                  f"{m['iou']:.2f} | {ifslib.metrics.self_crossings(fitted)} | {seconds:.0f} |", flush=True)
+                  f"{m['iou']:.2f} | {ifslib.point_error(fitted, truth):.3f} | {ifslib.metrics.self_crossings(fitted)} | "
+                  f"{seconds:.0f} |", flush=True)
     print(f"recovered {recovered} of {len(POSES)} poses")
 
 
