@@ -17,6 +17,12 @@ from .ifs import IFS, check_depth
 from .leaves import compose_words
 
 
+def check_curve(ifs: IFS, what: str) -> None:
+    """Raise `IFSError` saying that ``what`` needs a curve, unless every primitive is a segment."""
+    if any(p.kind != "segment" for p in ifs.primitives):
+        raise IFSError(f"{what} needs a curve: all primitives must be segments")
+
+
 def leaf_segments(ifs: IFS, depth: int | None = None) -> torch.Tensor:
     """The depth-K copies of a curve's segment primitives, differentiable in ``ifs.points``.
 
@@ -33,8 +39,7 @@ def leaf_segments(ifs: IFS, depth: int | None = None) -> torch.Tensor:
         ``(W * p, 2, 2)``: start and end point of each leaf segment, words in lexicographic order
         and the primitive fastest, in the dtype of ``ifs.points``.
     """
-    if any(p.kind != "segment" for p in ifs.primitives):
-        raise IFSError("self-crossings are defined for curves: all primitives must be segments")
+    check_curve(ifs, "a self-crossing count or penalty")
     depth = ifs.depth if depth is None else check_depth(depth)
     points = ifs.points
     words = compose_words(ifs.maps(), depth)                                      # (W, 3, 3)
@@ -98,4 +103,4 @@ def crossing_penalty(ifs: IFS, depth: int | None = None) -> torch.Tensor:
     return crossing_depths(leaf_segments(ifs, depth)).sum()
 
 
-__all__ = ["leaf_segments", "crossing_depths", "crossing_penalty"]
+__all__ = ["check_curve", "leaf_segments", "crossing_depths", "crossing_penalty"]

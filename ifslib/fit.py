@@ -20,7 +20,7 @@ from typing import Callable
 import torch
 from tqdm.auto import tqdm
 
-from .crossings import crossing_penalty
+from .crossings import check_curve, crossing_penalty
 from .distance import distance_field
 from .errors import IFSError, check_int
 from .ifs import IFS, check_depth
@@ -137,8 +137,8 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
     check_int(steps, "steps", 0)
     if not (isinstance(crossing_weight, (int, float)) and crossing_weight >= 0 and math.isfinite(crossing_weight)):
         raise IFSError(f"crossing_weight must be a finite number >= 0, got {crossing_weight!r}")
-    if crossing_weight and any(p.kind != "segment" for p in ifs.primitives):
-        raise IFSError("crossing_weight needs a curve: all primitives must be segments")
+    if crossing_weight:
+        check_curve(ifs, "crossing_weight")
     if strategy is None:
         from .strategies import DEFAULT_STRATEGY
 

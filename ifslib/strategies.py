@@ -31,6 +31,7 @@ import math
 import numpy as np
 import torch
 
+from .crossings import check_curve
 from .errors import IFSError
 from .ifs import IFS
 from .initialization import initialize, is_curve
@@ -98,8 +99,7 @@ def run(strategy: str, fit, ifs: IFS, target: Target, steps: int, seed: int, kwa
     if strategy == "plain":
         result = _combine([one(ifs, steps)], steps)
     elif strategy == "uncross":
-        if any(p.kind != "segment" for p in ifs.primitives):
-            raise IFSError("strategy 'uncross' needs a curve: all primitives must be segments")
+        check_curve(ifs, "strategy 'uncross'")
         weight = kwargs.pop("crossing_weight", 0.0) or UNCROSS_WEIGHT
         result = _combine([one(ifs, steps, crossing_weight=weight)], steps)
     elif strategy == "coarse_to_fine":
