@@ -20,11 +20,15 @@ from .nearest import nearest_leaf, pixel_centres
 from .primitives import Primitive
 from .render import default_sigma, render
 from .rules import Rule, rule_maps
+from .threads import configure_threads
+
+configure_threads()  # IFSLIB_THREADS, when set, fixes torch's thread count once for the package
 
 __version__ = "0.1.0"
 
 __all__ = ["IFS", "IFSError", "Primitive", "Rule", "default_sigma", "distance_field", "expand", "load_ifs",
-           "nearest_leaf", "patterns", "pixel_centres", "render", "rule_maps", "save_ifs"]
+           "nearest_leaf", "patterns", "pixel_centres", "render", "rule_maps", "save_ifs",
+           "configure_threads"]
 
 from . import data, exercises, figures, initialization, landscape, metrics, strategies, sweep  # noqa: E402
 from .animate import animate  # noqa: E402

@@ -106,6 +106,53 @@ def rosette(n: int = 6, depth: int = 3, radius: float = 0.4, inner: float = 0.05
     return IFS(points, rules, [{"kind": "segment", "points": [0, 1], "radius": width}], depth=depth, name=f"rosette{n}")
 
 
+def koch_like(points, depth: int = 3, radius: float = 0.0, name: str = "koch_like") -> IFS:
+    """A self-similar curve from any polyline, with the Koch curve's rules.
+
+    Rule ``i`` maps the base segment ``p0 -> p_{n-1}`` onto the polyline's segment ``p_i -> p_{i+1}``
+    (the similarity of the ``segment`` rule: no reflection); the primitive is the base segment. With
+    the five points of `koch` this is the Koch curve; other polylines give its relatives (sharper or
+    flatter peaks, asymmetric peaks, zig-zags). ``n`` points make ``n - 1`` rules.
+
+    Parameters
+    ----------
+    points : array-like
+        The polyline ``p0 .. p_{n-1}``, ``(n, 2)`` with ``n >= 3``, in plane units.
+    depth : int
+        Hutchinson depth.
+    radius : float
+        Capsule radius of the primitive (0: a plain segment).
+    name : str
+        The IFS's name.
+
+    Returns
+    -------
+    IFS
+
+    Raises
+    ------
+    IFSError
+        (a `ValueError`) if the points are not ``(n, 2)`` finite numbers with ``n >= 3``, the first and
+        last coincide, or a segment's length is not strictly between 0 and the base length
+        ``|p_{n-1} - p0|``: its rule would not be a contraction, or would collapse to a point.
+    """
+    pts = np.asarray(points.detach().cpu() if isinstance(points, torch.Tensor) else points, dtype=np.float64)
+    if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 3:
+        raise IFSError(f"koch_like needs an (n, 2) polyline with n >= 3 points, got shape {pts.shape}")
+    if not np.isfinite(pts).all():
+        raise IFSError("koch_like: the polyline holds values that are not finite (NaN or inf)")
+    base = float(np.linalg.norm(pts[-1] - pts[0]))
+    if not base > 0:
+        raise IFSError("koch_like: the polyline's first and last points coincide, so there is no base segment")
+    for i, length in enumerate(np.linalg.norm(np.diff(pts, axis=0), axis=1).tolist()):
+        if not 0 < length < base:
+            raise IFSError(f"koch_like: segment {i} (p{i} -> p{i + 1}) has length {length:.4g}, which must lie "
+                           f"strictly between 0 and the base length {base:.4g} for its rule to be a contraction")
+    n = len(pts)
+    rules = [{"kind": "segment", "from": [0, n - 1], "to": [i, i + 1]} for i in range(n - 1)]
+    return IFS(pts.tolist(), rules, [{"kind": "segment", "points": [0, n - 1], "radius": radius}], depth=depth, name=name)
+
+
 PATTERNS = {"koch": koch, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper}
 
 

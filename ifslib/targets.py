@@ -36,16 +36,30 @@ class Target:
         ``(size, size)`` float32 in ``[0, 1]``: the mask as pixels.
     name : str
         Where it came from.
+    gray : numpy.ndarray, optional
+        ``(size, size)`` float in ``[0, 1]``: the source image's own gray levels at this size, figure
+        bright, before thresholding (None for a mask or an IFS source). See `picture`.
     """
 
     mask: np.ndarray
     distance: torch.Tensor
     image: torch.Tensor
     name: str = ""
+    gray: np.ndarray | None = None
 
     @property
     def size(self) -> int:
         return self.mask.shape[0]
+
+    @property
+    def picture(self) -> np.ndarray:
+        """The target as a reader recognises it: ``(size, size)`` in ``[0, 1]``, figure bright.
+
+        The source's gray levels when it had them, else the mask. A thin anti-aliased line
+        (the paper's Koch file) thresholded at mid-range keeps only its brightest pixels and looks
+        dotted; its gray levels show the curve the file draws.
+        """
+        return self.gray if self.gray is not None else self.mask.astype(np.float32)
 
 
 def _read_image(path: Path) -> np.ndarray:
@@ -65,18 +79,21 @@ def _read_image(path: Path) -> np.ndarray:
     return gray
 
 
-def mask_from_gray(gray: np.ndarray, size: int, invert: bool = False, threshold: float | None = None) -> np.ndarray:
-    """Resample a gray image to ``size x size`` and threshold it to a figure mask.
+def resample_gray(gray: np.ndarray, size: int, invert: bool = False) -> np.ndarray:
+    """Scale a gray image to ``[0, 1]`` by its own range, figure bright, and resample it to ``size x size``.
 
     Parameters
     ----------
     gray : numpy.ndarray
-        ``(h, w)`` values; scaled to ``[0, 1]`` by the image's own range.
+        ``(h, w)`` values.
     size : int
     invert : bool
         True for a dark figure on a light background.
-    threshold : float, optional
-        In ``[0, 1]`` of the image's range; 0.5 (mid-range) by default.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(size, size)`` float, bilinear resampling (Pillow).
     """
     gray = np.asarray(gray, dtype=np.float64)
     if gray.ndim != 2 or min(gray.shape) == 0:
@@ -91,14 +108,19 @@ def mask_from_gray(gray: np.ndarray, size: int, invert: bool = False, threshold:
         gray = 1 - gray
     if gray.shape != (size, size):
         gray = np.asarray(Image.fromarray(gray.astype(np.float32), mode="F").resize((size, size), Image.BILINEAR))
+    return gray
+
+
+def threshold_gray(gray: np.ndarray, threshold: float | None = None) -> np.ndarray:
+    """The figure mask of a `resample_gray` image: at least ``threshold`` (0.5) of its largest value."""
     t = 0.5 if threshold is None else float(threshold)
     if not 0 < t < 1:
         raise IFSError(f"threshold must lie strictly between 0 and 1, got {threshold!r}")
     return gray >= t * gray.max() if gray.max() > 0 else gray > 0
 
 
-def target_from_mask(mask: np.ndarray, name: str = "") -> Target:
-    """A `Target` from a square boolean mask (checks it is neither empty nor full)."""
+def target_from_mask(mask: np.ndarray, name: str = "", gray: np.ndarray | None = None) -> Target:
+    """A `Target` from a square boolean mask (checks it is neither empty nor full), with its source's gray levels."""
     mask = np.asarray(mask, dtype=bool)
     if mask.ndim != 2 or mask.shape[0] != mask.shape[1]:
         raise IFSError(f"a target mask must be square, got shape {mask.shape}")
@@ -109,7 +131,15 @@ def target_from_mask(mask: np.ndarray, name: str = "") -> Target:
         raise IFSError(f"the target {name or 'mask'} is all foreground; is it a dark figure on white? then pass invert=True")
     size = mask.shape[0]
     dist = ndimage.distance_transform_edt(~mask) / size
-    return Target(mask, torch.from_numpy(dist.astype(np.float32)), torch.from_numpy(mask.astype(np.float32)), name)
+    gray = None if gray is None else np.asarray(gray, dtype=np.float32)
+    return Target(mask, torch.from_numpy(dist.astype(np.float32)), torch.from_numpy(mask.astype(np.float32)), name, gray)
+
+
+def _from_gray(gray: np.ndarray, size: int, invert: bool, threshold: float | None, name: str) -> Target:
+    picture = resample_gray(gray, size, invert)
+    mask = threshold_gray(picture, threshold)
+    # shown at full contrast: resampling a thin line down dims it (the threshold is relative too)
+    return target_from_mask(mask, name, picture / picture.max() if picture.max() > 0 else picture)
 
 
 def load_target(source, size: int, invert: bool = False, threshold: float | None = None, depth: int | None = None) -> Target:
@@ -148,12 +178,12 @@ def load_target(source, size: int, invert: bool = False, threshold: float | None
     if isinstance(source, torch.Tensor):
         source = source.detach().cpu().numpy()
     if isinstance(source, np.ndarray):
-        return target_from_mask(mask_from_gray(source, size, invert, threshold), "array")
+        return _from_gray(source, size, invert, threshold, "array")
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         if not path.exists() and not path.suffix and str(source) in ("koch", "sierpinski", "apple", "flower"):
             from .data import path as data_path
 
             path = data_path(str(source))
-        return target_from_mask(mask_from_gray(_read_image(path), size, invert, threshold), path.stem)
+        return _from_gray(_read_image(path), size, invert, threshold, path.stem)
     raise IFSError(f"cannot make a target from a {type(source).__name__}: give an image path, an array or an IFS")

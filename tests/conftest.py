@@ -1,5 +1,6 @@
 """Shared helpers for the tests: small random IFSs of every rule and primitive kind."""
 import math
+import os
 
 import pytest
 import torch
@@ -37,3 +38,8 @@ PATTERNS = {
 @pytest.fixture(params=sorted(PATTERNS))
 def pattern_name(request):
     return request.param
+
+
+# nbval's kernels inherit this environment: they run at 2 threads unless the caller chose a count;
+# tests/test_notebook_runs.py runs every notebook again at another count and compares.
+os.environ.setdefault("IFSLIB_THREADS", "2")

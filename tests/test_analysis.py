@@ -162,3 +162,11 @@ def test_crossing_points_lie_on_both_segments():
     pts = metrics.crossing_points(bow)
     assert pts.shape == (1, 2) and np.allclose(pts[0], [0.0, 0.0])
     assert metrics.crossing_points(ifslib.patterns.koch(depth=3)).shape == (0, 2)
+
+
+def test_caption_judges_curves_by_chamfer_and_shapes_by_iou():
+    koch = ifslib.patterns.koch()
+    target = ifslib.load_target(koch, 64)
+    assert ifslib.metrics.caption(koch, target) == "Chamfer 0.00 px"
+    carpet = ifslib.patterns.sierpinski_carpet(depth=2)
+    assert ifslib.metrics.caption(carpet, ifslib.load_target(carpet, 64)) == "IoU 1.00"

@@ -109,3 +109,20 @@ def test_data_folder_from_environment(tmp_path, monkeypatch):
     monkeypatch.setenv("IFSLIB_DATA", str(tmp_path))
     assert data.path("koch") == tmp_path / "koch.png"
     assert ifslib.load_target("koch", 40).mask.any()
+
+
+def test_picture_keeps_the_files_gray_levels(tmp_path):
+    """An anti-aliased thin line: the mask keeps its bright core, the picture the whole line."""
+    from PIL import Image
+
+    gray = np.zeros((64, 64), dtype=np.uint8)
+    gray[30, 8:56] = 200  # the line's core
+    gray[29, 8:56] = gray[31, 8:56] = 80  # anti-aliased edges, below mid-range
+    Image.fromarray(gray).save(tmp_path / "line.png")
+    t = ifslib.load_target(tmp_path / "line.png", 64)
+    assert t.mask.sum() == 48
+    assert t.picture.shape == (64, 64) and t.picture.max() == 1.0
+    assert np.allclose(t.picture[29, 8:56], 0.4) and (t.picture[30, 8:56] == 1).all()
+    # a source without gray levels (an IFS, a mask) shows its mask
+    own = ifslib.load_target(ifslib.patterns.koch(), 32)
+    assert own.gray is None and (own.picture == own.mask).all()
