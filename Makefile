@@ -7,13 +7,13 @@ PRESET ?= paper
 IFSLIB_DATA ?= $(if $(wildcard ../shared/data/koch.png),$(abspath ../shared/data),)
 export IFSLIB_DATA
 
-.PHONY: setup test figures bench clean
+.PHONY: setup test figures book setup-browser test-browser bench clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet torch==2.13.0
-	$(PY) -m pip install --quiet -e '.[dev,sweep]'
+	$(PY) -m pip install --quiet -e '.[dev,sweep,docs,browser]'
 	touch $@
 
 setup: $(VENV)/.installed  ## create .venv and install ifslib (editable) with its dev extras
@@ -24,6 +24,15 @@ test: $(VENV)/.installed  ## run the whole test suite
 figures: $(VENV)/.installed  ## run every notebook with papermill (paper preset; PRESET=ci for the quick run)
 	$(PY) notebooks/run.py --preset $(PRESET)
 	$(PY) -m ifslib render koch --size 512 --depth 6 -o figures/koch.png
+
+book: $(VENV)/.installed  ## static HTML book of the notebooks (stored outputs, warnings as errors) in build/book/html
+	$(PY) docs/build.py
+
+setup-browser: $(VENV)/.installed  ## Debian's chromium (apt-get, as root, only when missing) and playwright, for test-browser
+	PY=$(PY) sh browser_tests/setup.sh
+
+test-browser: setup-browser book  ## the explorer and the tutorial in JupyterLab in headless Chromium, and the book's pages
+	$(PY) -m pytest browser_tests -q -p no:cacheprovider
 
 bench: $(VENV)/.installed  ## print the renderer's speed and memory
 	$(PY) benchmarks/render.py

@@ -1,0 +1,87 @@
+"""The static HTML book (``make book`` -> ``build/book/html``) opened in Chromium over HTTP.
+
+The front page says "ifslib" and links to the notebook pages; a notebook page shows its figures (at
+least one image, none broken) and no traceback. Without the built book the tests FAIL: run
+``make book`` first. ``IFSLIB_BOOK_HTML`` points them at another built tree.
+"""
+from __future__ import annotations
+
+import functools
+import http.server
+import os
+import threading
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+BOOK = Path(os.environ.get("IFSLIB_BOOK_HTML", ROOT / "build" / "book" / "html"))
+NOTEBOOK_PAGE = "notebooks/00_explore.html"
+
+# Every <img>: its address and whether it loaded (naturalWidth is 0 for a broken image).
+_IMAGES = """() => [...document.images].map(i => ({src: i.currentSrc || i.src, ok: i.complete && i.naturalWidth > 0,
+                                                 w: i.naturalWidth, h: i.naturalHeight}))"""
+
+
+class _Quiet(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, *args):
+        pass
+
+
+def _require(page_path: str) -> None:
+    """Fail (not skip, not error) when the book, or this page of it, has not been built."""
+    if not (BOOK / page_path).is_file():
+        pytest.fail(f"no built book page {BOOK / page_path}: run `make book` first", pytrace=False)
+
+
+@pytest.fixture(scope="module")
+def book():
+    """The book folder served on 127.0.0.1 (a free port) from a thread; its base URL."""
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(_Quiet, directory=str(BOOK)))
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://127.0.0.1:{server.server_address[1]}"
+    server.shutdown()
+    server.server_close()
+    thread.join(timeout=5)
+
+
+def _failed_local_requests(page, book: str) -> list:
+    """Start recording the book's own resources (pages, CSS, scripts, images) that answer 4xx/5xx."""
+    failed = []
+    page.on("response", lambda r: r.status >= 400 and r.url.startswith(book) and not r.url.endswith("/favicon.ico")
+            and failed.append(f"{r.status} {r.url}"))
+    return failed
+
+
+def test_front_page(page, book, shots):
+    _require("index.html")
+    failed = _failed_local_requests(page, book)
+    response = page.goto(f"{book}/index.html", wait_until="load")
+    assert response is not None and response.ok, f"index.html answered {response and response.status}"
+    assert "ifslib" in page.title(), f"the front page's title is {page.title()!r}"
+    assert "ifslib" in page.locator("h1").first.inner_text(), "the front page's heading does not say ifslib"
+    links = page.eval_on_selector_all("a[href]", "els => els.map(a => a.getAttribute('href'))")
+    assert any(h.split("#")[0].endswith(NOTEBOOK_PAGE) for h in links), \
+        f"the front page does not link to {NOTEBOOK_PAGE}"
+    assert not failed, f"the front page's own resources failed: {failed}"
+    page.screenshot(path=shots / "book_index.png")
+
+
+def test_notebook_page_shows_its_figures(page, book, shots):
+    _require("index.html")
+    _require(NOTEBOOK_PAGE)
+    failed = _failed_local_requests(page, book)
+    response = page.goto(f"{book}/{NOTEBOOK_PAGE}", wait_until="load")
+    assert response is not None and response.ok, f"{NOTEBOOK_PAGE} answered {response and response.status}"
+    assert "ifslib" in page.title(), f"the notebook page's title is {page.title()!r}"
+    images = page.evaluate(_IMAGES)
+    shown = [i for i in images if i["ok"] and i["w"] >= 50 and i["h"] >= 50]
+    broken = [i["src"] for i in images if not i["ok"] and i["src"].startswith(book)]
+    assert shown, f"{NOTEBOOK_PAGE} shows no image (images: {images})"
+    assert not broken, f"{NOTEBOOK_PAGE} has broken images: {broken}"
+    assert "Traceback" not in page.locator("body").inner_text(), f"{NOTEBOOK_PAGE} shows a traceback"
+    assert not failed, f"{NOTEBOOK_PAGE}'s own resources failed: {failed}"
+    page.evaluate("src => [...document.images].find(i => (i.currentSrc || i.src) === src).scrollIntoView()",
+                  shown[0]["src"])
+    page.screenshot(path=shots / "book_notebook.png")
