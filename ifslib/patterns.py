@@ -25,8 +25,7 @@ def koch(depth: int = 3, width: float = 0.8, radius: float = 0.0) -> IFS:
     """
     w = float(width)
     points = [[-w / 2, 0.0], [-w / 6, 0.0], [0.0, w * math.sqrt(3) / 6], [w / 6, 0.0], [w / 2, 0.0]]
-    rules = [{"kind": "segment", "from": [0, 4], "to": [i, i + 1]} for i in range(4)]
-    return IFS(points, rules, [{"kind": "segment", "points": [0, 4], "radius": radius}], depth=depth, name="koch")
+    return koch_like(points, depth=depth, radius=radius, name="koch")
 
 
 def koch_unit(depth: int = 3) -> IFS:
