@@ -20,8 +20,8 @@ from __future__ import annotations
 import argparse
 import itertools
 
-from ifslib.strategies import STRATEGIES
-from ifslib.sweep import Cell, Setup, summarize, sweep, table, write_csv
+from ifslib.fitting.strategies import STRATEGIES
+from ifslib.fitting.sweep import Cell, Setup, summarize, sweep, table, write_csv
 
 
 def main() -> None:

@@ -1,8 +1,14 @@
 """ifslib: differentiable iterated function systems.
 
-The paper's pipeline, one module a step::
+The paper's pipeline, one folder a stage::
 
-    JSON / pattern -> IFS -> maps -> leaves -> nearest leaf -> distance -> render / loss -> fit -> IFS
+    geometry/  JSON / pattern -> IFS -> maps -> leaves
+    raster/    leaves -> nearest leaf -> distance -> render
+    fitting/   target, loss -> one Adam run -> strategies -> fit -> IFS
+    teaching/  what the notebooks show and ask
+
+Data flows one way: a folder imports only from those above it in this list (and from the
+top-level helpers ``errors``, ``data``, ``paths``, ``threads``).
 
 Typical use::
 
@@ -10,35 +16,35 @@ Typical use::
     ifs = ifslib.patterns.koch(depth=4)
     image = ifslib.render(ifs, 256)            # (256, 256) tensor in [0, 1], differentiable
 """
-from . import patterns
-from .distance import distance_field
-from .errors import IFSError
-from .ifs import IFS
-from .io import load_ifs, save_ifs
-from .leaves import expand
-from .nearest import nearest_leaf, pixel_centres
-from .primitives import Primitive
-from .render import default_sigma, render
-from .rules import Rule, rule_maps
 from .threads import configure_threads
 
 configure_threads()  # IFSLIB_THREADS, when set, fixes torch's thread count once for the package
 
+from .errors import IFSError  # noqa: E402
+from .geometry import crossings, patterns  # noqa: E402
+from .geometry.ifs import IFS  # noqa: E402
+from .geometry.io import load_ifs, save_ifs  # noqa: E402
+from .geometry.leaves import expand  # noqa: E402
+from .geometry.primitives import Primitive  # noqa: E402
+from .geometry.rules import Rule, rule_maps  # noqa: E402
+from .raster.distance import distance_field  # noqa: E402
+from .raster.nearest import nearest_leaf, pixel_centres  # noqa: E402
+from .raster.render import default_sigma, render  # noqa: E402
+from . import data  # noqa: E402
+from .fitting import initialization, losses, metrics, strategies, sweep  # noqa: E402
+from .fitting.batch import fit_many  # noqa: E402
+from .fitting.fit import FitResult, fit  # noqa: E402
+from .fitting.initialization import best_fit_line, initialize  # noqa: E402
+from .fitting.losses import LOSSES, loss  # noqa: E402
+from .fitting.metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
+from .fitting.targets import Target, load_target  # noqa: E402
+from .teaching import exercises, figures, landscape  # noqa: E402
+from .teaching.animate import animate  # noqa: E402
+
 __version__ = "0.1.0"
 
-__all__ = ["IFS", "IFSError", "Primitive", "Rule", "default_sigma", "distance_field", "expand", "load_ifs",
-           "nearest_leaf", "patterns", "pixel_centres", "render", "rule_maps", "save_ifs",
-           "configure_threads"]
-
-from . import data, exercises, figures, initialization, landscape, metrics, strategies, sweep  # noqa: E402
-from .animate import animate  # noqa: E402
-from .batch import fit_many  # noqa: E402
-from .fit import FitResult, fit  # noqa: E402
-from .initialization import best_fit_line, initialize  # noqa: E402
-from .losses import LOSSES, loss  # noqa: E402
-from .metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
-from .targets import Target, load_target  # noqa: E402
-
-__all__ += ["FitResult", "LOSSES", "animate", "Target", "best_fit_line", "chamfer", "data", "evaluate", "f1", "fit", "fit_many",
-            "exercises", "figures", "initialization", "initialize", "landscape", "iou", "load_target", "loss",
-            "metrics", "point_error", "strategies", "sweep"]
+__all__ = ["FitResult", "IFS", "IFSError", "LOSSES", "Primitive", "Rule", "Target", "animate", "best_fit_line",
+           "chamfer", "configure_threads", "crossings", "data", "default_sigma", "distance_field", "evaluate",
+           "exercises", "expand", "f1", "figures", "fit", "fit_many", "initialization", "initialize", "iou",
+           "landscape", "load_ifs", "load_target", "loss", "losses", "metrics", "nearest_leaf", "patterns",
+           "pixel_centres", "point_error", "render", "rule_maps", "save_ifs", "strategies", "sweep"]

@@ -61,7 +61,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
 
 def cmd_info(args: argparse.Namespace) -> None:
-    from .leaves import leaf_count_text
+    from .geometry.leaves import leaf_count_text
 
     ifs = _spec(args.spec)
     depth = ifs.depth if args.depth is None else args.depth

@@ -3,10 +3,10 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.batch import fit_many
-from ifslib.distance import distance_fields
-from ifslib.leaves import expand, expand_batch, leaf_table, sdf_pairs, sdf_table
-from ifslib.nearest import nearest_leaf, pixel_centres
+from ifslib.fitting.batch import fit_many
+from ifslib.raster.distance import distance_fields
+from ifslib.geometry.leaves import expand, expand_batch, leaf_table, sdf_pairs, sdf_table
+from ifslib.raster.nearest import nearest_leaf, pixel_centres
 
 from conftest import PATTERNS, perturbed
 

@@ -5,9 +5,9 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.leaves import Leaves, expand, invert_similarities, sdf_dense
-from ifslib.primitives import primitive_params
-from ifslib.nearest import nearest_leaf, pixel_centres
+from ifslib.geometry.leaves import Leaves, expand, invert_similarities, sdf_dense
+from ifslib.geometry.primitives import primitive_params
+from ifslib.raster.nearest import nearest_leaf, pixel_centres
 
 from conftest import PATTERNS, mixed, perturbed
 

@@ -143,7 +143,7 @@ def test_cli_render_fit_info(tmp_path, capsys):
 def test_keep_every_snapshots_and_gif_animation(tmp_path):
     from PIL import Image
 
-    from ifslib.animate import GAP
+    from ifslib.teaching.animate import GAP
 
     target = ifslib.load_target(ifslib.patterns.koch(depth=2), 24)
     start = ifslib.initialize(ifslib.patterns.koch(depth=2), target, jitter=0.03, seed=1)
@@ -174,7 +174,7 @@ def test_animate_needs_snapshots_and_a_known_format(tmp_path):
 def test_animate_mp4_without_ffmpeg_says_so(tmp_path, monkeypatch):
     import importlib
 
-    animate_module = importlib.import_module("ifslib.animate")  # the module, not the function of that name
+    animate_module = importlib.import_module("ifslib.teaching.animate")  # the module, not the function of that name
     target = ifslib.load_target(ifslib.patterns.koch(depth=1), 16)
     result = ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, keep_every=1, strategy="plain")
     monkeypatch.setattr(animate_module.shutil, "which", lambda name: None)

@@ -6,7 +6,7 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.patterns import koch, koch_like
+from ifslib.geometry.patterns import koch, koch_like
 
 
 def koch_points(width=0.8):

@@ -5,7 +5,7 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.rules import map_scales
+from ifslib.geometry.rules import map_scales
 
 R3 = math.sqrt(3)
 

@@ -2,7 +2,7 @@
 import pytest
 
 import ifslib
-from ifslib.strategies import DEFAULT_STRATEGY, STRATEGIES, UNCROSS_WEIGHT
+from ifslib.fitting.strategies import DEFAULT_STRATEGY, STRATEGIES, UNCROSS_WEIGHT
 
 SIZE, STEPS = 32, 12
 

@@ -5,7 +5,7 @@ import pytest
 import ifslib
 from ifslib import exercises
 
-widgets = pytest.importorskip("ifslib.widgets")
+widgets = pytest.importorskip("ifslib.teaching.widgets")
 
 
 @pytest.fixture

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import torch
 
-from .errors import IFSError, check_int
+from ..errors import IFSError, check_int
 from .ifs import IFS
 
 

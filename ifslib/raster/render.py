@@ -9,7 +9,7 @@ from __future__ import annotations
 import torch
 
 from .distance import check_size, distance_field
-from .ifs import IFS, check_sigma
+from ..geometry.ifs import IFS, check_sigma
 
 
 def default_sigma(size: int) -> float:

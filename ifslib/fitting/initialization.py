@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 import torch
 
-from .ifs import IFS
-from .nearest import pixel_centres
+from ..geometry.ifs import IFS
+from ..raster.nearest import pixel_centres
 from .targets import Target
 
 

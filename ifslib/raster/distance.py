@@ -17,9 +17,9 @@ from __future__ import annotations
 import torch
 from torch.utils.checkpoint import checkpoint
 
-from .errors import IFSError, check_int
-from .ifs import IFS, check_depth
-from .leaves import Leaves, check_budget, expand, expand_batch, sdf_dense, sdf_pairs
+from ..errors import IFSError, check_int
+from ..geometry.ifs import IFS, check_depth
+from ..geometry.leaves import Leaves, check_budget, expand, expand_batch, sdf_dense, sdf_pairs
 from .nearest import nearest_leaf, pixel_centres
 
 METHODS = ("fast", "brute")

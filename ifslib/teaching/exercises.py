@@ -11,11 +11,11 @@ import math
 import numpy as np
 import torch
 
-from .ifs import IFS
-from .initialization import is_curve
-from .metrics import evaluate, self_crossings
-from .patterns import by_name, koch_unit
-from .targets import Target
+from ..geometry.ifs import IFS
+from ..fitting.initialization import is_curve
+from ..fitting.metrics import evaluate, self_crossings
+from ..geometry.patterns import by_name, koch_unit
+from ..fitting.targets import Target
 
 
 def _report(ok: bool, name: str, hint: str) -> bool:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import torch
 
-from .leaves import Leaves, leaf_table, sdf_pairs, sdf_table
+from ..geometry.leaves import Leaves, leaf_table, sdf_pairs, sdf_table
 
 #: Above this many (block, leaf) pairs a level is processed in chunks of blocks.
 MAX_PAIRS = 1 << 20

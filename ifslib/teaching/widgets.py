@@ -25,15 +25,15 @@ except ImportError as exc:  # pragma: no cover - depends on the environment
     raise ImportError("ifslib.widgets needs ipywidgets: pip install ipywidgets (or pip install -e '.[dev]')") from exc
 
 from . import figures
-from .distance import distance_field
-from .errors import IFSError
-from .ifs import IFS
-from .io import load_ifs
-from .losses import loss as loss_fn
-from .metrics import iou
-from .patterns import by_name
-from .render import shade
-from .targets import Target, load_target
+from ..raster.distance import distance_field
+from ..errors import IFSError
+from ..geometry.ifs import IFS
+from ..geometry.io import load_ifs
+from ..fitting.losses import loss as loss_fn
+from ..fitting.metrics import iou
+from ..geometry.patterns import by_name
+from ..raster.render import shade
+from ..fitting.targets import Target, load_target
 
 PATTERNS = ("koch", "koch_paper", "carpet", "grid3", "rosette6", "JSON file")
 TARGETS = ("none", "koch", "sierpinski", "apple", "flower")

@@ -20,12 +20,12 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
-from .distance import distance_fields, resolve_device
-from .errors import IFSError, check_int
+from ..raster.distance import distance_fields, resolve_device
+from ..errors import IFSError, check_int
 from .fit import FitResult
-from .ifs import IFS, check_depth
+from ..geometry.ifs import IFS, check_depth
 from .losses import loss as loss_fn
-from .rules import MIN_LENGTH, check_gradient_mode, map_scales, rule_lengths, rule_maps
+from ..geometry.rules import MIN_LENGTH, check_gradient_mode, map_scales, rule_lengths, rule_maps
 from .targets import Target
 
 #: Adam's constants, those of `torch.optim.Adam`'s defaults (which `ifslib.fit` uses).

@@ -22,7 +22,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Callable
 
-from .errors import IFSError, check_int
+from ..errors import IFSError, check_int
 
 INITS = ("paper", "line")
 
@@ -67,7 +67,7 @@ class Setup:
 
 def start_for(cell: Cell, seed: int, setup: Setup, target=None):
     """The starting IFS of one fit: the paper's Koch start, or the jittered best-fit line of ``target``."""
-    from . import patterns
+    from ..geometry import patterns
     from .initialization import initialize
 
     if cell.init == "paper":
@@ -77,7 +77,7 @@ def start_for(cell: Cell, seed: int, setup: Setup, target=None):
 
 def load_setup_target(setup: Setup):
     """The sweep's `Target`: a paper image by name, or the library's Koch curve (``"rendered"``)."""
-    from . import patterns
+    from ..geometry import patterns
     from .targets import load_target
 
     return load_target(patterns.koch(depth=setup.depth) if setup.target == "rendered" else setup.target, setup.size)
@@ -87,7 +87,7 @@ def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
     """Fit one cell for each seed; one row per fit (the task a worker runs)."""
     import torch
 
-    from . import patterns
+    from ..geometry import patterns
     from .fit import fit
     from .metrics import evaluate, point_error, self_crossings
 
@@ -111,7 +111,7 @@ def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
 
 def _check(cells: list[Cell], seeds: list[int]) -> None:
     from .losses import LOSSES
-    from .rules import check_gradient_mode
+    from ..geometry.rules import check_gradient_mode
     from .strategies import check_strategy
 
     if not cells or not seeds:

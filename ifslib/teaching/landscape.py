@@ -12,11 +12,11 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
-from .distance import distance_field
-from .errors import IFSError, check_int
-from .ifs import IFS
-from .losses import loss as loss_fn
-from .targets import Target
+from ..raster.distance import distance_field
+from ..errors import IFSError, check_int
+from ..geometry.ifs import IFS
+from ..fitting.losses import loss as loss_fn
+from ..fitting.targets import Target
 
 
 def gradient_field(ifs: IFS, target: Target, index: int, xs: np.ndarray, ys: np.ndarray,

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import torch
 
-from .errors import IFSError
+from ..errors import IFSError
 from .ifs import IFS, check_depth
 from .leaves import compose_words
 

@@ -20,11 +20,11 @@ from typing import Callable
 import torch
 from tqdm.auto import tqdm
 
-from .crossings import check_curve, crossing_penalty
-from .distance import distance_field
-from .errors import IFSError, check_int
-from .ifs import IFS, check_depth
-from .io import ifs_to_dict, load_ifs, save_ifs
+from ..geometry.crossings import check_curve, crossing_penalty
+from ..raster.distance import distance_field
+from ..errors import IFSError, check_int
+from ..geometry.ifs import IFS, check_depth
+from ..geometry.io import ifs_to_dict, load_ifs, save_ifs
 from .losses import loss as loss_fn
 from .targets import Target
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import torch
 
-from .errors import IFSError
+from ..errors import IFSError
 from .ifs import IFS, check_depth
 from .primitives import primitive_params
 from .rules import map_scales, rule_maps

@@ -22,10 +22,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
-from .ifs import IFS  # noqa: E402
-from .metrics import crossing_points  # noqa: E402
-from .nearest import pixel_centres  # noqa: E402
-from .render import figure_mask, render  # noqa: E402
+from ..geometry.ifs import IFS  # noqa: E402
+from ..fitting.metrics import crossing_points  # noqa: E402
+from ..raster.nearest import pixel_centres  # noqa: E402
+from ..raster.render import figure_mask, render  # noqa: E402
 
 EXTENT = (-0.5, 0.5, -0.5, 0.5)
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import torch
 
-from .errors import IFSError
+from ..errors import IFSError
 
 PRIMITIVE_KINDS = ("segment", "box", "disk")
 _N_POINTS = {"segment": 2, "box": 2, "disk": 1}

@@ -16,9 +16,11 @@ import torch
 from PIL import Image, UnidentifiedImageError
 from scipy import ndimage
 
-from .distance import check_size
-from .errors import IFSError
-from .ifs import IFS
+from ..data import path as data_path
+from ..raster.distance import check_size
+from ..raster.render import figure_mask
+from ..errors import IFSError
+from ..geometry.ifs import IFS
 
 
 @dataclass
@@ -171,8 +173,6 @@ def load_target(source, size: int, invert: bool = False, threshold: float | None
     """
     size = check_size(size)
     if isinstance(source, IFS):
-        from .render import figure_mask
-
         mask = figure_mask(source, size, depth)
         return target_from_mask(~mask if invert else mask, source.name or "ifs")
     if isinstance(source, torch.Tensor):
@@ -182,8 +182,6 @@ def load_target(source, size: int, invert: bool = False, threshold: float | None
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         if not path.exists() and not path.suffix and str(source) in ("koch", "sierpinski", "apple", "flower"):
-            from .data import path as data_path
-
             path = data_path(str(source))
         return _from_gray(_read_image(path), size, invert, threshold, path.stem)
     raise IFSError(f"cannot make a target from a {type(source).__name__}: give an image path, an array or an IFS")

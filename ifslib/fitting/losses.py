@@ -16,8 +16,8 @@ from typing import Callable
 import torch
 import torch.nn.functional as F
 
-from .errors import IFSError
-from .render import default_sigma, shade
+from ..errors import IFSError
+from ..raster.render import default_sigma, shade
 from .targets import Target
 
 LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")

@@ -14,7 +14,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from .errors import IFSError
+from ..errors import IFSError
 from .ifs import IFS
 
 FORMAT = "ifslib/1"

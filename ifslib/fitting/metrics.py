@@ -6,10 +6,10 @@ import numpy as np
 import torch
 from scipy import ndimage
 
-from .crossings import leaf_segments
-from .ifs import IFS
+from ..geometry.crossings import leaf_segments
+from ..geometry.ifs import IFS
 from .initialization import is_curve
-from .render import figure_mask
+from ..raster.render import figure_mask
 from .targets import Target
 
 

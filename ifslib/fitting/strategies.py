@@ -31,9 +31,9 @@ import math
 import numpy as np
 import torch
 
-from .crossings import check_curve
-from .errors import IFSError
-from .ifs import IFS
+from ..geometry.crossings import check_curve
+from ..errors import IFSError
+from ..geometry.ifs import IFS
 from .initialization import initialize, is_curve
 from .metrics import evaluate, self_crossings
 from .targets import Target

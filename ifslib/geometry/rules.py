@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import torch
 
-from .errors import IFSError
+from ..errors import IFSError
 
 RULE_KINDS = ("segment", "square")
 GRADIENT_MODES = ("exact", "paper")

@@ -11,7 +11,7 @@ from typing import Any, Iterable, Sequence
 
 import torch
 
-from .errors import IFSError, check_int
+from ..errors import IFSError, check_int
 from .primitives import Primitive
 from .rules import Rule, check_gradient_mode, check_rule_lengths, map_scales, rule_maps
 

@@ -16,10 +16,10 @@ import torch
 from PIL import Image, ImageDraw
 from tqdm.auto import tqdm
 
-from .errors import IFSError
-from .io import ifs_from_dict
-from .render import render
-from .targets import Target
+from ..errors import IFSError
+from ..geometry.io import ifs_from_dict
+from ..raster.render import render
+from ..fitting.targets import Target
 
 GAP = 4  # pixels between the three panels
 

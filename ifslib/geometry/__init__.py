@@ -1,0 +1,3 @@
+"""Geometry: the IFS itself (control points, rules, primitives), its leaves to depth K, named
+patterns, the ``ifslib/1`` JSON file, and a curve's self-crossings. Imports nothing else of ifslib
+but the top-level helpers."""
