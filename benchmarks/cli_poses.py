@@ -1,18 +1,23 @@
-"""Does the default `python -m ifslib fit target.png --pattern koch` recover Koch curves in any pose?
+"""Time to a recovered fit: `python -m ifslib fit target.png --pattern koch` on Koch curves in random poses.
 
-Draws the Koch curve rotated, scaled and shifted (a similarity of the library's own curve, rendered
-at ``--size``), writes each as a PNG, runs the command-line fit on it with its defaults (the
-best-fit-line start and the default strategy) in a subprocess, and judges the fitted IFS on the
-image: recovered when the symmetric Chamfer distance to the target mask is at most 1 pixel. The point
-error (`ifslib.point_error`, up to similarity and reflection) compares the fitted points with the
-posed curve's.
+Draws the library's Koch curve rotated (0-360°), scaled (0.5-0.9) and shifted (inside the frame) by a
+seeded generator, writes each as a PNG at ``--size``, and runs the command-line fit on it in a
+subprocess with its defaults (the best-fit-line start; the default strategy, or each ``--strategy``
+given, on the same poses). The wall time is that of the whole command (start-up, loading, fitting,
+writing), with ``IFSLIB_THREADS`` set to ``--threads``. A fit is recovered when the symmetric Chamfer
+distance between the fitted IFS's figure and the target mask is at most 1 pixel; the point error
+(`ifslib.point_error`, up to similarity and reflection) compares the fitted points with the posed
+curve's.
 
-    python benchmarks/cli_poses.py [--size 128] [--steps 1500]
+    python benchmarks/cli_poses.py [--size 256] [--poses 20] [--strategy pyramid --strategy multistart]
 """
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -25,10 +30,6 @@ from PIL import Image
 
 import ifslib
 
-#: (rotation in degrees, scale, shift x, shift y) of the Koch curve of width 0.8 centred at the origin.
-POSES = [(0, 1.0, 0.0, 0.0), (30, 0.7, 0.1, -0.05), (-60, 0.5, -0.15, 0.2), (135, 0.8, 0.0, 0.0),
-         (90, 0.4, 0.22, 0.2), (200, 0.6, -0.1, -0.12)]
-
 
 def posed_koch(angle: float, scale: float, dx: float, dy: float, depth: int = 3) -> ifslib.IFS:
     """The library's Koch curve under the similarity ``x -> scale * R(angle) x + (dx, dy)``."""
@@ -38,34 +39,71 @@ def posed_koch(angle: float, scale: float, dx: float, dy: float, depth: int = 3)
     return koch.clone(scale * koch.points.detach() @ rot.T + torch.tensor([dx, dy], dtype=torch.float64))
 
 
+def random_poses(n: int, seed: int = 2026) -> list[tuple[float, float, float, float]]:
+    """``n`` poses (rotation in degrees, scale, shift x, shift y); the curve (width 0.8 x scale) stays in the frame."""
+    rng = np.random.default_rng(seed)
+    poses = []
+    for _ in range(n):
+        angle, scale = rng.uniform(0, 360), rng.uniform(0.5, 0.9)
+        room = (0.95 - 0.5 * scale) * 0.5
+        poses.append((angle, scale, rng.uniform(-room, room), rng.uniform(-room, room)))
+    return poses
+
+
+def fit_once(png: Path, out: Path, size: int, strategy: str | None, threads: int) -> float:
+    """Run the CLI fit; returns its wall time in seconds."""
+    command = [sys.executable, "-m", "ifslib", "fit", str(png), "--pattern", "koch", "--size", str(size), "--quiet",
+               "-o", str(out)]
+    if strategy is not None:
+        command += ["--strategy", strategy]
+    t0 = time.perf_counter()
+    subprocess.run(command, check=True, capture_output=True, env={**os.environ, "IFSLIB_THREADS": str(threads)})
+    return time.perf_counter() - t0
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--size", type=int, default=128)
-    parser.add_argument("--steps", type=int, default=1500)
+    parser.add_argument("--size", type=int, default=256)
+    parser.add_argument("--poses", type=int, default=20)
+    parser.add_argument("--first", type=int, default=0, help="skip the first poses (to split a run)")
+    parser.add_argument("--strategy", action="append", help="strategies to compare (default: the CLI's default)")
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--json", help="also write every row here")
     args = parser.parse_args()
-    print(f"python -m ifslib fit <png> --pattern koch --size {args.size} --steps {args.steps} (default strategy)")
-    print("| rotation | scale | shift | recovered | Chamfer (px) | IoU | point error | self-crossings | s |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    recovered = 0
+    strategies = args.strategy or [None]
+    rows = []
+    print(f"python -m ifslib fit <png> --pattern koch --size {args.size} [--strategy S], IFSLIB_THREADS={args.threads}")
+    print("| pose | rotation | scale | shift | strategy | recovered | Chamfer (px) | point error | steps | s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
-        for angle, scale, dx, dy in POSES:
+        for k, (angle, scale, dx, dy) in enumerate(random_poses(args.poses)):
+            if k < args.first:
+                continue
             truth = posed_koch(angle, scale, dx, dy)
-            png, out = Path(tmp) / "target.png", Path(tmp) / "fitted.json"
+            png = Path(tmp) / "target.png"
             image = ifslib.render(truth, args.size).detach().numpy()
             Image.fromarray((image * 255).round().astype(np.uint8), mode="L").save(png)
-            t0 = time.perf_counter()
-            subprocess.run([sys.executable, "-m", "ifslib", "fit", str(png), "--pattern", "koch", "--size",
-                            str(args.size), "--steps", str(args.steps), "--quiet", "-o", str(out)], check=True,
-                           capture_output=True)
-            seconds = time.perf_counter() - t0
-            fitted = ifslib.load_ifs(out)
-            m = ifslib.evaluate(fitted, ifslib.load_target(png, args.size))
-            ok = m["chamfer"] <= 1.0
-            recovered += ok
-            print(f"| {angle}° | {scale} | ({dx}, {dy}) | {'yes' if ok else 'no'} | {m['chamfer']:.2f} | "
-                  f"{m['iou']:.2f} | {ifslib.point_error(fitted, truth):.3f} | {ifslib.metrics.self_crossings(fitted)} | "
-                  f"{seconds:.0f} |", flush=True)
-    print(f"recovered {recovered} of {len(POSES)} poses")
+            target = ifslib.load_target(png, args.size)
+            for strategy in strategies:
+                out = Path(tmp) / "fitted.json"
+                seconds = fit_once(png, out, args.size, strategy, args.threads)
+                fitted = ifslib.load_ifs(out)
+                m = ifslib.evaluate(fitted, target)
+                history = fitted.meta.get("history", {})
+                row = dict(pose=k, angle=angle, scale=scale, dx=dx, dy=dy, strategy=history.get("strategy", "plain"),
+                           recovered=m["chamfer"] <= 1.0, chamfer=m["chamfer"], point_error=ifslib.point_error(fitted, truth),
+                           steps=history.get("cost"), seconds=seconds)
+                rows.append(row)
+                print(f"| {k} | {angle:.0f}° | {scale:.2f} | ({dx:.2f}, {dy:.2f}) | {row['strategy']} | "
+                      f"{'yes' if row['recovered'] else 'no'} | {m['chamfer']:.2f} | {row['point_error']:.3f} | "
+                      f"{row['steps']} | {seconds:.1f} |", flush=True)
+                if args.json:
+                    Path(args.json).write_text(json.dumps(rows, indent=1))
+    for strategy in sorted({r["strategy"] for r in rows}):
+        mine = [r for r in rows if r["strategy"] == strategy]
+        print(f"{strategy}: recovered {sum(r['recovered'] for r in mine)} of {len(mine)}; wall time median "
+              f"{statistics.median(r['seconds'] for r in mine):.1f} s (min {min(r['seconds'] for r in mine):.1f}, max "
+              f"{max(r['seconds'] for r in mine):.1f}); steps median {statistics.median(r['steps'] for r in mine):.0f}")
 
 
 if __name__ == "__main__":

@@ -38,8 +38,21 @@ from .fitting.initialization import best_fit_line, initialize  # noqa: E402
 from .fitting.losses import LOSSES, loss  # noqa: E402
 from .fitting.metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
 from .fitting.targets import Target, load_target  # noqa: E402
-from .teaching import exercises, figures, landscape  # noqa: E402
-from .teaching.animate import animate  # noqa: E402
+
+#: The teaching modules load matplotlib; they are imported on first use (``ifslib.figures``), so the
+#: command line and a fit without figures start half a second sooner.
+_TEACHING = {"exercises": "exercises", "figures": "figures", "landscape": "landscape", "animate": "animate"}
+
+
+def __getattr__(name: str):
+    if name in _TEACHING:
+        import importlib
+
+        module = importlib.import_module(f".teaching.{_TEACHING[name]}", __name__)
+        value = module.animate if name == "animate" else module
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'ifslib' has no attribute {name!r}")
 
 __version__ = "0.1.0"
 

@@ -41,23 +41,38 @@ def cmd_render(args: argparse.Namespace) -> None:
     print(f"wrote {args.output}: {args.size}x{args.size}, depth {depth}, {ifs.n_leaves(depth):,} leaves")
 
 
+def _stages_text(history: dict) -> str:
+    """One line on how a strategy spent its steps (the pyramid's starts and stages)."""
+    stages = history.get("stages")
+    if not stages:
+        return f"{history['cost']} steps spent ({history.get('strategy', 'plain')})"
+    last = max(s["start"] for s in stages)
+    runs = ", ".join(f"{s['size']}² {s['steps']}" for s in stages if s["start"] == last)
+    verdict = "recovered the target" if history.get("recovered") else "was the best"
+    return (f"{history['cost']} steps spent (pyramid: start {last + 1} of the {history['starts_tried']} tried "
+            f"{verdict}; its stages: {runs} steps)")
+
+
 def cmd_fit(args: argparse.Namespace) -> None:
+    import time
+
     from . import evaluate, fit, initialize, load_target, save_ifs
 
+    t0 = time.perf_counter()
     target = load_target(args.target, args.size, invert=args.invert)
     ifs = _spec(args.pattern)
     if args.depth is not None:
         ifs.depth = args.depth
     start = initialize(ifs, target, jitter=args.jitter, seed=args.seed)
     result = fit(start, target, steps=args.steps, lr=args.lr, loss=args.loss, seed=args.seed,
-                 checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet, strategy=args.strategy)
+                 checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet, strategy=args.strategy,
+                 tol=args.tol)
     save_ifs(result.best, args.output)
     m = evaluate(result.best, target)
-    print(f"wrote {args.output}: best loss {result.best_loss:.4g} at step {result.best_step}; "
-          f"IoU {m['iou']:.3f}, F1 {m['f1']:.3f}, Chamfer {m['chamfer']:.2f} px"
+    print(f"wrote {args.output}: best loss {result.best_loss:.4g}; IoU {m['iou']:.3f}, F1 {m['f1']:.3f}, "
+          f"Chamfer {m['chamfer']:.2f} px"
           + (f"; {len(result.history['rollbacks'])} rolled-back steps" if result.history["rollbacks"] else "")
-          + (f"; {result.history['cost']} steps spent ({result.history.get('strategy', 'plain')})"
-             if result.history.get("strategy", "plain") != "plain" else ""))
+          + f"; {_stages_text(result.history)}; {time.perf_counter() - t0:.1f} s")
 
 
 def cmd_info(args: argparse.Namespace) -> None:
@@ -91,7 +106,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="koch, koch_paper, carpet, gridN, rosetteN, or an ifslib/1 JSON file (default koch)")
     f.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     f.add_argument("--depth", type=int, help="render depth (default: the pattern's, 3)")
-    f.add_argument("--steps", type=int, default=1500, help="Adam steps (default 1500, as the paper)")
+    f.add_argument("--steps", type=int, default=1500,
+                   help="step budget of each run (default 1500, the paper's run); the default strategy stops each "
+                        "stage once its loss has converged")
+    f.add_argument("--tol", type=float, default=None,
+                   help="early stop: end a run when its best loss improved by at most this fraction over the last "
+                        "steps (default: the strategy's; off for plain)")
     f.add_argument("--lr", type=float, default=0.003, help="learning rate (default 0.003, as the paper)")
     f.add_argument("--loss", default="multiscale_distance",
                    help="pixel, multiscale_pixel, distance or multiscale_distance (default)")
@@ -101,8 +121,9 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--checkpoint", help="write a resumable checkpoint here every 100 steps")
     f.add_argument("--resume", help="continue from this checkpoint")
     f.add_argument("--strategy", default=None,
-                   help="multistart (the default; a single run with --checkpoint/--resume), plain (one run, the "
-                        "paper's), coarse_to_fine, restart, anneal or uncross")
+                   help="pyramid (the default: coarse to fine in pixels, starts tried until one recovers the "
+                        "target; a single run with --checkpoint/--resume), plain (one run, the paper's), multistart, "
+                        "coarse_to_fine, restart, anneal or uncross")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     f.add_argument("-o", "--output", required=True, help="JSON file for the fitted IFS")
     f.set_defaults(run=cmd_fit)

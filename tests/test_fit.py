@@ -130,7 +130,7 @@ def test_cli_render_fit_info(tmp_path, capsys):
     assert cli(["fit", str(png), "--pattern", "koch", "--size", "48", "--depth", "2", "--steps", "5", "--quiet",
                 "-o", str(fitted)]) == 0
     out = capsys.readouterr().out
-    assert "IoU" in out and "(multistart)" in out  # the default strategy, and the steps it spent
+    assert "IoU" in out and "(pyramid" in out  # the default strategy, and the steps it spent
     assert cli(["info", str(fitted)]) == 0
     out = capsys.readouterr().out
     assert "contraction" in out and "leaves at depth 2: 4^2 x 1 = 16" in out

@@ -20,6 +20,8 @@ def test_strategy_runs_and_counts_its_cost(strategy, target):
     assert result.history.get("strategy", "plain") == strategy
     if strategy == "multistart":
         assert STEPS < cost <= 3 * STEPS
+    elif strategy == "pyramid":  # up to 8 starts, one stage each at this size, each stage at most STEPS
+        assert 0 < cost <= 8 * STEPS and result.history["starts_tried"] == len(result.history["stages"])
     elif strategy == "restart":
         assert 0 < cost <= 3 * STEPS
     else:
@@ -56,10 +58,10 @@ def test_uncross_needs_a_curve(target):
         ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, crossing_weight=-1)
 
 
-def test_default_is_multistart_and_a_single_run_when_checkpointing(target, tmp_path):
+def test_default_is_pyramid_and_a_single_run_when_checkpointing(target, tmp_path):
     start = ifslib.patterns.koch_paper(1, depth=2)
     result = ifslib.fit(start, target, steps=STEPS, loss="multiscale_distance", progress=False)
-    assert result.history["strategy"] == DEFAULT_STRATEGY == "multistart"
-    assert STEPS < result.history["cost"] <= 3 * STEPS
+    assert result.history["strategy"] == DEFAULT_STRATEGY == "pyramid"
+    assert 0 < result.history["cost"] <= 8 * STEPS
     single = ifslib.fit(start, target, steps=4, progress=False, checkpoint=tmp_path / "c.json")
     assert single.history["cost"] == 4 and "strategy" not in single.history

@@ -22,7 +22,7 @@ from tqdm.auto import tqdm
 
 from ..raster.distance import distance_fields, resolve_device
 from ..errors import IFSError, check_int
-from .fit import FitResult
+from .run import FitResult
 from ..geometry.ifs import IFS, check_depth
 from .losses import loss as loss_fn
 from ..geometry.rules import MIN_LENGTH, check_gradient_mode, map_scales, rule_lengths, rule_maps

@@ -1,10 +1,20 @@
-"""Strategies that escape local minima, built on the single-run `fit` loop.
+"""Strategies: how a fit spends its steps over several single runs (`ifslib.fitting.run.run`).
 
-A strategy spends Adam steps across several runs of `ifslib.fit` and returns the best result. Every
-step of every run counts in ``history["cost"]``, so strategies compare per step spent:
+Each strategy calls `run` (never the public `ifslib.fit`, which sits above this module and picks a
+strategy) and returns the best result. Every step of every run counts in ``history["cost"]``, so
+strategies compare per step spent:
 
+``pyramid``
+    The default. Coarse to fine in pixels, and starts tried one after another until one recovers
+    the target. Each start runs at the coarsest size of the target's pyramid (64² for a 256²
+    target), then at each finer size (4 times larger, `PYRAMID_FACTOR`) up to the target's own,
+    every stage ending when its loss has converged (``tol``, ``patience``). The learning rate grows with the pixel size
+    (``lr * size / stage_size``), so a coarse step moves the points as far, in pixels, as a fine one.
+    After each start the result is judged at the full size; once the symmetric Chamfer distance to
+    the target is at most ``success`` pixels, no more starts are tried. The starts are those of
+    ``multistart``. ``steps`` is each stage's budget.
 ``plain``
-    One run: the paper's procedure.
+    One run: the paper's procedure (every step spent unless ``tol`` is given).
 ``coarse_to_fine``
     Depth 1, then 2, ... up to the full depth, the steps split evenly (cost: ``steps``).
 ``multistart``
@@ -13,9 +23,9 @@ step of every run counts in ``history["cost"]``, so strategies compare per step 
     whose curve crosses itself rank after those that do not (the paper's local minima coincide with
     self-crossings). Cost: about ``2.9 * steps`` with the defaults.
 ``restart``
-    Runs in windows; when a window ends without the figure within ``success_chamfer`` pixels of the
-    target and the loss has stopped improving, the next window starts from a jittered copy of the
-    best points. Stops early on success. Cost: at most ``budget * steps``.
+    Runs in windows; when a window ends without the figure within ``success`` pixels of the target
+    and the loss has stopped improving, the next window starts from a jittered copy of the best
+    points. Stops early on success. Cost: at most ``budget * steps``.
 ``anneal``
     The rendering width (pixel losses) or the pooling levels (distance losses) go from coarse to
     fine in four stages (cost: ``steps``).
@@ -26,25 +36,38 @@ step of every run counts in ``history["cost"]``, so strategies compare per step 
 """
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
 import torch
+from tqdm.auto import tqdm
 
-from ..geometry.crossings import check_curve
 from ..errors import IFSError
+from ..geometry.crossings import check_curve
 from ..geometry.ifs import IFS
 from .initialization import initialize, is_curve
 from .metrics import evaluate, self_crossings
-from .targets import Target
+from .run import FitResult, run
+from .targets import Target, pyramid_sizes, resize_target
 
-STRATEGIES = ("plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
+STRATEGIES = ("pyramid", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
 
-#: What `ifslib.fit` does when given no strategy: the most reliable one in the convergence study.
-DEFAULT_STRATEGY = "multistart"
+#: What `ifslib.fit` does when given no strategy.
+DEFAULT_STRATEGY = "pyramid"
 
 #: The crossing barrier's weight in ``uncross`` when the fit sets none.
 UNCROSS_WEIGHT = 0.1
+
+#: The pyramid's coarsest size in pixels: below it a Koch curve of depth 3 blurs into its own gaps.
+COARSEST = 64
+
+#: Each pyramid stage is this many times the size of the one before (4: 64² then 256²; a middle
+#: 128² stage cost more steps than it saved in our timing).
+PYRAMID_FACTOR = 4
+
+#: Early stop of each pyramid stage (see `ifslib.fitting.run.converged`) when the fit sets none.
+PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
 
 
 def check_strategy(strategy: str) -> str:
@@ -64,7 +87,7 @@ def _split(steps: int, parts: int) -> list[int]:
     return [steps // parts + (i < steps % parts) for i in range(parts)]
 
 
-def _combine(results: list, total_cost: int):
+def _combine(results: list[FitResult], total_cost: int) -> FitResult:
     """The result with the lowest best loss, its history extended with the strategy's cost."""
     best = min(results, key=lambda r: r.best_loss)
     best.history["cost"] = total_cost
@@ -80,23 +103,88 @@ def _crosses(ifs: IFS) -> bool:
         return True
 
 
-def run(strategy: str, fit, ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, *,
-        starts: int = 8, keep: int = 2, probe: float = 0.15, jitter: float = 0.05,
-        success_chamfer: float = 1.0, budget: float = 3.0):
-    """Run ``strategy`` with ``fit`` (the single-run loop) and the fit keyword arguments ``kwargs``.
+def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Generator) -> list[IFS]:
+    """``n`` starting points: ``ifs`` itself, then jittered copies of it and, for curves, every other
+    one a jittered best-fit-line start (`ifslib.initialize`)."""
+    out = [ifs]
+    for k in range(1, n):
+        if is_curve(ifs) and k % 2 == 1:
+            out.append(initialize(ifs, target, jitter=jitter, seed=int(rng.integers(2**31))))
+        else:
+            out.append(_jittered(ifs, jitter, rng))
+    return out
 
-    Returns the best `FitResult`, with ``history["cost"]`` the Adam steps spent in all runs and
-    ``history["strategy"]`` its name.
+
+def _pyramid(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, n_starts: int, jitter: float,
+             success: float, coarsest: int, rng: np.random.Generator) -> FitResult:
+    """The ``pyramid`` strategy (see the module's docstring)."""
+    lr = kwargs.pop("lr", 0.003)
+    kwargs.setdefault("tol", PYRAMID_TOL)
+    kwargs.setdefault("patience", PYRAMID_PATIENCE)
+    if kwargs["tol"] is None:
+        kwargs["tol"] = PYRAMID_TOL
+    progress = kwargs.get("progress", True)
+    sizes = pyramid_sizes(target.size, coarsest, PYRAMID_FACTOR)
+    levels = {size: resize_target(target, size) for size in sizes}
+    tried: list[tuple[FitResult, float]] = []
+    stages, cost = [], 0
+    for k, start in enumerate(starts(ifs, target, n_starts, jitter, rng)):
+        current = start
+        for size in sizes:
+            result = run(current, levels[size], steps=steps, seed=seed, lr=lr * target.size / size,
+                         desc=f"start {k + 1}/{n_starts} · {size}²", **kwargs)
+            cost += result.history["cost"]
+            stages.append({"start": k, "size": size, "steps": result.history["cost"],
+                           "stopped": result.history["stopped"], "best_loss": result.best_loss})
+            current = result.best
+        chamfer = evaluate(result.best, target)["chamfer"]
+        stages[-1]["chamfer"] = chamfer
+        tried.append((result, chamfer))
+        if chamfer <= success:
+            break
+        if progress:
+            tqdm.write(f"start {k + 1}/{n_starts}: Chamfer {chamfer:.2f} px > {success:g} px, trying the next start")
+    best, chamfer = min(tried, key=lambda rc: (rc[1] > success, rc[0].best_loss))
+    best.history.update(cost=cost, stages=stages, starts_tried=len(tried), chamfer=chamfer,
+                        recovered=chamfer <= success)
+    return best
+
+
+def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, *,
+                 n_starts: int = 8, keep: int = 2, probe: float = 0.15, jitter: float = 0.05,
+                 success: float = 1.0, budget: float = 3.0, coarsest: int = COARSEST) -> FitResult:
+    """Run ``strategy`` with `ifslib.fitting.run.run` and its keyword arguments ``kwargs``.
+
+    Parameters
+    ----------
+    strategy : str
+        One of `STRATEGIES`.
+    ifs, target, steps, seed
+        As in `ifslib.fit`.
+    kwargs : dict
+        Further keyword arguments of `run` (``lr``, ``loss``, ``depth``, ``progress``, ...).
+    n_starts, keep, probe, jitter, success, budget, coarsest
+        The strategies' settings (see the module's docstring): ``success`` is the Chamfer
+        distance in pixels at which ``pyramid`` and ``restart`` stop trying.
+
+    Returns
+    -------
+    FitResult
+        The best run's result, with ``history["cost"]`` the Adam steps spent in all runs and
+        ``history["strategy"]`` the strategy's name.
     """
     check_strategy(strategy)
+    kwargs = dict(kwargs)
     depth = kwargs.pop("depth", None) or ifs.depth
     rng = np.random.default_rng(seed)
 
-    def one(start: IFS, n: int, **extra):
-        return fit(start, target, steps=n, seed=seed, depth=extra.pop("depth", depth), strategy="plain",
-                   **{**kwargs, **extra})
+    def one(start: IFS, n: int, **extra) -> FitResult:
+        return run(start, target, steps=n, seed=seed, depth=extra.pop("depth", depth), **{**kwargs, **extra})
 
-    if strategy == "plain":
+    if strategy == "pyramid":
+        kwargs["depth"] = depth
+        result = _pyramid(ifs, target, steps, seed, kwargs, n_starts, jitter, success, coarsest, rng)
+    elif strategy == "plain":
         result = _combine([one(ifs, steps)], steps)
     elif strategy == "uncross":
         check_curve(ifs, "strategy 'uncross'")
@@ -109,19 +197,14 @@ def run(strategy: str, fit, ifs: IFS, target: Target, steps: int, seed: int, kwa
             results.append(one(current, n, depth=d))
             current = results[-1].best
         result = results[-1]
-        result.history["cost"] = steps
+        result.history["cost"] = sum(r.history["cost"] for r in results)
     elif strategy == "multistart":
         n_probe = max(1, int(round(probe * steps)))
-        candidates = [ifs]
-        for k in range(1, starts):
-            if is_curve(ifs) and k % 2 == 1:
-                candidates.append(initialize(ifs, target, jitter=jitter, seed=int(rng.integers(2**31))))
-            else:
-                candidates.append(_jittered(ifs, jitter, rng))
-        probes = [one(c, n_probe) for c in candidates]
+        probes = [one(c, n_probe, desc=f"probe {k + 1}/{n_starts}")
+                  for k, c in enumerate(starts(ifs, target, n_starts, jitter, rng))]
         order = sorted(range(len(probes)), key=lambda i: (_crosses(probes[i].best), probes[i].best_loss))
-        finals = [one(probes[i].best, steps - n_probe) for i in order[:keep]]
-        result = _combine(finals, n_probe * len(candidates) + (steps - n_probe) * len(finals))
+        finals = [one(probes[i].best, steps - n_probe, desc=f"continue {j + 1}/{keep}") for j, i in enumerate(order[:keep])]
+        result = _combine(finals, sum(r.history["cost"] for r in probes + finals))
     elif strategy == "restart":
         window = max(1, steps // 3)
         limit = int(budget * steps)
@@ -129,9 +212,9 @@ def run(strategy: str, fit, ifs: IFS, target: Target, steps: int, seed: int, kwa
         while spent < limit:
             n = min(window, limit - spent)
             results.append(one(current, n))
-            spent += n
+            spent += results[-1].history["cost"]
             best = min(results, key=lambda r: r.best_loss).best
-            if evaluate(best, target)["chamfer"] <= success_chamfer:
+            if evaluate(best, target)["chamfer"] <= success:
                 break
             last = results[-1].history["loss"]
             improving = len(last) > 10 and min(last[-len(last) // 4:]) < 0.99 * min(last[:len(last) // 2])
@@ -148,8 +231,10 @@ def run(strategy: str, fit, ifs: IFS, target: Target, steps: int, seed: int, kwa
             results.append(one(current, n, **extra))
             current = results[-1].best
         result = results[-1]
-        result.history["cost"] = steps
+        result.history["cost"] = sum(r.history["cost"] for r in results)
     result.history["strategy"] = strategy
+    for ifs_ in (result.best, result.final):  # what a saved fit records of how it was found
+        ifs_.meta["history"] = copy.deepcopy(result.history)
     if not math.isfinite(result.best_loss):
         raise IFSError(f"strategy {strategy!r} found no finite loss")
     return result

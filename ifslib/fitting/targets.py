@@ -15,6 +15,7 @@ import numpy as np
 import torch
 from PIL import Image, UnidentifiedImageError
 from scipy import ndimage
+from skimage.transform import resize
 
 from ..data import path as data_path
 from ..raster.distance import check_size
@@ -185,3 +186,50 @@ def load_target(source, size: int, invert: bool = False, threshold: float | None
             path = data_path(str(source))
         return _from_gray(_read_image(path), size, invert, threshold, path.stem)
     raise IFSError(f"cannot make a target from a {type(source).__name__}: give an image path, an array or an IFS")
+
+
+def pyramid_sizes(size: int, coarsest: int = 64, factor: int = 2) -> list[int]:
+    """The sizes of a target's resolution pyramid, coarsest first.
+
+    ``size`` is halved while it stays >= ``coarsest``; with ``factor=4`` every other of those sizes
+    is kept (the coarsest and the full size always). ``pyramid_sizes(256, 64) == [64, 128, 256]``,
+    ``pyramid_sizes(1024, 64, 4) == [64, 256, 1024]``; a target smaller than ``2 * coarsest`` is its
+    own pyramid (``[size]``).
+    """
+    size, coarsest = check_size(size), check_size(coarsest)
+    if factor not in (2, 4):
+        raise IFSError(f"factor must be 2 or 4, got {factor!r}")
+    sizes = [size]
+    while sizes[0] // 2 >= coarsest:
+        sizes.insert(0, sizes[0] // 2)
+    kept = sizes[::factor // 2]
+    return kept if kept[-1] == size else kept + [size]
+
+
+def resize_target(target: Target, size: int) -> Target:
+    """The same target at another size, as `load_target` would make it from the target's own gray levels.
+
+    The picture (`Target.picture`) is resampled with scikit-image (area-weighted: anti-aliased when
+    shrinking) and thresholded at half its largest value, so a thin curve stays connected at a
+    coarse size and a filled shape keeps its area.
+
+    Parameters
+    ----------
+    target : Target
+    size : int
+        Pixels per side.
+
+    Returns
+    -------
+    Target
+        ``target`` itself when ``size == target.size``.
+    """
+    size = check_size(size)
+    if size == target.size:
+        return target
+    gray = resize(target.picture.astype(np.float64), (size, size), anti_aliasing=size < target.size)
+    gray = np.clip(gray, 0, None)
+    if gray.max() <= 0:
+        raise IFSError(f"the target {target.name!r} vanishes at {size}x{size} pixels")
+    gray = gray / gray.max()
+    return target_from_mask(threshold_gray(gray), target.name, gray)
