@@ -40,12 +40,16 @@ def posed_koch(angle: float, scale: float, dx: float, dy: float, depth: int = 3)
 
 
 def random_poses(n: int, seed: int = 2026) -> list[tuple[float, float, float, float]]:
-    """``n`` poses (rotation in degrees, scale, shift x, shift y); the curve (width 0.8 x scale) stays in the frame."""
+    """``n`` poses (rotation in degrees, scale, shift x, shift y).
+
+    The curve (width ``0.8 * scale``, centred at the origin) stays whole in the frame in any rotation:
+    its circle of radius ``0.4 * scale`` about the shift lies at least 0.02 inside ``[-0.5, 0.5]^2``.
+    """
     rng = np.random.default_rng(seed)
     poses = []
     for _ in range(n):
         angle, scale = rng.uniform(0, 360), rng.uniform(0.5, 0.9)
-        room = (0.95 - 0.5 * scale) * 0.5
+        room = 0.48 - 0.4 * scale
         poses.append((angle, scale, rng.uniform(-room, room), rng.uniform(-room, room)))
     return poses
 

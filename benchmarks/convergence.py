@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import itertools
+import time
 
 from ifslib.fitting.strategies import STRATEGIES
 from ifslib.fitting.sweep import Cell, Setup, summarize, sweep, table, write_csv
@@ -37,6 +38,8 @@ def main() -> None:
     parser.add_argument("--losses", nargs="*", default=["multiscale_distance"])
     parser.add_argument("--cell", action="append", default=[], metavar="STRATEGY:GRADIENT:INIT:LOSS",
                         help="run this cell (repeatable); replaces the product of the lists above")
+    parser.add_argument("--tol", type=float, help="early stop of the single-run strategies (default: off, every step spent; pyramid keeps its own)")
+    parser.add_argument("--patience", type=int, help="early stop window in steps (with --tol)")
     parser.add_argument("--batch", type=int, default=2, help="seeds per Dask task")
     parser.add_argument("--scheduler", default="local", help="'local' (default), 'serial', or a scheduler address")
     parser.add_argument("--workers", type=int, default=2)
@@ -52,8 +55,10 @@ def main() -> None:
     else:
         cells = [Cell(s, g, i, loss) for i, g, loss, s in
                  itertools.product(args.inits, args.gradients, args.losses, args.strategies)]
-    setup = Setup(target=args.target, size=args.size, depth=args.depth, steps=args.steps)
+    setup = Setup(target=args.target, size=args.size, depth=args.depth, steps=args.steps, tol=args.tol,
+                  patience=args.patience)
     done: list[dict] = []
+    t0 = time.perf_counter()
     total = len(cells) * args.seeds
 
     def save(rows: list[dict]) -> None:  # keep every finished fit on disk as the sweep goes
@@ -65,8 +70,9 @@ def main() -> None:
 
     rows = sweep(cells, list(range(args.seeds)), setup, batch=args.batch, scheduler=args.scheduler,
                  workers=args.workers, on_rows=save)
-    print(f"target {args.target} at {args.size}^2/depth {args.depth}, {args.steps} steps per plain fit, "
-          f"lr 0.003, {args.seeds} seeds per cell; recovered = symmetric Chamfer <= 1 px")
+    stop = f"early stop tol {args.tol}, patience {args.patience}" if args.tol is not None else "each strategy's own stop"
+    print(f"target {args.target} at {args.size}^2/depth {args.depth}, step budget {args.steps} per run, {stop}, "
+          f"lr 0.003, {args.seeds} seeds per cell; recovered = symmetric Chamfer <= 1 px; {time.perf_counter() - t0:.0f} s")
     print(table(summarize(rows)))
     print(f"every fit: {write_csv(rows, args.csv)}")
 

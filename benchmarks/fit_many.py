@@ -42,10 +42,10 @@ def main() -> None:
 
     print(f"{device} ({torch.get_num_threads()} threads), {args.size}^2, depth {args.depth}, "
           f"{args.seeds} seeds x {args.steps} steps, torch {torch.__version__}")
-    ifslib.fit(start(0), target, **{**kw, "steps": 2})  # warm-up
+    ifslib.fit(start(0), target, strategy="plain", **{**kw, "steps": 2})  # warm-up
     sync()
     t0 = time.perf_counter()
-    singles = [ifslib.fit(start(s), target, seed=s, **kw) for s in seeds[:args.sequential]]
+    singles = [ifslib.fit(start(s), target, seed=s, strategy="plain", **kw) for s in seeds[:args.sequential]]
     sync()
     sequential = (time.perf_counter() - t0) / args.sequential * args.seeds
     t0 = time.perf_counter()

@@ -24,18 +24,20 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=256)
     parser.add_argument("--depth", type=int, default=3)
     parser.add_argument("--loss", default="multiscale_distance")
+    parser.add_argument("--strategy", default="plain", help="plain (one run, the default here) or pyramid, ...")
     args = parser.parse_args()
-    print(f"{args.size}^2, depth {args.depth}, {args.steps} steps, lr 0.003, loss {args.loss}")
+    print(f"{args.size}^2, depth {args.depth}, {args.steps} steps, lr 0.003, loss {args.loss}, strategy {args.strategy}")
     print("| target | pattern | s/fit | ms/step | IoU | F1 | Chamfer (px) |")
     print("|---|---|---|---|---|---|---|")
     for image, pattern in CASES:
         target = ifslib.load_target(image, args.size)
         start = ifslib.initialize(ifslib.patterns.by_name(pattern, args.depth), target, jitter=0.05, seed=0)
         t0 = time.perf_counter()
-        result = ifslib.fit(start, target, steps=args.steps, lr=0.003, loss=args.loss, progress=False)
+        result = ifslib.fit(start, target, steps=args.steps, lr=0.003, loss=args.loss, progress=False,
+                            strategy=args.strategy)
         seconds = time.perf_counter() - t0
         m = ifslib.evaluate(result.best, target)
-        print(f"| {image} | {pattern} | {seconds:.1f} | {1000 * seconds / max(args.steps, 1):.1f} | {m['iou']:.3f} | "
+        print(f"| {image} | {pattern} | {seconds:.1f} | {1000 * seconds / max(result.history["cost"], 1):.1f} | {m['iou']:.3f} | "
               f"{m['f1']:.3f} | {m['chamfer']:.2f} |", flush=True)
 
 

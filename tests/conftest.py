@@ -1,4 +1,9 @@
-"""Shared helpers for the tests: small random IFSs of every rule and primitive kind."""
+"""Shared helpers for the tests: small random IFSs of every rule and primitive kind, and ``--device``.
+
+``pytest --device cuda`` runs the device-aware tests (those taking the ``device`` fixture: fast
+against brute force, gradients, batched fields, fits) on the GPU; without CUDA they are skipped.
+The default is ``cpu``.
+"""
 import math
 import os
 
@@ -43,3 +48,17 @@ def pattern_name(request):
 # nbval's kernels inherit this environment: they run at 2 threads unless the caller chose a count;
 # tests/test_notebook_runs.py runs every notebook again at another count and compares.
 os.environ.setdefault("IFSLIB_THREADS", "2")
+
+
+def pytest_addoption(parser):
+    parser.addoption("--device", default="cpu",
+                     help="torch device of the device-aware tests: cpu (default) or cuda (skipped without CUDA)")
+
+
+@pytest.fixture
+def device(request):
+    """The ``--device`` option; skips the test when it asks for CUDA and none is present."""
+    name = request.config.getoption("--device")
+    if name.startswith("cuda") and not torch.cuda.is_available():
+        pytest.skip("--device cuda, but torch finds no CUDA device")
+    return name

@@ -127,3 +127,13 @@ def test_fit_many_bad_inputs_are_clear_errors(koch_target):
         fit_many(_paper_start, koch_target, seeds=[0], lr=float("nan"))
     with pytest.raises(ifslib.IFSError, match="unknown gradient mode"):
         fit_many(_paper_start, koch_target, seeds=[0], gradient="cut")
+
+
+def test_fit_and_fit_many_on_the_device_follow_the_cpu_path(koch_target, device):
+    # on CPU this is the same computation twice; with --device cuda it checks the GPU path
+    kw = dict(steps=10, lr=0.003, loss="multiscale_distance", progress=False)
+    on_cpu = ifslib.fit(_paper_start(0), koch_target, **kw, strategy="plain", device="cpu")
+    here = ifslib.fit(_paper_start(0), koch_target, **kw, strategy="plain", device=device)
+    batched = fit_many(_paper_start, koch_target, seeds=[0, 1], device=device, **kw)[0]
+    for got in (here, batched):
+        torch.testing.assert_close(got.final.points.detach().cpu(), on_cpu.final.points.detach(), rtol=0, atol=1e-4)

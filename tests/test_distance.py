@@ -53,23 +53,23 @@ def test_sdf_law_for_random_similarities(seed):
         torch.testing.assert_close(got[i], torch.stack([want_seg, want_disk, want_box]).to(got.dtype))
 
 
-def _field_pair(ifs, size, depth, dtype):
-    fast = ifslib.distance_field(ifs, size, depth, dtype=dtype).detach()
-    brute = ifslib.distance_field(ifs, size, depth, method="brute", dtype=dtype).detach()
+def _field_pair(ifs, size, depth, dtype, device="cpu"):
+    fast = ifslib.distance_field(ifs, size, depth, dtype=dtype, device=device).detach().cpu()
+    brute = ifslib.distance_field(ifs, size, depth, method="brute", dtype=dtype, device=device).detach().cpu()
     return fast, brute
 
 
 @pytest.mark.parametrize("depth", range(5))
-def test_fast_equals_brute_on_every_pattern(pattern_name, depth):
+def test_fast_equals_brute_on_every_pattern(pattern_name, depth, device):
     ifs = perturbed(PATTERNS[pattern_name](), seed=depth, dtype=torch.float32)
     size = 37 if depth < 4 else 29  # odd sizes: the quadtree covers a padded power of two
-    fast, brute = _field_pair(ifs, size, depth, torch.float32)
+    fast, brute = _field_pair(ifs, size, depth, torch.float32, device)
     assert (fast - brute).abs().max().item() <= 1e-5
 
 
-def test_points_inside_boxes_and_mixed_sizes_are_exact():
+def test_points_inside_boxes_and_mixed_sizes_are_exact(device):
     ifs = perturbed(mixed(depth=3), scale=0.02, seed=3)
-    fast, brute = _field_pair(ifs, 64, 3, torch.float64)
+    fast, brute = _field_pair(ifs, 64, 3, torch.float64, device)
     assert (fast < 0).sum() > 20  # plenty of pixels inside boxes and disks
     torch.testing.assert_close(fast, brute, rtol=0, atol=1e-12)
 
@@ -115,12 +115,12 @@ def _field_of(ifs, points):
 
 
 @pytest.mark.parametrize("name", ["koch", "carpet", "mixed"])
-def test_fast_and_brute_gradients_agree(name):
+def test_fast_and_brute_gradients_agree(name, device):
     ifs = perturbed(PATTERNS[name](), scale=0.02, seed=5)
     grads = []
     for method in ("fast", "brute"):
         ifs.points.grad = None
-        _scalar(ifslib.distance_field(ifs, 40, 3, method=method, dtype=torch.float64)).backward()
+        _scalar(ifslib.distance_field(ifs, 40, 3, method=method, dtype=torch.float64, device=device)).backward()
         grads.append(ifs.points.grad.clone())
     torch.testing.assert_close(grads[0], grads[1], rtol=1e-9, atol=1e-9)
 

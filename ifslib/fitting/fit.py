@@ -33,7 +33,8 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         From `ifslib.load_target`; its size sets the render size.
     steps : int
         The step budget of each run (the paper used 1500 steps in one run). With the default
-        strategy it bounds each stage of each start; most stages stop long before it.
+        strategy each stage of each start spends at most ``min(steps, 500)`` and most stop
+        long before.
     lr : float
         Learning rate at the target's size (the paper used 0.003).
     loss : str or callable

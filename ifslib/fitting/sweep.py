@@ -18,6 +18,7 @@ import math
 import os
 import statistics
 import time
+import warnings
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Callable
@@ -51,10 +52,12 @@ class Cell:
 
 @dataclass(frozen=True)
 class Setup:
-    """What every fit of a sweep shares: the target and the fit's size, depth, steps and lr.
+    """What every fit of a sweep shares: the target and the fit's size, depth, steps, lr and early stop.
 
     ``target`` is one of the paper's images by name (``"koch"``: its ``koch.png``) or ``"rendered"``:
-    the library's own Koch curve drawn at ``size``, which needs no data files.
+    the library's own Koch curve drawn at ``size``, which needs no data files. ``tol`` and
+    ``patience`` are `ifslib.fit`'s early stop for the strategies that have none of their own
+    (``plain`` and the other single-run ones; None runs every step); ``pyramid`` keeps its own.
     """
 
     target: str = "koch"
@@ -63,6 +66,8 @@ class Setup:
     steps: int = 1500
     lr: float = 0.003
     success_chamfer: float = 1.0
+    tol: float | None = None
+    patience: int | None = None
 
 
 def start_for(cell: Cell, seed: int, setup: Setup, target=None):
@@ -93,12 +98,13 @@ def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
 
     torch.set_num_threads(1)
     target = load_setup_target(setup)
+    stop = {} if cell.strategy == "pyramid" else dict(tol=setup.tol, patience=setup.patience)
     rows = []
     for seed in seeds:
         start = start_for(cell, seed, setup, target)
         t0 = time.perf_counter()
         result = fit(start, target, steps=setup.steps, lr=setup.lr, loss=cell.loss, seed=seed, progress=False,
-                     gradient=cell.gradient, strategy=cell.strategy)
+                     gradient=cell.gradient, strategy=cell.strategy, **stop)
         seconds = time.perf_counter() - t0
         m = evaluate(result.best, target)
         rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
@@ -140,7 +146,8 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
         ``"serial"``, ``"local"`` (a ``LocalCluster`` of ``workers`` processes, one thread each) or a
         scheduler address such as ``"tcp://10.0.0.5:8786"``.
     workers : int
-        Worker processes of the local cluster.
+        Worker processes of the local cluster, at most the cores this process may use (more are
+        cut to that, with a warning: workers x threads never exceeds the cores).
     on_rows : callable, optional
         Called with each task's rows as soon as that task ends (in completion order), so that a long
         sweep can save its results as it goes.
@@ -167,6 +174,10 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
                            "(or use scheduler='serial')") from exc
         env = {"IFSLIB_DATA": os.environ.get("IFSLIB_DATA", ""), "OMP_NUM_THREADS": "1"}
         if scheduler == "local":
+            cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+            if workers > cores:  # one thread per worker: never more workers than cores
+                warnings.warn(f"sweep: {workers} workers on {cores} cores would oversubscribe them; using {cores}")
+                workers = cores
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                    dashboard_address=None, env=env)
             client = Client(cluster)
