@@ -76,15 +76,22 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
 
 def cmd_info(args: argparse.Namespace) -> None:
+    import torch
+
     from .geometry.leaves import leaf_count_text
+    from .geometry.rules import singular_values
 
     ifs = _spec(args.spec)
     depth = ifs.depth if args.depth is None else args.depth
     print(repr(ifs))
     maps = ifs.maps().detach().double()
     scales = ifs.scales().double()
-    for i, (rule, t, s) in enumerate(zip(ifs.rules, maps, scales)):
-        print(f"rule {i}: {rule.kind} {list(rule.source)} -> {list(rule.target)}  contraction {s:.4f}")
+    smallest = singular_values(maps)[0]
+    for i, (rule, t, s, lo) in enumerate(zip(ifs.rules, maps, scales, smallest)):
+        # a similarity stretches every direction alike; an affine map has two singular values
+        shape = f" (singular values {s:.4f}, {lo:.4f}{', reflects' if torch.det(t[:2, :2]) < 0 else ''})" \
+            if rule.kind == "affine" else ""
+        print(f"rule {i}: {rule.kind} {list(rule.source)} -> {list(rule.target)}  contraction {s:.4f}{shape}")
         print(f"  [[{t[0, 0]: .4f} {t[0, 1]: .4f} {t[0, 2]: .4f}]\n   [{t[1, 0]: .4f} {t[1, 1]: .4f} {t[1, 2]: .4f}]]")
     print(f"leaves at depth {depth}: {leaf_count_text(ifs, depth)}")
 

@@ -32,7 +32,26 @@ def mixed(depth=2, dtype=torch.float64):
     return ifslib.IFS(points, rules, prims, depth=depth, dtype=dtype)
 
 
+def sheared(primitive="box", depth=2, dtype=torch.float64):
+    """Three general affine maps: non-uniform scale, shear and a reflection (det < 0)."""
+    maps = [[[0.45, 0.12, -0.22], [0.0, 0.3, -0.2]],      # non-uniform scale with a shear
+            [[0.2, -0.25, 0.25], [0.3, 0.15, -0.1]],      # rotation with unequal axes
+            [[0.4, 0.05, 0.0], [0.1, -0.35, 0.25]]]       # a reflection
+    return ifslib.patterns.affine(maps, depth=depth, primitive=primitive, dtype=dtype)
+
+
+def sheared_mixed(depth=2, dtype=torch.float64):
+    """The sheared maps drawing a thick segment, a disk and a box (every primitive kind under affine maps)."""
+    base = sheared(depth=depth, dtype=dtype)
+    points = torch.cat([base.points.detach(), torch.tensor([[-0.3, -0.2], [0.25, 0.1], [0.1, 0.3]], dtype=dtype)])
+    prims = [{"kind": "segment", "points": [4 + 9, 4 + 10], "radius": 0.02}, {"kind": "disk", "points": [4 + 11], "radius": 0.1},
+             {"kind": "box", "points": [0, 3]}]
+    return ifslib.IFS(points, base.rules, prims, depth=depth, fixed=base.fixed, dtype=dtype)
+
+
 PATTERNS = {
+    "affine": lambda: sheared(),
+    "affine_mixed": lambda: sheared_mixed(),
     "koch": lambda: ifslib.patterns.koch(),
     "carpet": lambda: ifslib.patterns.sierpinski_carpet(),
     "grid2": lambda: ifslib.patterns.grid(2),

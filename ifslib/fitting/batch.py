@@ -30,7 +30,7 @@ from ..errors import IFSError, check_int
 from .run import FitResult
 from ..geometry.ifs import IFS, check_depth
 from .losses import loss as loss_fn
-from ..geometry.rules import MIN_LENGTH, check_gradient_mode, map_scales, rule_lengths, rule_maps
+from ..geometry.rules import MIN_LENGTH, MIN_SINGULAR, check_gradient_mode, rule_lengths, rule_maps, singular_values
 from .targets import Target
 
 #: Adam's constants, those of `torch.optim.Adam`'s defaults (which `ifslib.fitting.run.run` uses).
@@ -72,8 +72,8 @@ def _valid(pattern: IFS, points: torch.Tensor, depth: int, gradient: str) -> tor
     ok &= (rule_lengths(points, pattern.rules) > MIN_LENGTH).all(dim=-1)
     if depth > 0:
         safe = torch.where(ok[:, None, None], points, pattern.points.detach().to(points))
-        scales = map_scales(rule_maps(safe, pattern.rules, gradient))
-        ok &= (scales < 1).all(dim=-1)
+        smallest, largest = singular_values(rule_maps(safe, pattern.rules, gradient))
+        ok &= (largest < 1).all(dim=-1) & (smallest >= MIN_SINGULAR).all(dim=-1)  # as IFS.check_contractive
     return ok
 
 

@@ -13,7 +13,7 @@ import torch
 
 from ..errors import IFSError, check_int
 from .primitives import Primitive
-from .rules import Rule, check_gradient_mode, check_rule_lengths, map_scales, rule_maps
+from .rules import MIN_SINGULAR, Rule, check_gradient_mode, check_rule_lengths, rule_maps, singular_values
 
 
 def _as_rule(rule: Rule | dict) -> Rule:
@@ -104,15 +104,23 @@ class IFS:
             check_sigma(self.sigma)
 
     def check_contractive(self, depth: int | None = None, maps: torch.Tensor | None = None) -> None:
-        """Raise `IFSError` if a rule's scale is >= 1 while ``depth`` > 0 (no attractor then)."""
+        """Raise `IFSError` if, while ``depth`` > 0, a rule's map does not contract or is degenerate.
+
+        A map contracts when its largest singular value is below 1 (for a similarity: its scale);
+        it is degenerate when its smallest singular value is below `ifslib.geometry.rules.MIN_SINGULAR`
+        (it flattens the figure onto a line and has no usable inverse).
+        """
         depth = self.depth if depth is None else depth
         if depth == 0:
             return
-        scales = map_scales(self.maps() if maps is None else maps).detach()
-        for i, s in enumerate(scales.tolist()):
-            if not s < 1:
-                raise IFSError(f"rule {i} ({self.rules[i].kind}) is not contractive: its scale is {s:.4g} >= 1, "
+        smallest, largest = singular_values((self.maps() if maps is None else maps).detach())
+        for i, (lo, hi) in enumerate(zip(smallest.tolist(), largest.tolist())):
+            if not hi < 1:
+                raise IFSError(f"rule {i} ({self.rules[i].kind}) is not contractive: its scale is {hi:.4g} >= 1, "
                                f"so depth {depth} > 0 has no attractor to converge to")
+            if not lo >= MIN_SINGULAR:
+                raise IFSError(f"rule {i} ({self.rules[i].kind}) is degenerate: its smallest singular value is "
+                               f"{lo:.3g} (< {MIN_SINGULAR:g}), so it flattens the figure onto a line or a point")
 
     # -- maps ----------------------------------------------------------------------------------
     def maps(self, gradient: str = "exact") -> torch.Tensor:
@@ -127,8 +135,13 @@ class IFS:
         return rule_maps(self.points, self.rules, gradient)
 
     def scales(self) -> torch.Tensor:
-        """Contraction factor of each rule, ``(m,)`` (no gradient)."""
-        return map_scales(self.maps().detach())
+        """Contraction factor of each rule, ``(m,)`` (no gradient): its map's largest singular value."""
+        return singular_values(self.maps().detach())[1]
+
+    @property
+    def is_similarity(self) -> bool:
+        """Whether every rule is a similarity (``segment`` or ``square``), so that ``d_T(S) = s d_S(T^-1 x)`` holds."""
+        return all(r.kind != "affine" for r in self.rules)
 
     @property
     def n_points(self) -> int:

@@ -2,7 +2,16 @@
 
 One small JSON document holds an IFS (see CONVENTIONS.md): ``format``, ``name``, ``points``,
 ``rules`` (``kind``, ``from``, ``to``), ``primitives`` (``kind``, ``points``, optional ``radius``),
-``depth``, and the optional ``fixed``, ``sigma`` and ``meta``. A reader rejects a file whose format
+``depth``, and the optional ``fixed``, ``sigma`` and ``meta``.
+
+Rule kinds: ``segment`` and ``square`` take two point indices on each side and make similarities;
+``affine`` takes three on each side (``{"kind": "affine", "from": [0, 1, 2], "to": [4, 5, 6]}``:
+the triangle ``p0 p1 p2`` onto ``p4 p5 p6``) and makes any affine map, shear and reflection
+included. Under an affine map the similarity law ``d_T(S)(x) = s d_S(T^-1 x)`` does not hold;
+the distances stay exact for segments (the image of a segment is a segment) and boxes (a
+parallelogram), and are a 1-Lipschitz lower bound with the exact outline for disks (an ellipse):
+see `ifslib.geometry.primitives.affine_sdf`. A map contracts when its largest singular value is
+below 1. A reader rejects a file whose format
 it does not know and names the formats it knows.
 """
 from __future__ import annotations

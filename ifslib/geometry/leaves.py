@@ -5,7 +5,10 @@ is ``T_{w_1} o ... o T_{w_K}(D_p)``. Leaves are numbered ``leaf = word * n_prims
 lexicographic order, so the primitive varies fastest.
 
 For a similarity ``T`` of scale ``s`` the distance law is ``d_{T(S)}(x) = s * d_S(T^{-1} x)`` (the
-paper prints ``1/s``: an erratum), so each word needs only its inverse map and its scale.
+paper prints ``1/s``: an erratum), so each word needs only its inverse map and its scale. When a
+rule is ``affine`` the law fails, and each word also keeps its forward matrix: its leaves' distances
+are measured in the plane (`ifslib.geometry.primitives.affine_sdf`), and ``scale`` holds the word's
+smallest singular value.
 """
 from __future__ import annotations
 
@@ -16,8 +19,8 @@ import torch
 
 from ..errors import IFSError
 from .ifs import IFS, check_depth
-from .primitives import primitive_params
-from .rules import map_scales, rule_maps
+from .primitives import affine_sdf, local_sdf, primitive_params
+from .rules import map_scales, rule_maps, singular_values
 
 #: Default memory budget in bytes for one distance field (override with ``IFSLIB_MEMORY_BUDGET_GB``).
 DEFAULT_MEMORY_BUDGET = int(float(os.environ.get("IFSLIB_MEMORY_BUDGET_GB", "4")) * 2**30)
@@ -38,7 +41,7 @@ class Leaves:
     inverse : torch.Tensor
         ``(W, 2, 3)`` inverse affine map of each word (``W = m**K``).
     scale : torch.Tensor
-        ``(W,)`` scale of each word's map.
+        ``(W,)`` scale of each word's map (its smallest singular value when ``linear`` is given).
     params : torch.Tensor
         ``(p, 5)`` packed primitive geometry (see `ifslib.primitives.primitive_params`).
     kinds : tuple of str
@@ -48,6 +51,9 @@ class Leaves:
         `expand_batch`), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
         ``(B * p, 5)``, and leaf ids run over the whole batch, item ``b`` owning the ids
         ``b * m**K * p`` to ``(b + 1) * m**K * p - 1``.
+    linear : torch.Tensor or None
+        ``(W, 4)`` each word's forward matrix ``(a, b, c, d)``, for an IFS with ``affine`` rules;
+        None when every word is a similarity.
     """
 
     inverse: torch.Tensor
@@ -55,6 +61,7 @@ class Leaves:
     params: torch.Tensor
     kinds: tuple[str, ...]
     words_per_item: int = 0
+    linear: torch.Tensor | None = None
 
     @property
     def n_items(self) -> int:
@@ -74,7 +81,31 @@ class Leaves:
 
     def detach(self) -> "Leaves":
         """The same leaves with no autograd history."""
-        return Leaves(self.inverse.detach(), self.scale.detach(), self.params.detach(), self.kinds, self.words_per_item)
+        linear = None if self.linear is None else self.linear.detach()
+        return Leaves(self.inverse.detach(), self.scale.detach(), self.params.detach(), self.kinds, self.words_per_item,
+                      linear)
+
+
+def word_geometry(words: torch.Tensor, similarity: bool) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor | None]:
+    """What a leaf's distance needs of each word map: its inverse, its scale and, for affine words, its matrix.
+
+    Parameters
+    ----------
+    words : torch.Tensor
+        ``(..., W, 3, 3)`` composed maps.
+    similarity : bool
+        Whether every map is a similarity (then ``scale = sqrt|det|`` and no matrix is kept).
+
+    Returns
+    -------
+    inverse : ``(..., W, 2, 3)``
+    scale : ``(..., W)``: the similarity's scale, or the affine map's smallest singular value
+    linear : ``(..., W, 4)`` or None
+    """
+    inverse, scale = invert_similarities(words)
+    if similarity:
+        return inverse, scale, None
+    return inverse, singular_values(words)[0], words[..., :2, :2].flatten(-2)
 
 
 def estimate_bytes(n_leaves_words: int, n_pixels: int, method: str = "fast") -> int:
@@ -126,7 +157,7 @@ def compose_words(maps: torch.Tensor, depth: int) -> torch.Tensor:
 
 
 def invert_similarities(words: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """Closed-form inverses and scales of affine maps.
+    """Closed-form inverses of affine maps, and their scales ``sqrt(|det A|)`` (a similarity's scale).
 
     Parameters
     ----------
@@ -171,9 +202,9 @@ def expand(ifs: IFS, depth: int | None = None, *, device: torch.device | str = "
     points = ifs.points.to(device=device, dtype=dtype or ifs.points.dtype)
     maps = rule_maps(points, ifs.rules, gradient)
     ifs.check_contractive(depth, maps)
-    inverse, scale = invert_similarities(compose_words(maps, depth))
+    inverse, scale, linear = word_geometry(compose_words(maps, depth), ifs.is_similarity)
     return Leaves(inverse, scale, primitive_params(points, ifs.primitives),
-                  tuple(p.kind for p in ifs.primitives))
+                  tuple(p.kind for p in ifs.primitives), 0, linear)
 
 
 def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gradient: str = "exact") -> Leaves:
@@ -201,10 +232,10 @@ def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gr
     if points.ndim != 3 or points.shape[1:] != ifs.points.shape:
         raise IFSError(f"points must have shape (B, {ifs.n_points}, 2), got {tuple(points.shape)}")
     words = compose_words(rule_maps(points, ifs.rules, gradient), depth)  # (B, W, 3, 3)
-    inverse, scale = invert_similarities(words)
+    inverse, scale, linear = word_geometry(words, ifs.is_similarity)
     n_items, per_item = words.shape[:2]
     return Leaves(inverse.reshape(-1, 2, 3), scale.reshape(-1), primitive_params(points, ifs.primitives).reshape(-1, 5),
-                  tuple(p.kind for p in ifs.primitives), per_item)
+                  tuple(p.kind for p in ifs.primitives), per_item, None if linear is None else linear.reshape(-1, 4))
 
 
 def leaf_count_text(ifs: IFS, depth: int) -> str:
@@ -216,6 +247,15 @@ def leaf_count_text(ifs: IFS, depth: int) -> str:
 __all__ = ["Leaves", "expand", "expand_batch", "compose_words", "invert_similarities", "estimate_bytes", "check_budget",
            "DEFAULT_MEMORY_BUDGET", "leaf_count_text"]
 
+
+
+def leaf_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, scale: torch.Tensor, params: torch.Tensor,
+             linear: torch.Tensor | None) -> torch.Tensor:
+    """A leaf's signed distance from its pulled-back query ``q = T_w^-1 x``: ``scale * d(q)`` for a similarity word,
+    `ifslib.geometry.primitives.affine_sdf` when the word's matrix ``linear`` (``(..., 4)``) is given."""
+    if linear is None:
+        return scale * local_sdf(kind, qx, qy, params)
+    return affine_sdf(kind, qx, qy, linear, scale, params)
 
 
 def _gather_words(leaves: Leaves, leaf: torch.Tensor):
@@ -251,22 +291,25 @@ def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tens
     torch.Tensor
         ``(N,)`` distances ``s_w * d_p(T_w^{-1} x)``, differentiable in the leaves' tensors.
     """
-    from .primitives import local_sdf
-
     inv, scale, prim, row = _gather_words(leaves, leaf)
     qx = inv[:, 0] * x + inv[:, 1] * y + inv[:, 2]
     qy = inv[:, 3] * x + inv[:, 4] * y + inv[:, 5]
+    linear = None
+    if leaves.linear is not None:
+        word = leaf if leaves.n_prims == 1 else torch.div(leaf, leaves.n_prims, rounding_mode="floor")
+        linear = leaves.linear.index_select(0, word)
     kinds = sorted(set(leaves.kinds))
     if len(kinds) == 1:
         params = leaves.params[0] if row is None else leaves.params.index_select(0, row)
-        return scale * local_sdf(kinds[0], qx, qy, params)
+        return leaf_sdf(kinds[0], qx, qy, scale, params, linear)
     out = torch.zeros_like(qx)
     kind_codes = torch.tensor([kinds.index(k) for k in leaves.kinds], device=leaf.device)
     for code, kind in enumerate(kinds):
         sel = (kind_codes[prim] == code).nonzero().flatten()
         if sel.numel():
-            d = local_sdf(kind, qx[sel], qy[sel], leaves.params[row[sel]])
-            out = out.index_put((sel,), scale[sel] * d)
+            d = leaf_sdf(kind, qx[sel], qy[sel], scale[sel], leaves.params[row[sel]],
+                         None if linear is None else linear[sel])
+            out = out.index_put((sel,), d)
     return out
 
 
@@ -277,14 +320,18 @@ def leaf_table(leaves: Leaves) -> torch.Tensor | None:
     -------
     torch.Tensor or None
         ``(L, 12)``: the 6 inverse-map entries, the scale and the 5 packed primitive numbers of each
-        leaf id; None when the primitives are of several kinds (use `sdf_pairs` then).
+        leaf id, then (affine leaves only) the 4 entries of the word's matrix: ``(L, 16)``; None
+        when the primitives are of several kinds (use `sdf_pairs` then).
     """
     if len(set(leaves.kinds)) != 1:
         return None
     leaf = torch.arange(len(leaves), device=leaves.inverse.device)
     inv, scale, _, row = _gather_words(leaves, leaf)
     params = leaves.params[0].expand(len(leaf), 5) if row is None else leaves.params.index_select(0, row)
-    return torch.cat([inv, scale[:, None], params], 1).detach()
+    columns = [inv, scale[:, None], params]
+    if leaves.linear is not None:
+        columns.append(leaves.linear.repeat_interleave(leaves.n_prims, 0))
+    return torch.cat(columns, 1).detach()
 
 
 def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
@@ -293,7 +340,7 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
     Parameters
     ----------
     table : torch.Tensor
-        ``(L, 12)`` from `leaf_table`.
+        ``(L, 12)`` or ``(L, 16)`` from `leaf_table`.
     kind : str
         The primitives' one kind.
     x, y, leaf : torch.Tensor
@@ -304,12 +351,10 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
     torch.Tensor
         ``(N,)``.
     """
-    from .primitives import local_sdf
-
     row = table.index_select(0, leaf)
     qx = row[:, 0] * x + row[:, 1] * y + row[:, 2]
     qy = row[:, 3] * x + row[:, 4] * y + row[:, 5]
-    return row[:, 6] * local_sdf(kind, qx, qy, row[:, 7:])
+    return leaf_sdf(kind, qx, qy, row[:, 6], row[:, 7:12], row[:, 12:] if table.shape[1] > 12 else None)
 
 
 def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
@@ -326,16 +371,15 @@ def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     torch.Tensor
         ``(C, L)`` distances, leaf ids along the second axis.
     """
-    from .primitives import local_sdf
-
     if leaves.words_per_item:
         raise IFSError("sdf_dense takes the leaves of one IFS, not a batch")
     inv = leaves.inverse.reshape(-1, 6)
     x, y = x[:, None], y[:, None]
     qx = inv[:, 0] * x + inv[:, 1] * y + inv[:, 2]
     qy = inv[:, 3] * x + inv[:, 4] * y + inv[:, 5]
-    per_prim = [leaves.scale * local_sdf(kind, qx, qy, leaves.params[j]) for j, kind in enumerate(leaves.kinds)]
+    per_prim = [leaf_sdf(kind, qx, qy, leaves.scale, leaves.params[j], leaves.linear)
+                for j, kind in enumerate(leaves.kinds)]
     return torch.stack(per_prim, -1).reshape(x.shape[0], -1)
 
 
-__all__ += ["sdf_pairs", "sdf_dense", "leaf_table", "sdf_table"]
+__all__ += ["sdf_pairs", "sdf_dense", "leaf_table", "sdf_table", "leaf_sdf", "word_geometry"]

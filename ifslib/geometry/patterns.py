@@ -1,4 +1,5 @@
-"""Named IFSs for the paper's cases: the Koch curve, the Sierpinski carpet and n x n grids.
+"""Named IFSs for the paper's cases: the Koch curve, the Sierpinski carpet and n x n grids, and
+general affine systems built from their maps (`affine`).
 
 Each function returns a fresh `IFS` centred in the image plane ``[-0.5, 0.5]^2``.
 """
@@ -150,6 +151,55 @@ def koch_like(points, depth: int = 3, radius: float = 0.0, name: str = "koch_lik
     n = len(pts)
     rules = [{"kind": "segment", "from": [0, n - 1], "to": [i, i + 1]} for i in range(n - 1)]
     return IFS(pts.tolist(), rules, [{"kind": "segment", "points": [0, n - 1], "radius": radius}], depth=depth, name=name)
+
+
+#: The frame of an `affine` pattern: its source triangle is three corners of this square.
+AFFINE_FRAME = ((-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5))
+
+
+def affine(maps, depth: int = 3, primitive: str = "box", name: str = "affine", extent: float = 1.0,
+           dtype: torch.dtype = torch.float32) -> IFS:
+    """An IFS of general affine maps, each an ``affine`` rule on control points.
+
+    The source triangle of every rule is three corners of the square of side ``extent`` centred
+    on the origin (fixed points 0, 1, 2: lower left, lower right, upper left); point 3 is its upper
+    right corner. Each map then owns three control points, the images of the source triangle's
+    corners (points ``4 + 3 i .. 6 + 3 i``), so its six parameters train like any control points.
+
+    Parameters
+    ----------
+    maps : array-like
+        ``(m, 2, 3)`` or ``(m, 3, 3)``: each map's ``[A | t]`` (``x -> A x + t``, plane units).
+    depth : int
+    primitive : {"box", "segment"}
+        What the leaves draw: the whole square (a filled figure) or its bottom side (a curve).
+    name : str
+    extent : float
+        Side of the source square (1: the image plane).
+    dtype : torch.dtype
+        Of the control points.
+
+    Returns
+    -------
+    IFS
+        Points 0-3 are fixed.
+
+    Raises
+    ------
+    IFSError
+        On a wrong shape or an unknown primitive (contraction is checked when the IFS is drawn).
+    """
+    m = torch.as_tensor(maps, dtype=torch.float64)
+    if m.ndim != 3 or m.shape[1] not in (2, 3) or m.shape[2] != 3 or m.shape[0] == 0:
+        raise IFSError(f"maps must have shape (m, 2, 3) or (m, 3, 3) with m >= 1, got {tuple(m.shape)}")
+    if primitive not in ("box", "segment"):
+        raise IFSError(f"an affine pattern draws a 'box' or a 'segment', got {primitive!r}")
+    frame = torch.tensor(AFFINE_FRAME, dtype=torch.float64) * float(extent)
+    images = frame[:3] @ m[:, :2, :2].transpose(1, 2) + m[:, None, :2, 2]   # (m, 3, 2)
+    points = torch.cat([frame, images.reshape(-1, 2)]).tolist()
+    rules = [{"kind": "affine", "from": [0, 1, 2], "to": [4 + 3 * i, 5 + 3 * i, 6 + 3 * i]} for i in range(m.shape[0])]
+    prim = {"kind": "box", "points": [0, 3]} if primitive == "box" else {"kind": "segment", "points": [0, 1]}
+    return IFS(points, rules, [prim], depth=depth, name=name, fixed=(0, 1, 2, 3), dtype=dtype)
 
 
 PATTERNS = {"koch": koch, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper}

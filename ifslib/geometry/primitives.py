@@ -11,6 +11,13 @@ A primitive is defined on control points (so it moves with them) and has three k
 
 Every distance here is exact and therefore 1-Lipschitz; the nearest-leaf search relies on that.
 Square roots go through `_safe_norm`, whose gradient is 0 (not NaN) where the distance is 0.
+
+`local_sdf` is a primitive's distance in its own frame; a similarity of scale ``s`` turns it into
+the distance to the moved shape by ``s * d(T^-1 x)``. Under a general affine map that law fails
+(a shear stretches some directions more than others), so `affine_sdf` measures in the plane
+instead: a segment's image is a segment and a box's image a parallelogram, and their distances
+are computed exactly there; a disk's image is an ellipse, whose exact distance has no closed form,
+so it gets a 1-Lipschitz lower bound with the exact ellipse as its zero set.
 """
 from __future__ import annotations
 
@@ -127,4 +134,72 @@ def local_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, params: torch.Tenso
     if kind == "disk":
         cx, cy, r, _, _ = p
         return _safe_norm(qx - cx, qy - cy) - r
+    raise IFSError(f"unknown primitive kind {kind!r}")
+
+
+def _segment_distance(wx, wy, ux, uy):
+    """Distance from the origin-relative point ``w`` to the segment from 0 to ``u`` (any shapes)."""
+    h = ((wx * ux + wy * uy) / (ux * ux + uy * uy).clamp_min(torch.finfo(wx.dtype).tiny)).clamp(0, 1)
+    return _safe_norm(wx - h * ux, wy - h * uy)
+
+
+def affine_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, linear: torch.Tensor, smallest: torch.Tensor,
+               params: torch.Tensor) -> torch.Tensor:
+    """Signed distance in the plane from ``x`` to ``T(D)``, for an affine ``T x = A q + t``, given ``q = T^-1 x``.
+
+    Parameters
+    ----------
+    kind : str
+        Primitive kind.
+    qx, qy : torch.Tensor
+        The query points pulled back into the primitive's frame, ``q = T^-1 x``; any shape ``S``.
+    linear : torch.Tensor
+        ``(..., 4)``: ``T``'s matrix ``A`` as ``(a, b, c, d)`` (``A = [[a, b], [c, d]]``).
+    smallest : torch.Tensor
+        ``(...)``: ``A``'s smallest singular value.
+    params : torch.Tensor
+        ``(..., 5)`` packed primitive geometry (see `primitive_params`).
+
+    Returns
+    -------
+    torch.Tensor
+        Shape ``S``. What it is, by kind:
+
+        * ``segment``: the exact distance to the image segment ``[A a + t, A b + t]``, less
+          ``smallest * radius``. A thick segment under a shear is drawn as the capsule of radius
+          ``smallest * radius`` around its image segment (for a similarity, exactly its image).
+          Since ``x - (A a + t) = A (q - a)``, every vector is ``A`` applied to one in the frame.
+        * ``box``: the exact signed distance to the parallelogram ``T(box)``: the distance to the
+          nearest of its four image edges, negative inside.
+        * ``disk``: ``smallest * d_disk(q)``, a lower bound of the distance to the ellipse
+          ``T(disk)`` (exact for a similarity) with the ellipse itself as its zero set. It is
+          1-Lipschitz, because ``T^-1`` stretches distances by at most ``1 / smallest``, which is
+          what the nearest-leaf search needs.
+    """
+    a, b, c, d = linear.unbind(-1)
+    p = params.unbind(-1)
+
+    def image(vx, vy):  # A v
+        return a * vx + b * vy, c * vx + d * vy
+
+    if kind == "segment":
+        ax, ay, bx, by, r = p
+        wx, wy = image(qx - ax, qy - ay)
+        ux, uy = image(bx - ax, by - ay)
+        return _segment_distance(wx, wy, ux, uy) - smallest * r
+    if kind == "box":
+        lx, ly, hx, hy, _ = p
+        ex, ey = image(hx - lx, torch.zeros_like(hx))   # the image of the box's horizontal side
+        fx, fy = image(torch.zeros_like(hy), hy - ly)   # and of its vertical side
+        wx, wy = image(qx - lx, qy - ly)                # x relative to the image of the lower-left corner
+        edges = torch.stack([
+            _segment_distance(wx, wy, ex, ey),                   # bottom: from lower-left along e
+            _segment_distance(wx - fx, wy - fy, ex, ey),         # top: from upper-left along e
+            _segment_distance(wx, wy, fx, fy),                   # left: from lower-left along f
+            _segment_distance(wx - ex, wy - ey, fx, fy),         # right: from lower-right along f
+        ]).amin(0)
+        inside = (qx > lx) & (qx < hx) & (qy > ly) & (qy < hy)
+        return torch.where(inside, -edges, edges)
+    if kind == "disk":
+        return smallest * local_sdf(kind, qx, qy, params)
     raise IFSError(f"unknown primitive kind {kind!r}")

@@ -15,6 +15,17 @@ Kinds
     Uniform scale + translation taking the axis-aligned square with diagonal corners ``P_i`` onto
     the one with diagonal corners ``R_i``: scale = ratio of the diagonals' lengths, lower-left corner
     to lower-left corner.
+``affine``
+    The general affine map (any 2 x 2 matrix: non-uniform scale, shear, reflection) taking the
+    triangle ``P_i = (p_a, p_b, p_c)`` onto ``R_i = (p_d, p_e, p_f)``, vertex to vertex:
+    ``A = [p_e - p_d, p_f - p_d] [p_b - p_a, p_c - p_a]^-1`` and ``t = p_d - A p_a``. Its six
+    parameters are the three target points, so it trains like every other rule. The similarity law
+    of the distance does not hold for it; `ifslib.geometry.primitives.affine_sdf` says how each
+    primitive's distance stays exact (segments, boxes) or bounded (disks) under it.
+
+Contraction and degeneracy are read from the singular values of each map's matrix
+(`singular_values`): a map contracts when its largest singular value is below 1, and is
+degenerate when its smallest is near zero. For a similarity both equal its scale.
 
 Gradient modes
 --------------
@@ -31,11 +42,17 @@ import torch
 
 from ..errors import IFSError
 
-RULE_KINDS = ("segment", "square")
+RULE_KINDS = ("segment", "square", "affine")
+#: Control points on each side of a rule, by kind.
+RULE_POINTS = {"segment": 2, "square": 2, "affine": 3}
 GRADIENT_MODES = ("exact", "paper")
 
-#: Below this length a rule's source segment or diagonal counts as zero (plane units).
+#: Below this length a rule's source segment or diagonal (or the square root of twice an affine
+#: rule's source triangle's area) counts as zero (plane units).
 MIN_LENGTH = 1e-9
+#: A map whose smallest singular value is below this is degenerate: it flattens the figure onto a
+#: line, and its inverse (which every leaf's distance uses) blows up.
+MIN_SINGULAR = 1e-6
 
 
 @dataclass(frozen=True)
@@ -44,23 +61,27 @@ class Rule:
 
     Parameters
     ----------
-    kind : {"segment", "square"}
-        How the two point pairs define the map (see the module docstring).
+    kind : {"segment", "square", "affine"}
+        How the point tuples define the map (see the module docstring).
     source, target : tuple of int
-        Two control-point indices each: segment endpoints, or diagonal corners of a square.
+        Two control-point indices each (segment endpoints, or diagonal corners of a square), or
+        three for an ``affine`` rule (triangle vertices).
     """
 
     kind: str
-    source: tuple[int, int]
-    target: tuple[int, int]
+    source: tuple[int, ...]
+    target: tuple[int, ...]
 
     def __post_init__(self) -> None:
         if self.kind not in RULE_KINDS:
             raise IFSError(f"unknown rule kind {self.kind!r}; known kinds: {', '.join(RULE_KINDS)}")
+        need = RULE_POINTS[self.kind]
         for name in ("source", "target"):
             value = tuple(getattr(self, name))
-            if len(value) != 2 or not all(isinstance(i, int) and not isinstance(i, bool) for i in value):
-                raise IFSError(f"a {self.kind} rule's {name!r} must be two point indices, got {value!r}")
+            if len(value) != need or not all(isinstance(i, int) and not isinstance(i, bool) for i in value):
+                article = "an" if self.kind[0] in "aeiou" else "a"
+                field = {"source": "from", "target": "to"}[name]  # as in the JSON file
+                raise IFSError(f"{article} {self.kind} rule's {field!r} must be {need} point indices, got {list(value)!r}")
             object.__setattr__(self, name, value)
 
 
@@ -100,23 +121,54 @@ def _square_coefficients(points: torch.Tensor, rules: list[Rule]) -> tuple[torch
     return scale, lower_left_r - scale[..., None] * lower_left_p
 
 
-def check_rule_lengths(points: torch.Tensor, rules: list[Rule]) -> None:
-    """Raise `IFSError` if a rule's source segment (or diagonal) has zero length."""
-    pts = points.detach()
-    for i, rule in enumerate(rules):
-        a, b = rule.source
-        length = float((pts[b] - pts[a]).norm())
-        if not length > MIN_LENGTH:
-            what = "segment" if rule.kind == "segment" else "diagonal"
-            raise IFSError(f"rule {i} ({rule.kind}): its source {what} from point {a} to point {b} "
-                           f"has zero length ({length:.3g}), so no map is defined")
+def _det2(u: torch.Tensor, v: torch.Tensor) -> torch.Tensor:
+    """``det [u, v]`` of column pairs ``(..., 2)``."""
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def _affine_coefficients(points: torch.Tensor, rules: list[Rule]) -> tuple[torch.Tensor, torch.Tensor]:
+    """Matrix ``(..., k, 2, 2)`` and translation ``(..., k, 2)`` of the affine rules (triangle onto triangle)."""
+    idx = torch.tensor([r.source + r.target for r in rules], device=points.device)
+    pa, pb, pc, pd, pe, pf = (points[..., idx[:, j], :] for j in range(6))
+    u, v = pb - pa, pc - pa          # source edges: S = [u, v] (columns)
+    det = _det2(u, v)
+    # S^-1 = [[v_y, -v_x], [-u_y, u_x]] / det; A = [e - d, f - d] S^-1, written out entry by entry
+    eu, ev = pe - pd, pf - pd
+    a = (eu[..., 0] * v[..., 1] - ev[..., 0] * u[..., 1]) / det
+    b = (ev[..., 0] * u[..., 0] - eu[..., 0] * v[..., 0]) / det
+    c = (eu[..., 1] * v[..., 1] - ev[..., 1] * u[..., 1]) / det
+    d = (ev[..., 1] * u[..., 0] - eu[..., 1] * v[..., 0]) / det
+    matrix = torch.stack([torch.stack([a, b], -1), torch.stack([c, d], -1)], -2)
+    return matrix, pd - (matrix @ pa[..., None])[..., 0]
 
 
 def rule_lengths(points: torch.Tensor, rules: list[Rule]) -> torch.Tensor:
-    """Length of each rule's source segment (or diagonal), ``(..., m)`` for points ``(..., n, 2)`` (no gradient)."""
-    idx = torch.tensor([r.source for r in rules], device=points.device)
+    """How far each rule's source is from degenerate, ``(..., m)`` for points ``(..., n, 2)`` (no gradient).
+
+    The length of a segment rule's source segment or a square rule's diagonal; for an affine rule,
+    ``sqrt(|det [p_b - p_a, p_c - p_a]|)`` (the side of a square of twice its triangle's area).
+    """
     pts = points.detach()
-    return (pts[..., idx[:, 1], :] - pts[..., idx[:, 0], :]).norm(dim=-1)
+    out = []
+    for rule in rules:
+        pa, pb = pts[..., rule.source[0], :], pts[..., rule.source[1], :]
+        if rule.kind == "affine":
+            out.append(_det2(pb - pa, pts[..., rule.source[2], :] - pa).abs().sqrt())
+        else:
+            out.append((pb - pa).norm(dim=-1))
+    return torch.stack(out, -1)
+
+
+def check_rule_lengths(points: torch.Tensor, rules: list[Rule]) -> None:
+    """Raise `IFSError` if a rule's source segment or diagonal has zero length (an affine rule's triangle zero area)."""
+    for i, (rule, length) in enumerate(zip(rules, rule_lengths(points, rules).tolist())):
+        if not length > MIN_LENGTH:
+            if rule.kind == "affine":
+                what = f"triangle on points {list(rule.source)} has zero area"
+            else:
+                a, b = rule.source
+                what = f"{'segment' if rule.kind == 'segment' else 'diagonal'} from point {a} to point {b} has zero length"
+            raise IFSError(f"rule {i} ({rule.kind}): its source {what} ({length:.3g}), so no map is defined")
 
 
 def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") -> torch.Tensor:
@@ -148,6 +200,7 @@ def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") 
     batch, m = points.shape[:-2], len(rules)
     seg = [i for i, r in enumerate(rules) if r.kind == "segment"]
     sq = [i for i, r in enumerate(rules) if r.kind == "square"]
+    af = [i for i, r in enumerate(rules) if r.kind == "affine"]
     parts = []
     if seg:
         alpha, beta = _segment_coefficients(points, [rules[i] for i in seg], gradient)
@@ -157,8 +210,11 @@ def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") 
         scale, t = _square_coefficients(points, [rules[i] for i in sq])
         zero = torch.zeros_like(scale)
         parts.append(torch.stack([scale, zero, t[..., 0], zero, scale, t[..., 1]], -1))
-    top = torch.cat(parts, -2)  # (..., m, 6), segment rules first
-    order = seg + sq
+    if af:
+        matrix, t = _affine_coefficients(points, [rules[i] for i in af])
+        parts.append(torch.cat([matrix, t[..., None]], -1).flatten(-2))
+    top = torch.cat(parts, -2)  # (..., m, 6), segment rules first, then square, then affine
+    order = seg + sq + af
     if order != list(range(m)):
         top = top[..., torch.tensor([order.index(i) for i in range(m)], device=points.device), :]
     bottom = torch.tensor([0.0, 0.0, 1.0], dtype=points.dtype, device=points.device).expand(*batch, m, 1, 3)
@@ -166,7 +222,38 @@ def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") 
 
 
 def map_scales(maps: torch.Tensor) -> torch.Tensor:
-    """Contraction factor of each similarity map: ``sqrt(|det A|)``, shape ``(..., )`` for ``(..., 3, 3)``."""
+    """Scale of each similarity map: ``sqrt(|det A|)``, shape ``(..., )`` for ``(..., 3, 3)``.
+
+    For a general affine map this is the geometric mean of its singular values, neither its
+    contraction nor its distance scale: use `singular_values` there.
+    """
     a = maps[..., :2, :2]
     det = a[..., 0, 0] * a[..., 1, 1] - a[..., 0, 1] * a[..., 1, 0]
     return det.abs().sqrt()
+
+
+def singular_values(maps: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """Smallest and largest singular values of each map's 2 x 2 matrix, in closed form.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(..., 3, 3)`` (or ``(..., 2, 3)``) affine maps.
+
+    Returns
+    -------
+    smallest, largest : torch.Tensor
+        ``(...,)`` each.
+
+    Notes
+    -----
+    For ``A = [[a, b], [c, d]]``, ``sigma_max + sigma_min = |(a + d, b - c)|`` and
+    ``|sigma_max - sigma_min| = |(a - d, b + c)|`` (the rotation-like and reflection-like parts of
+    ``A``). Both norms go through a clamp, so the gradient stays finite where they vanish: the
+    second is exactly 0 for every similarity without reflection.
+    """
+    a, b, c, d = maps[..., 0, 0], maps[..., 0, 1], maps[..., 1, 0], maps[..., 1, 1]
+    tiny = torch.finfo(maps.dtype).tiny
+    n1 = ((a + d) ** 2 + (b - c) ** 2).clamp_min(tiny).sqrt()
+    n2 = ((a - d) ** 2 + (b + c) ** 2).clamp_min(tiny).sqrt()
+    return (n1 - n2).abs() / 2, (n1 + n2) / 2
