@@ -42,8 +42,14 @@ def cmd_render(args: argparse.Namespace) -> None:
 
 
 def _stages_text(history: dict) -> str:
-    """One line on how a strategy spent its steps (the pyramid's starts and stages)."""
+    """One line on how a strategy spent its steps (the pyramid's starts and stages, the automatic pattern's choice)."""
     stages = history.get("stages")
+    if "auto" in history:
+        auto = history["auto"]
+        tried = ", ".join(f"{c['maps']} maps {c['loss']:.3g}" for c in auto["candidates"])
+        runs = ", ".join(f"{s['size']}² {s['steps']}" for s in stages)
+        return (f"{history['cost']} steps spent (auto: a {auto['kind']}, {auto['chosen']} maps chosen by the loss "
+                f"after {auto['candidates'][0]['steps']} steps at {stages[0]['size']}² ({tried}); then {runs} steps)")
     if not stages:
         return f"{history['cost']} steps spent ({history.get('strategy', 'plain')})"
     last = max(s["start"] for s in stages)
@@ -57,13 +63,19 @@ def cmd_fit(args: argparse.Namespace) -> None:
     import time
 
     from . import evaluate, fit, initialize, load_target, save_ifs
+    from .errors import IFSError
 
     t0 = time.perf_counter()
     target = load_target(args.target, args.size, invert=args.invert)
-    ifs = _spec(args.pattern)
-    if args.depth is not None:
-        ifs.depth = args.depth
-    start = initialize(ifs, target, jitter=args.jitter, seed=args.seed)
+    if args.pattern == "auto":
+        start = initialize("auto", target, jitter=args.jitter, seed=args.seed, maps=args.maps, depth=args.depth)
+    else:
+        if args.maps is not None:
+            raise IFSError("--maps goes with --pattern auto")
+        ifs = _spec(args.pattern)
+        if args.depth is not None:
+            ifs.depth = args.depth
+        start = initialize(ifs, target, jitter=args.jitter, seed=args.seed)
     result = fit(start, target, steps=args.steps, lr=args.lr, loss=args.loss, seed=args.seed,
                  checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet, strategy=args.strategy,
                  tol=args.tol)
@@ -110,7 +122,9 @@ def build_parser() -> argparse.ArgumentParser:
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
     f.add_argument("target", help="target image (white figure on black), or koch/sierpinski/apple/flower")
     f.add_argument("--pattern", default="koch",
-                   help="koch, koch_paper, carpet, gridN, rosetteN, or an ifslib/1 JSON file (default koch)")
+                   help="auto (any image: curve or shape, the number of maps compared), koch, koch_paper, carpet, "
+                        "gridN, rosetteN, or an ifslib/1 JSON file (default koch)")
+    f.add_argument("--maps", type=int, help="with --pattern auto: this many maps instead of comparing candidates")
     f.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     f.add_argument("--depth", type=int, help="render depth (default: the pattern's, 3)")
     f.add_argument("--steps", type=int, default=1500,
@@ -129,7 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--resume", help="continue from this checkpoint")
     f.add_argument("--strategy", default=None,
                    help="pyramid (the default: coarse to fine in pixels, starts tried until one recovers the "
-                        "target; a single run with --checkpoint/--resume), plain (one run, the paper's), multistart, "
+                        "target; a single run with --checkpoint/--resume; auto for --pattern auto), plain (one run, the paper's), multistart, "
                         "coarse_to_fine, restart, anneal or uncross")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     f.add_argument("-o", "--output", required=True, help="JSON file for the fitted IFS")

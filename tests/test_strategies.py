@@ -14,7 +14,8 @@ def target():
 
 @pytest.mark.parametrize("strategy", STRATEGIES)
 def test_strategy_runs_and_counts_its_cost(strategy, target):
-    start = ifslib.patterns.koch_paper(1, depth=2)
+    # the auto strategy fits an automatic start (its candidates are the curve's 2, 3 and 4 maps)
+    start = ifslib.initialize("auto", target, depth=2) if strategy == "auto" else ifslib.patterns.koch_paper(1, depth=2)
     result = ifslib.fit(start, target, steps=STEPS, loss="multiscale_distance", progress=False, strategy=strategy)
     cost = result.history["cost"]
     assert result.history.get("strategy", "plain") == strategy
@@ -22,6 +23,8 @@ def test_strategy_runs_and_counts_its_cost(strategy, target):
         assert STEPS < cost <= 3 * STEPS
     elif strategy == "pyramid":  # up to 8 starts, one stage each at this size, each stage at most STEPS
         assert 0 < cost <= 8 * STEPS and result.history["starts_tried"] == len(result.history["stages"])
+    elif strategy == "auto":  # a probe of each candidate, then the chosen one's stage (one size here)
+        assert 0 < cost <= 4 * STEPS and len(result.history["stages"]) == 1
     elif strategy == "restart":
         assert 0 < cost <= 3 * STEPS
     else:

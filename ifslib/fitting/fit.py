@@ -61,7 +61,9 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
     strategy : str, optional
         How the steps are spent. None (the default) is `DEFAULT_STRATEGY`, ``"pyramid"``: coarse to
         fine in pixels with early stopping, starts tried until one recovers the target; a fit with
-        ``checkpoint`` or ``resume`` is a single run. ``"plain"`` is one run of ``steps`` steps, the
+        ``checkpoint`` or ``resume`` is a single run, and an automatic start
+        (``ifslib.initialize("auto", target)``) is fitted with ``"auto"``, which compares several
+        numbers of maps. ``"plain"`` is one run of ``steps`` steps, the
         paper's procedure; the others are in `ifslib.fitting.strategies`. ``history["cost"]`` counts
         every step of every run.
     crossing_weight : float
@@ -94,7 +96,8 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         check_depth(depth)
     single = checkpoint is not None or resume is not None
     if strategy is None:
-        strategy = "plain" if single else DEFAULT_STRATEGY
+        automatic = isinstance(ifs.meta.get("pattern"), dict) and ifs.meta["pattern"].get("name") == "auto"
+        strategy = "plain" if single else "auto" if automatic else DEFAULT_STRATEGY
     check_strategy(strategy)
     kwargs = dict(lr=lr, loss=loss, depth=depth, callback=callback, progress=progress, sigma=sigma, levels=levels,
                   method=method, device=device, gradient=gradient, max_rollbacks=max_rollbacks,

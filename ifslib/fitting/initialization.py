@@ -3,23 +3,21 @@
 Segment patterns start with their points evenly spaced, in index order, along the best-fit line
 of the target's foreground (its principal axis), between the extreme projections of the
 foreground pixels; square and grid patterns are stretched onto the foreground's bounding box.
-Optional seeded jitter ``U(-jitter, jitter)`` is added to every coordinate.
+Optional seeded jitter ``U(-jitter, jitter)`` is added to every coordinate. The pattern
+``"auto"`` builds one from the image itself (`ifslib.fitting.auto`): any curve or shape.
 """
 from __future__ import annotations
 
 import numpy as np
 import torch
 
+from ..errors import IFSError
+from ..geometry.crossings import is_curve
 from ..geometry.ifs import IFS
-from ..raster.nearest import pixel_centres
-from .targets import Target
+from .auto import auto_start
+from .targets import Target, foreground_points
 
-
-def foreground_points(target: Target) -> np.ndarray:
-    """Plane coordinates ``(k, 2)`` of the target's foreground pixel centres."""
-    x, y = pixel_centres(target.size)
-    flat = torch.from_numpy(target.mask.reshape(-1))
-    return torch.stack([x[flat], y[flat]], 1).numpy()
+__all__ = ["initialize", "best_fit_line", "foreground_points", "is_curve"]
 
 
 def best_fit_line(target: Target) -> tuple[np.ndarray, np.ndarray, float, float]:
@@ -44,50 +42,56 @@ def best_fit_line(target: Target) -> tuple[np.ndarray, np.ndarray, float, float]
     return centre, direction, float(proj.min()), float(proj.max())
 
 
-def is_curve(ifs: IFS) -> bool:
-    """Whether the rules replace one segment by a chain of segments, as the Koch curve's do.
-
-    True when every rule is a ``segment`` rule with the same source ``(a, b)`` and the rules' targets,
-    in order, form a chain from ``a`` to ``b``.
-    """
-    rules = ifs.rules
-    if not rules or any(r.kind != "segment" or r.source != rules[0].source for r in rules):
-        return False
-    chain = [rules[0].target[0]] + [r.target[1] for r in rules]
-    joined = all(rules[i].target[1] == rules[i + 1].target[0] for i in range(len(rules) - 1))
-    return joined and chain[0] == rules[0].source[0] and chain[-1] == rules[0].source[1]
-
-
-def initialize(ifs: IFS, target: Target, jitter: float = 0.0, seed: int | None = None) -> IFS:
-    """A copy of ``ifs`` with initial points fitted to the target.
+def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: int | None = None, *,
+               maps: int | None = None, depth: int | None = None) -> IFS:
+    """A start for fitting ``target``: a pattern's points placed on the target, or an automatic start.
 
     Parameters
     ----------
-    ifs : IFS
-        The pattern. A curve (see `is_curve`, as for the Koch curve) gets
-        its points evenly spaced along the target's best-fit line, the paper's advice; any other
-        pattern (grids, the carpet, rosettes) is stretched onto the target's bounding box.
+    pattern : IFS or "auto"
+        The pattern. A curve (see `is_curve`, as for the Koch curve) gets its points evenly spaced
+        along the target's best-fit line, the paper's advice; any other pattern (grids, the carpet,
+        rosettes) is stretched onto the target's bounding box. ``"auto"`` reads the target instead
+        (`ifslib.fitting.auto.auto_start`): curve or shape, the number of maps, maps whose copies
+        cover the target; fit it with the ``auto`` strategy to compare several numbers of maps.
     target : Target
     jitter : float
-        Half-width of the uniform jitter added to every coordinate (plane units).
+        Half-width of the uniform jitter added to every free coordinate (plane units).
     seed : int, optional
-        Seed of the jitter.
+        Seed of the jitter (and of the automatic start's k-means).
+    maps : int, optional
+        ``"auto"`` only: this many maps instead of the best candidate.
+    depth : int, optional
+        ``"auto"`` only: the start's depth (3 by default, the paper's).
 
     Returns
     -------
     IFS
     """
+    if isinstance(pattern, str):
+        if pattern != "auto":
+            raise IFSError(f"initialize takes an IFS or 'auto', got {pattern!r} (patterns by name: ifslib.patterns.by_name)")
+        base = auto_start(target, maps, 3 if depth is None else depth, seed=seed or 0)
+        new = base.points.detach().double().numpy()
+    else:
+        if maps is not None or depth is not None:
+            raise IFSError("maps and depth are for initialize('auto', ...); set a pattern's depth on the pattern")
+        base, new = pattern, _placed(pattern, target)
+    if jitter:
+        rng = np.random.default_rng(seed)
+        free = [i for i in range(base.n_points) if i not in base.fixed]
+        new[free] = new[free] + rng.uniform(-jitter, jitter, size=(len(free), 2))
+    return base.clone(torch.as_tensor(new, dtype=base.points.dtype))
+
+
+def _placed(ifs: IFS, target: Target) -> np.ndarray:
+    """The pattern's points on the target: along its best-fit line (curves) or on its bounding box."""
     n = ifs.n_points
     if not is_curve(ifs):
         fg = foreground_points(target)
         lo, hi = fg.min(0), fg.max(0)
         pts = ifs.points.detach().double().numpy()
         plo, phi = pts.min(0), pts.max(0)
-        new = lo + (pts - plo) / np.where(phi > plo, phi - plo, 1) * (hi - lo)
-    else:
-        centre, direction, lo, hi = best_fit_line(target)
-        new = centre + np.linspace(lo, hi, n)[:, None] * direction
-    if jitter:
-        rng = np.random.default_rng(seed)
-        new = new + rng.uniform(-jitter, jitter, size=new.shape)
-    return ifs.clone(torch.as_tensor(new, dtype=ifs.points.dtype))
+        return lo + (pts - plo) / np.where(phi > plo, phi - plo, 1) * (hi - lo)
+    centre, direction, lo, hi = best_fit_line(target)
+    return centre + np.linspace(lo, hi, n)[:, None] * direction

@@ -6,9 +6,8 @@ import numpy as np
 import torch
 from scipy import ndimage
 
-from ..geometry.crossings import leaf_segments
+from ..geometry.crossings import is_curve, leaf_segments
 from ..geometry.ifs import IFS
-from .initialization import is_curve
 from ..raster.render import figure_mask
 from .targets import Target
 
@@ -50,7 +49,7 @@ def caption(ifs: IFS, target: Target) -> str:
     IoU is harsh on a thin curve: a one-pixel shift of a one-pixel line halves it, so a Koch fit
     right to 0.7 px can score IoU 0.2. The symmetric Chamfer distance measures what the eye sees
     there. For shapes with area (the carpet, silhouettes) the overlap, IoU, is the natural measure.
-    A curve is an IFS whose rules chain segments, as the Koch curve's do (`initialization.is_curve`).
+    A curve is an IFS whose rules chain segments, as the Koch curve's do (`ifslib.geometry.crossings.is_curve`).
     """
     m = evaluate(ifs, target)
     return f"Chamfer {m['chamfer']:.2f} px" if is_curve(ifs) else f"IoU {m['iou']:.2f}"

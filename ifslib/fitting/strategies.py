@@ -14,6 +14,12 @@ strategies compare per step spent:
     After each start the result is judged at the full size; once the symmetric Chamfer distance to
     the target is at most ``success`` pixels, no more starts are tried. The starts are those of
     ``multistart``. Each stage spends at most ``min(steps, PYRAMID_STAGE_STEPS)`` steps.
+``auto``
+    For an automatic start (`ifslib.initialize("auto", target)`, `ifslib.fitting.auto`): a start
+    is built for each candidate number of maps, each is fitted at the coarsest size of the pyramid
+    for the same number of steps (`AUTO_PROBE_STEPS`), and the one with the lowest loss goes on
+    through the pyramid's stages as in ``pyramid``. ``history["auto"]`` lists the candidates (maps,
+    loss, steps, seconds) and the one chosen, and the fitted IFS's ``meta["pattern"]`` says so.
 ``plain``
     One run: the paper's procedure (every step spent unless ``tol`` is given).
 ``coarse_to_fine``
@@ -39,6 +45,7 @@ from __future__ import annotations
 
 import copy
 import math
+import time
 
 import numpy as np
 import torch
@@ -47,12 +54,13 @@ from tqdm.auto import tqdm
 from ..errors import IFSError
 from ..geometry.crossings import check_curve
 from ..geometry.ifs import IFS
+from .auto import candidates
 from .initialization import initialize, is_curve
 from .metrics import evaluate, self_crossings
 from .run import FitResult, run
 from .targets import Target, pyramid_sizes, resize_target
 
-STRATEGIES = ("pyramid", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
+STRATEGIES = ("pyramid", "auto", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
 
 #: What `ifslib.fit` does when given no strategy.
 DEFAULT_STRATEGY = "pyramid"
@@ -70,6 +78,9 @@ PYRAMID_FACTOR = 4
 #: At most this many steps in one pyramid stage (or ``steps``, when smaller): the stages of starts that
 #: recovered took 250-400 steps in our runs; those that crawl on for a thousand steps end stalled.
 PYRAMID_STAGE_STEPS = 500
+
+#: Steps each candidate of the ``auto`` strategy gets at the coarsest size before they are compared.
+AUTO_PROBE_STEPS = 150
 
 #: Early stop of each pyramid stage (see `ifslib.fitting.run.converged`) when the fit sets none.
 PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
@@ -124,28 +135,40 @@ def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Gener
     return out
 
 
+def _pyramid_settings(kwargs: dict) -> float:
+    """Turn early stopping on in ``kwargs`` (the pyramid's own tol and patience unless given) and pop the lr."""
+    if kwargs.get("tol") is None:
+        kwargs["tol"] = PYRAMID_TOL
+    kwargs.setdefault("patience", PYRAMID_PATIENCE)
+    return kwargs.pop("lr", 0.003)
+
+
+def _climb(start: IFS, levels: dict, sizes: list[int], target_size: int, steps: int, seed: int, lr: float,
+           kwargs: dict, label: str) -> tuple[FitResult, list[dict]]:
+    """Fit ``start`` at each size of ``sizes`` in turn, each stage from the last one's best points."""
+    stages, current, result = [], start, None
+    for size in sizes:
+        result = run(current, levels[size], steps=min(steps, PYRAMID_STAGE_STEPS), seed=seed,
+                     lr=lr * target_size / size, desc=f"{label} · {size}²", **kwargs)
+        stages.append({"size": size, "steps": result.history["cost"], "stopped": result.history["stopped"],
+                       "best_loss": result.best_loss})
+        current = result.best
+    return result, stages
+
+
 def _pyramid(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, n_starts: int, jitter: float,
              success: float, coarsest: int, rng: np.random.Generator) -> FitResult:
     """The ``pyramid`` strategy (see the module's docstring)."""
-    lr = kwargs.pop("lr", 0.003)
-    kwargs.setdefault("tol", PYRAMID_TOL)
-    kwargs.setdefault("patience", PYRAMID_PATIENCE)
-    if kwargs["tol"] is None:
-        kwargs["tol"] = PYRAMID_TOL
+    lr = _pyramid_settings(kwargs)
     progress = kwargs.get("progress", True)
     sizes = pyramid_sizes(target.size, coarsest, PYRAMID_FACTOR)
     levels = {size: resize_target(target, size) for size in sizes}
     tried: list[tuple[FitResult, float]] = []
     stages, cost = [], 0
     for k, start in enumerate(starts(ifs, target, n_starts, jitter, rng)):
-        current = start
-        for size in sizes:
-            result = run(current, levels[size], steps=min(steps, PYRAMID_STAGE_STEPS), seed=seed,
-                         lr=lr * target.size / size, desc=f"start {k + 1}/{n_starts} · {size}²", **kwargs)
-            cost += result.history["cost"]
-            stages.append({"start": k, "size": size, "steps": result.history["cost"],
-                           "stopped": result.history["stopped"], "best_loss": result.best_loss})
-            current = result.best
+        result, climbed = _climb(start, levels, sizes, target.size, steps, seed, lr, kwargs, f"start {k + 1}/{n_starts}")
+        cost += sum(st["steps"] for st in climbed)
+        stages += [{"start": k, **st} for st in climbed]
         # judged on the full-size target, after the last stage only: the finer stages do rescue fits
         # (a Koch curve at 0.64 scale sat 2.9 px off after 64² in every start, and 0.14 px after 256²)
         chamfer = evaluate(result.best, target)["chamfer"]
@@ -159,6 +182,41 @@ def _pyramid(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, n_st
     best.history.update(cost=cost, stages=stages, starts_tried=len(tried), chamfer=chamfer,
                         recovered=chamfer <= success)
     return best
+
+
+def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarsest: int) -> FitResult:
+    """The ``auto`` strategy (see the module's docstring)."""
+    pattern = ifs.meta.get("pattern")
+    if not (isinstance(pattern, dict) and pattern.get("name") == "auto"):
+        raise IFSError("strategy 'auto' fits an automatic start: use ifslib.initialize('auto', target)")
+    lr = _pyramid_settings(kwargs)
+    depth = kwargs.get("depth") or ifs.depth
+    sizes = pyramid_sizes(target.size, coarsest, PYRAMID_FACTOR)
+    levels = {size: resize_target(target, size) for size in sizes}
+    options = candidates(target, depth, primitive=pattern.get("primitive", "box"), seed=seed)
+    # the given start stands in for the candidate with its number of maps
+    options = [ifs if o.meta["pattern"]["maps"] == pattern["maps"] else o for o in options]
+    if ifs not in options:
+        options.append(ifs)
+    coarse, probe = sizes[0], min(steps, AUTO_PROBE_STEPS)
+    tried = []
+    for o in options:
+        k = o.meta["pattern"]["maps"]
+        t0 = time.perf_counter()
+        result = run(o, levels[coarse], steps=probe, seed=seed, lr=lr * target.size / coarse,
+                     desc=f"{k} maps · {coarse}²", **kwargs)
+        tried.append((result, {"maps": k, "loss": result.best_loss, "steps": result.history["cost"],
+                               "seconds": time.perf_counter() - t0}))
+    # the lowest loss after the same number of steps; fewer maps win a tie
+    winner, chosen = min(tried, key=lambda rc: (rc[1]["loss"], rc[1]["maps"]))
+    result, stages = _climb(winner.best, levels, sizes, target.size, steps, seed, lr, kwargs,
+                            f"{chosen['maps']} maps")
+    cost = sum(c["steps"] for _, c in tried) + sum(s["steps"] for s in stages)
+    choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}
+    result.history.update(cost=cost, stages=[{"maps": chosen["maps"], **st} for st in stages], auto=choice)
+    for ifs_ in (result.best, result.final):
+        ifs_.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
+    return result
 
 
 def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, *,
@@ -192,7 +250,10 @@ def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int,
     def one(start: IFS, n: int, **extra) -> FitResult:
         return run(start, target, steps=n, seed=seed, depth=extra.pop("depth", depth), **{**kwargs, **extra})
 
-    if strategy == "pyramid":
+    if strategy == "auto":
+        kwargs["depth"] = depth
+        result = _auto(ifs, target, steps, seed, kwargs, coarsest)
+    elif strategy == "pyramid":
         kwargs["depth"] = depth
         result = _pyramid(ifs, target, steps, seed, kwargs, n_starts, jitter, success, coarsest, rng)
     elif strategy == "plain":

@@ -19,6 +19,7 @@ from skimage.transform import resize
 
 from ..data import path as data_path
 from ..raster.distance import check_size
+from ..raster.nearest import pixel_centres
 from ..raster.render import figure_mask
 from ..errors import IFSError
 from ..geometry.ifs import IFS
@@ -233,3 +234,10 @@ def resize_target(target: Target, size: int) -> Target:
         raise IFSError(f"the target {target.name!r} vanishes at {size}x{size} pixels")
     gray = gray / gray.max()
     return target_from_mask(threshold_gray(gray), target.name, gray)
+
+
+def foreground_points(target: Target) -> np.ndarray:
+    """Plane coordinates ``(k, 2)`` of the target's foreground pixel centres."""
+    x, y = pixel_centres(target.size)
+    flat = torch.from_numpy(target.mask.reshape(-1))
+    return torch.stack([x[flat], y[flat]], 1).numpy()

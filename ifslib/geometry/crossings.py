@@ -17,6 +17,20 @@ from .ifs import IFS, check_depth
 from .leaves import compose_words
 
 
+def is_curve(ifs: IFS) -> bool:
+    """Whether the rules replace one segment by a chain of segments, as the Koch curve's do.
+
+    True when every rule is a ``segment`` rule with the same source ``(a, b)`` and the rules' targets,
+    in order, form a chain from ``a`` to ``b``.
+    """
+    rules = ifs.rules
+    if not rules or any(r.kind != "segment" or r.source != rules[0].source for r in rules):
+        return False
+    chain = [rules[0].target[0]] + [r.target[1] for r in rules]
+    joined = all(rules[i].target[1] == rules[i + 1].target[0] for i in range(len(rules) - 1))
+    return joined and chain[0] == rules[0].source[0] and chain[-1] == rules[0].source[1]
+
+
 def check_curve(ifs: IFS, what: str) -> None:
     """Raise `IFSError` saying that ``what`` needs a curve, unless every primitive is a segment."""
     if any(p.kind != "segment" for p in ifs.primitives):

@@ -1,0 +1,191 @@
+"""An automatic start for any image: curve or shape, how many maps, and where they go.
+
+The collage theorem (Barnsley) says that an IFS's attractor is near a target when the union of the
+maps' images of the target is near the target. So a start for any image is a set of maps whose
+copies of the target cover the target:
+
+* **Shapes** (a filled figure): the foreground pixels are split into ``k`` parts by k-means
+  (`scipy.cluster.vq.kmeans2`), and map ``i`` takes the whole figure's mean and covariance onto
+  part ``i``'s (``A_i = C_i^{1/2} C^{-1/2}``, ``t_i = mu_i - A_i mu``): each copy of the figure is
+  stretched and turned to lie over its part. The maps are ``affine`` rules
+  (`ifslib.patterns.affine`) and the leaves draw the primitive given by ``primitive``.
+* **Curves** (a thin figure, about as long as its area in pixels): the figure's skeleton
+  (`skimage.morphology.skeletonize`) is walked from end to end along its longest path
+  (`scipy.sparse.csgraph`), ``k + 1`` points are spaced evenly along it, and the curve is the
+  Koch-like pattern on that polyline (`ifslib.patterns.koch_like`): ``k`` segment rules, each mapping
+  the chord onto one piece.
+
+Which ``k`` is best depends on the image; `candidates` builds a start for each of several and the
+``auto`` strategy (`ifslib.fitting.strategies`) compares them by the loss each reaches in the same
+number of steps. A start records what was chosen in ``meta["pattern"]``, which the JSON file keeps.
+"""
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+from ..errors import IFSError, check_int
+from ..geometry import patterns
+from ..geometry.ifs import IFS, check_depth
+from .targets import Target, foreground_points
+
+#: A figure whose area is below this many pixels per skeleton pixel is thin (a line 1-3 px wide) ...
+CURVE_WIDTH = 4.0
+#: ... and it is a curve when its skeleton's longest path holds at least this share of the skeleton
+#: (the Sierpinski carpet is thin too, but its skeleton is a network, not a path).
+CURVE_PATH_SHARE = 0.8
+#: Numbers of maps tried for a shape and for a curve.
+SHAPE_MAPS = (4, 6, 8)
+CURVE_MAPS = (2, 3, 4)
+#: Every map's singular values are clipped into this range at the start (contracting, not flat).
+SINGULAR_RANGE = (0.05, 0.85)
+PRIMITIVES = ("box", "disk")
+
+
+def thickness(target: Target) -> float:
+    """The figure's mean width in pixels: its area over the length of its skeleton."""
+    from skimage.morphology import skeletonize
+
+    mask = np.asarray(target.mask, dtype=bool)  # never empty: load_target refuses an empty mask
+    return int(mask.sum()) / max(int(skeletonize(mask).sum()), 1)
+
+
+def classify(target: Target) -> str:
+    """``"curve"`` for a thin figure (`thickness` below `CURVE_WIDTH`) whose skeleton is one path
+    (its longest path holds `CURVE_PATH_SHARE` of it), else ``"shape"``."""
+    from skimage.morphology import skeletonize
+
+    if thickness(target) >= CURVE_WIDTH:
+        return "shape"
+    skeleton = int(skeletonize(np.asarray(target.mask, dtype=bool)).sum())
+    return "curve" if len(skeleton_path(target)) >= CURVE_PATH_SHARE * skeleton else "shape"
+
+
+def _sqrtm(c: np.ndarray) -> np.ndarray:
+    w, v = np.linalg.eigh(c)
+    return v @ np.diag(np.sqrt(np.maximum(w, 1e-12))) @ v.T
+
+
+def shape_maps(target: Target, k: int, seed: int = 0) -> np.ndarray:
+    """``(k, 2, 3)`` affine maps, each taking the figure's mean and covariance onto one of its ``k`` k-means parts.
+
+    Each matrix's singular values are clipped into `SINGULAR_RANGE`, so every map contracts.
+    """
+    from scipy.cluster.vq import kmeans2
+
+    fg = foreground_points(target)
+    if len(fg) < 3 * k:
+        raise IFSError(f"the target has {len(fg)} foreground pixels: too few for {k} maps")
+    mu, inv_root = fg.mean(0), np.linalg.inv(_sqrtm(np.cov(fg.T)))
+    _, label = kmeans2(fg, k, seed=seed, minit="++")
+    maps = []
+    for i in range(k):
+        part = fg[label == i]
+        if len(part) < 3:  # an empty or tiny cluster: a small copy at a random foreground pixel
+            part = fg[np.random.default_rng(seed + i).choice(len(fg), 3, replace=False)]
+        a = _sqrtm(np.cov(part.T)) @ inv_root
+        u, s, vt = np.linalg.svd(a)
+        a = u @ np.diag(np.clip(s, *SINGULAR_RANGE)) @ vt
+        maps.append(np.concatenate([a, (part.mean(0) - a @ mu)[:, None]], 1))
+    return np.array(maps)
+
+
+def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", seed: int = 0) -> IFS:
+    """A start of ``k`` affine maps for a filled figure (see the module docstring).
+
+    The primitive sits on the figure: ``"box"``, its bounding box; ``"disk"``, a disk at its mean
+    with the radius of a disk of the same second moment. Its points are trainable.
+    """
+    if primitive not in PRIMITIVES:
+        raise IFSError(f"unknown primitive {primitive!r} for an automatic start; known: {', '.join(PRIMITIVES)}")
+    frame = patterns.affine(shape_maps(target, k, seed), depth=depth)
+    fg = foreground_points(target)
+    pts = frame.points.detach().double()
+    n = pts.shape[0]
+    if primitive == "box":
+        extra, prim = np.array([fg.min(0), fg.max(0)]), {"kind": "box", "points": [n, n + 1]}
+    else:
+        radius = 2 * float(np.linalg.det(np.cov(fg.T))) ** 0.25  # a uniform disk of radius r has variance r^2 / 4
+        extra, prim = fg.mean(0)[None], {"kind": "disk", "points": [n], "radius": radius}
+    points = torch.cat([pts, torch.as_tensor(extra, dtype=torch.float64)])
+    return IFS(points, frame.rules, [prim], depth=depth, name="auto", fixed=frame.fixed,
+               meta={"pattern": {"name": "auto", "kind": "shape", "maps": k, "primitive": primitive}})
+
+
+def skeleton_path(target: Target) -> np.ndarray:
+    """Plane coordinates ``(L, 2)`` of the skeleton's longest path, from one end to the other."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import shortest_path
+    from skimage.morphology import skeletonize
+
+    from ..raster.nearest import pixel_centres
+
+    skel = skeletonize(np.asarray(target.mask, dtype=bool))
+    rows, cols = np.nonzero(skel)
+    if len(rows) < 2:
+        raise IFSError("the target's skeleton is a single pixel: no curve to follow")
+    index = -np.ones(skel.shape, dtype=int)
+    index[rows, cols] = np.arange(len(rows))
+    src, dst, weight = [], [], []
+    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):  # 8-connected pixel graph, each edge once
+        r2, c2 = rows + dr, cols + dc
+        ok = (r2 < skel.shape[0]) & (c2 >= 0) & (c2 < skel.shape[1])
+        j = np.where(ok, index[np.minimum(r2, skel.shape[0] - 1), np.clip(c2, 0, skel.shape[1] - 1)], -1)
+        hit = ok & (j >= 0)
+        src += list(np.nonzero(hit)[0])
+        dst += list(j[hit])
+        weight += [np.hypot(dr, dc)] * int(hit.sum())
+    n = len(rows)
+    graph = coo_matrix((weight, (src, dst)), shape=(n, n)).tocsr()
+    # the longest shortest path: farthest from any pixel, then farthest from that one (exact on a tree)
+    far = np.nan_to_num(shortest_path(graph, directed=False, indices=0), posinf=-1).argmax()
+    dist, pred = shortest_path(graph, directed=False, indices=far, return_predecessors=True)
+    end = int(np.nan_to_num(dist, posinf=-1).argmax())
+    path = [end]
+    while path[-1] != far:
+        path.append(int(pred[path[-1]]))
+    x, y = pixel_centres(target.size, dtype=torch.float64)
+    flat = rows[path] * target.size + cols[path]
+    return np.stack([x.numpy()[flat], y.numpy()[flat]], 1)
+
+
+def curve_start(target: Target, k: int, depth: int = 3) -> IFS:
+    """A Koch-like start of ``k`` segment rules on ``k + 1`` points spaced evenly along the skeleton."""
+    path = skeleton_path(target)
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
+    at = np.linspace(0, arc[-1], k + 1)
+    polyline = np.stack([np.interp(at, arc, path[:, 0]), np.interp(at, arc, path[:, 1])], 1)
+    ifs = patterns.koch_like(polyline.tolist(), depth=depth, name="auto")
+    ifs.meta["pattern"] = {"name": "auto", "kind": "curve", "maps": k}
+    return ifs
+
+
+def candidates(target: Target, depth: int = 3, maps: tuple[int, ...] | None = None, primitive: str = "box",
+               seed: int = 0) -> list[IFS]:
+    """One automatic start for each candidate number of maps (`SHAPE_MAPS` or `CURVE_MAPS` unless ``maps`` is given)."""
+    depth = check_depth(depth)
+    kind = classify(target)
+    ks = tuple(maps) if maps is not None else (CURVE_MAPS if kind == "curve" else SHAPE_MAPS)
+    for k in ks:
+        check_int(k, "number of maps", 1 if kind == "shape" else 2)
+    if kind == "curve":
+        return [curve_start(target, k, depth) for k in ks]
+    return [shape_start(target, k, depth, primitive, seed) for k in ks]
+
+
+def auto_start(target: Target, maps: int | None = None, depth: int = 3, primitive: str = "box", seed: int = 0) -> IFS:
+    """The automatic start for ``target`` with ``maps`` maps, or, when None, the candidate whose start is nearest the target.
+
+    Without fitting, "nearest" is the collage theorem's measure: the start drawn at the target's
+    size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
+    strategy compares the candidates by fitting them instead.
+    """
+    from .metrics import evaluate
+
+    options = candidates(target, depth, None if maps is None else (maps,), primitive, seed)
+    if len(options) == 1:
+        return options[0]
+    scores = [evaluate(o, target) for o in options]
+    if options[0].meta["pattern"]["kind"] == "curve":
+        return options[int(np.argmin([s["chamfer"] for s in scores]))]
+    return options[int(np.argmax([s["iou"] for s in scores]))]

@@ -1,0 +1,121 @@
+"""The automatic start: curve or shape, maps that cover the figure, the skeleton's path, the ``auto``
+strategy's comparison of candidates, the CLI. Every target is drawn here."""
+import json
+
+import numpy as np
+import pytest
+import torch
+from PIL import Image
+
+import ifslib
+from ifslib.cli import main
+from ifslib.fitting import auto
+from ifslib.fitting.targets import target_from_mask
+from ifslib.geometry.rules import singular_values
+
+
+def ellipse_target(size=48):
+    """A filled, tilted ellipse with a bump: a smooth blob."""
+    r, c = np.mgrid[:size, :size]
+    x, y = (c + 0.5) / size - 0.5, 0.5 - (r + 0.5) / size
+    u, v = 0.8 * x + 0.6 * y, -0.6 * x + 0.8 * y
+    blob = (u / 0.38) ** 2 + (v / 0.2) ** 2 <= 1
+    bump = (x - 0.1) ** 2 + (y - 0.18) ** 2 <= 0.12 ** 2
+    return ifslib.load_target((blob | bump).astype(float), size)
+
+
+def curve_target(size=96):
+    """A Koch-like curve the library draws: a thin curve with two ends."""
+    return ifslib.load_target(ifslib.patterns.koch_like([[-0.4, -0.1], [-0.1, -0.05], [0.0, 0.15], [0.1, -0.05],
+                                                         [0.4, -0.1]], depth=3), size)
+
+
+def test_a_blob_is_a_shape_a_thin_curve_is_a_curve_and_a_network_is_a_shape():
+    assert auto.classify(ellipse_target()) == "shape"
+    assert auto.classify(curve_target()) == "curve"
+    grid = np.zeros((64, 64))
+    grid[8:56:12, 8:56] = 1
+    grid[8:56, 8:56:12] = 1  # thin, but a network of lines, not one path
+    assert auto.thickness(ifslib.load_target(grid, 64)) < auto.CURVE_WIDTH
+    assert auto.classify(ifslib.load_target(grid, 64)) == "shape"
+
+
+def test_shape_start_maps_contract_and_their_copies_cover_the_figure():
+    target = ellipse_target()
+    for k in (3, 5):
+        start = auto.shape_start(target, k, depth=2)
+        assert len(start.rules) == k and all(r.kind == "affine" for r in start.rules)
+        smallest, largest = singular_values(start.maps().detach())
+        assert (largest <= auto.SINGULAR_RANGE[1] + 1e-6).all() and (smallest >= auto.SINGULAR_RANGE[0] - 1e-6).all()
+        assert start.meta["pattern"] == {"name": "auto", "kind": "shape", "maps": k, "primitive": "box"}
+        # the collage: the start's figure already overlaps the target well
+        assert ifslib.evaluate(start, target)["iou"] > 0.6
+    disk = auto.shape_start(target, 4, depth=2, primitive="disk")
+    assert disk.primitives[0].kind == "disk" and ifslib.evaluate(disk, target)["iou"] > 0.5
+
+
+def test_skeleton_path_runs_end_to_end_and_curve_start_follows_it():
+    target = curve_target()
+    path = auto.skeleton_path(target)
+    ends = sorted([path[0].tolist(), path[-1].tolist()])
+    assert np.allclose(ends[0], [-0.4, -0.1], atol=0.03) and np.allclose(ends[1], [0.4, -0.1], atol=0.03)
+    steps = np.linalg.norm(np.diff(path, axis=0), axis=1)
+    assert steps.max() <= np.sqrt(2) / target.size + 1e-9  # neighbouring pixels, no jumps
+    start = auto.curve_start(target, 4, depth=3)
+    assert ifslib.initialization.is_curve(start) and start.meta["pattern"]["kind"] == "curve"
+    # evenly spaced along the curve's own path: nearer than the paper's best-fit-line start
+    line = ifslib.initialize(ifslib.patterns.koch(depth=3), target)
+    assert ifslib.evaluate(start, target)["chamfer"] < min(3.0, ifslib.evaluate(line, target)["chamfer"])
+
+
+def test_initialize_auto_and_its_errors():
+    target = ellipse_target()
+    start = ifslib.initialize("auto", target, maps=4, depth=2)
+    assert start.meta["pattern"]["maps"] == 4 and start.depth == 2
+    chosen = ifslib.initialize("auto", target, depth=2)
+    assert chosen.meta["pattern"]["maps"] in auto.SHAPE_MAPS
+    jittered = ifslib.initialize("auto", target, maps=4, depth=2, jitter=0.01, seed=1)
+    assert torch.equal(jittered.points[:4], start.points[:4])  # the fixed frame stays
+    assert not torch.equal(jittered.points[4:], start.points[4:])
+    with pytest.raises(ValueError, match="initialize takes an IFS or 'auto', got 'koch'"):
+        ifslib.initialize("koch", target)
+    with pytest.raises(ValueError, match="maps and depth are for initialize"):
+        ifslib.initialize(ifslib.patterns.koch(), target, maps=3)
+    speck = np.zeros((32, 32), dtype=bool)
+    speck[10:13, 10:13] = True
+    with pytest.raises(ValueError, match="the target has 9 foreground pixels: too few for 4 maps"):
+        ifslib.initialize("auto", target_from_mask(speck), maps=4)
+
+
+def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records_the_choice(tmp_path):
+    target = ellipse_target(48)
+    start = ifslib.initialize("auto", target, maps=3, depth=2)
+    result = ifslib.fit(start, target, steps=40, loss="multiscale_distance", progress=False)
+    tried = result.history["auto"]["candidates"]
+    assert [c["maps"] for c in tried] == list(auto.SHAPE_MAPS) + [3]
+    assert all(c["steps"] <= 40 for c in tried)
+    best = min(tried, key=lambda c: (c["loss"], c["maps"]))
+    assert result.history["auto"]["chosen"] == best["maps"] == result.best.meta["pattern"]["maps"]
+    assert len(result.best.rules) == best["maps"]
+    assert result.history["strategy"] == "auto"
+    assert result.history["cost"] == sum(c["steps"] for c in tried) + sum(s["steps"] for s in result.history["stages"])
+    assert ifslib.evaluate(result.best, target)["iou"] > ifslib.evaluate(start, target)["iou"]
+    saved = ifslib.load_ifs(ifslib.save_ifs(result.best, tmp_path / "fit.json"))
+    assert saved.meta["pattern"]["chosen"] == best["maps"]
+    with pytest.raises(ValueError, match="strategy 'auto' fits an automatic start"):
+        ifslib.fit(ifslib.patterns.koch(), target, strategy="auto", steps=2, progress=False)
+
+
+def test_cli_fits_any_image_with_pattern_auto(tmp_path, capsys):
+    target = ellipse_target(48)
+    png = tmp_path / "blob.png"
+    Image.fromarray((target.mask * 255).astype(np.uint8)).save(png)
+    out = tmp_path / "blob.json"
+    assert main(["fit", str(png), "--pattern", "auto", "--size", "48", "--depth", "2", "--steps", "20", "--quiet",
+                 "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "(auto: a shape, " in text and "maps chosen by the loss after" in text
+    doc = json.loads(out.read_text())
+    assert doc["meta"]["pattern"]["name"] == "auto" and doc["rules"][0]["kind"] == "affine"
+    assert main(["fit", str(png), "--pattern", "koch", "--maps", "3", "-o", str(out)]) == 2
+    assert "--maps goes with --pattern auto" in capsys.readouterr().err
