@@ -119,3 +119,24 @@ def test_cli_fits_any_image_with_pattern_auto(tmp_path, capsys):
     assert doc["meta"]["pattern"]["name"] == "auto" and doc["rules"][0]["kind"] == "affine"
     assert main(["fit", str(png), "--pattern", "koch", "--maps", "3", "-o", str(out)]) == 2
     assert "--maps goes with --pattern auto" in capsys.readouterr().err
+
+
+def test_silhouettes_are_centred_filled_and_keep_their_holes():
+    from scipy import ndimage
+
+    from ifslib.fitting import silhouettes
+
+    a = silhouettes.letter("A", 64)
+    holes = ndimage.binary_fill_holes(a) & ~a
+    assert holes.sum() > 10  # the A's counter stays a hole
+    for mask in (a, silhouettes.polygon(6, 64, seed=2), silhouettes.blob(64, seed=4)):
+        rows, cols = np.nonzero(mask)
+        extent = max(rows.max() - rows.min(), cols.max() - cols.min()) + 1
+        assert abs(extent - silhouettes.FILL * 64) <= 2
+        assert abs((rows.min() + rows.max()) / 2 - 31.5) <= 1.5 and abs((cols.min() + cols.max()) / 2 - 31.5) <= 1.5
+        assert auto.classify(ifslib.load_target(mask.astype(float), 64)) == "shape"
+    assert len(silhouettes.gallery(32)) == 9
+    with pytest.raises(ValueError, match="a polygon needs an integer >= 3 corners"):
+        silhouettes.polygon(2)
+    with pytest.raises(ValueError, match="letter needs a non-blank string"):
+        silhouettes.letter(" ")

@@ -100,3 +100,18 @@ def test_exercise_checks_on_ifs_answers():
     assert not exercises.check_initialization(ifslib.patterns.koch_paper(1, depth=2), target)  # upright, not lying
     assert exercises.check_fit(ifslib.patterns.koch(depth=2), target)
     assert not exercises.check_fit(ifslib.patterns.koch_paper(1, depth=2), target)
+
+
+def test_affine_maps_in_the_explorer(explorer, tmp_path):
+    from conftest import sheared
+
+    path = ifslib.save_ifs(sheared(depth=2), tmp_path / "sheared.json")
+    explorer.json_path.value = str(path)
+    explorer.pattern.value = "JSON file"
+    assert len(explorer.sliders) == 13 and explorer.last["warning"] is None
+    before = explorer.last["image"]
+    moved = explorer.set_point(5, 0.1, -0.45)       # shear the first map: its image moves
+    assert moved["warning"] is None and not np.array_equal(moved["image"], before)
+    p4 = explorer.current().points[4].tolist()
+    flat = explorer.set_point(6, (p4[0] + 0.1) / 2, (p4[1] - 0.45) / 2)  # the first map's target points in a row
+    assert "degenerate" in flat["warning"] and "degenerate" in explorer.warning.value

@@ -18,7 +18,8 @@ strategies compare per step spent:
     For an automatic start (`ifslib.initialize("auto", target)`, `ifslib.fitting.auto`): a start
     is built for each candidate number of maps, each is fitted at the coarsest size of the pyramid
     for the same number of steps (`AUTO_PROBE_STEPS`), and the one with the lowest loss goes on
-    through the pyramid's stages as in ``pyramid``. ``history["auto"]`` lists the candidates (maps,
+    through the pyramid's stages as in ``pyramid``; a shape then gets a last stage at full size
+    with the pixel loss (`POLISH_LOSS`), which fills the slivers between copies. ``history["auto"]`` lists the candidates (maps,
     loss, steps, seconds) and the one chosen, and the fitted IFS's ``meta["pattern"]`` says so.
 ``plain``
     One run: the paper's procedure (every step spent unless ``tol`` is given).
@@ -81,6 +82,10 @@ PYRAMID_STAGE_STEPS = 500
 
 #: Steps each candidate of the ``auto`` strategy gets at the coarsest size before they are compared.
 AUTO_PROBE_STEPS = 150
+
+#: The ``auto`` strategy's last stage for a shape: the pixel loss counts every uncovered pixel, where
+#: the distance loss hardly sees the slivers between copies (apple at 256²: IoU 0.89 -> 0.97).
+POLISH_LOSS = "multiscale_pixel"
 
 #: Early stop of each pyramid stage (see `ifslib.fitting.run.converged`) when the fit sets none.
 PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
@@ -211,6 +216,14 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
     winner, chosen = min(tried, key=lambda rc: (rc[1]["loss"], rc[1]["maps"]))
     result, stages = _climb(winner.best, levels, sizes, target.size, steps, seed, lr, kwargs,
                             f"{chosen['maps']} maps")
+    if winner.best.meta["pattern"]["kind"] == "shape" and kwargs.get("loss") != POLISH_LOSS:
+        # The distance loss brings the copies over the figure from afar, but it hardly sees the
+        # one-pixel slivers left between them; the pixel loss counts each uncovered pixel fully.
+        polish = {**kwargs, "loss": POLISH_LOSS}
+        result = run(result.best, target, steps=min(steps, PYRAMID_STAGE_STEPS), seed=seed, lr=lr,
+                     desc=f"{chosen['maps']} maps · {target.size}² · {POLISH_LOSS}", **polish)
+        stages.append({"size": target.size, "loss": POLISH_LOSS, "steps": result.history["cost"],
+                       "stopped": result.history["stopped"], "best_loss": result.best_loss})
     cost = sum(c["steps"] for _, c in tried) + sum(s["steps"] for s in stages)
     choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}
     result.history.update(cost=cost, stages=[{"maps": chosen["maps"], **st} for st in stages], auto=choice)
