@@ -27,6 +27,7 @@ import torch
 from ..errors import IFSError, check_int
 from ..geometry import patterns
 from ..geometry.ifs import IFS, check_depth
+from .metrics import evaluate
 from .targets import Target, foreground_points
 
 #: A figure whose area is below this many pixels per skeleton pixel is thin (a line 1-3 px wide) ...
@@ -180,8 +181,6 @@ def auto_start(target: Target, maps: int | None = None, depth: int = 3, primitiv
     size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
     strategy compares the candidates by fitting them instead.
     """
-    from .metrics import evaluate
-
     options = candidates(target, depth, None if maps is None else (maps,), primitive, seed)
     if len(options) == 1:
         return options[0]
