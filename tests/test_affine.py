@@ -174,3 +174,17 @@ def test_cli_info_shows_both_singular_values_and_reflections(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "rule 0: affine [0, 1, 2] -> [4, 5, 6]  contraction 0.4758 (singular values 0.4758, 0.2837)" in out
     assert "rule 2: affine [0, 1, 2] -> [10, 11, 12]  contraction 0.4178 (singular values 0.4178, 0.3471, reflects)" in out
+
+
+def test_nearly_flat_maps_keep_float32_distances_accurate():
+    """A deep word of nearly flat maps has an inverse in the millions; segments and boxes are measured from
+    the forward map, so float32 stays within rounding of float64 (pulling back and pushing forward did not)."""
+    maps = [[[0.45, 0.0, -0.2], [0.0, 0.002, -0.2]], [[0.45, 0.0, 0.2], [0.0, 0.003, 0.1]],
+            [[0.3, 0.1, 0.0], [0.0, 0.0015, 0.25]]]
+    for primitive in ("box", "segment"):
+        wide = ifslib.patterns.affine(maps, depth=3, primitive=primitive, dtype=torch.float64)
+        narrow = wide.to(torch.float32)
+        assert expand(narrow).inverse.abs().max() > 1e6
+        fast32 = ifslib.distance_field(narrow, 40).double()
+        torch.testing.assert_close(fast32, ifslib.distance_field(wide, 40), rtol=0, atol=1e-5)
+        torch.testing.assert_close(fast32, ifslib.distance_field(narrow, 40, method="brute").double(), rtol=0, atol=1e-6)

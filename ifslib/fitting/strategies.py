@@ -19,8 +19,9 @@ strategies compare per step spent:
     is built for each candidate number of maps, each is fitted at the coarsest size of the pyramid
     for the same number of steps (`AUTO_PROBE_STEPS`), and the one with the lowest loss goes on
     through the pyramid's stages as in ``pyramid``; a shape then gets a last stage at full size
-    with the pixel loss (`POLISH_LOSS`), which fills the slivers between copies. ``history["auto"]`` lists the candidates (maps,
-    loss, steps, seconds) and the one chosen, and the fitted IFS's ``meta["pattern"]`` says so.
+    with the pixel loss (`POLISH_LOSS`), which fills the slivers between copies.
+    ``history["auto"]`` lists the candidates (maps, loss, steps, seconds) and the one chosen, and
+    the fitted IFS's ``meta["pattern"]`` says so.
 ``plain``
     One run: the paper's procedure (every step spent unless ``tol`` is given).
 ``coarse_to_fine``

@@ -41,7 +41,7 @@ class Leaves:
     inverse : torch.Tensor
         ``(W, 2, 3)`` inverse affine map of each word (``W = m**K``).
     scale : torch.Tensor
-        ``(W,)`` scale of each word's map (its smallest singular value when ``linear`` is given).
+        ``(W,)`` scale of each word's map (its smallest singular value when ``forward`` is given).
     params : torch.Tensor
         ``(p, 5)`` packed primitive geometry (see `ifslib.primitives.primitive_params`).
     kinds : tuple of str
@@ -51,9 +51,9 @@ class Leaves:
         `expand_batch`), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
         ``(B * p, 5)``, and leaf ids run over the whole batch, item ``b`` owning the ids
         ``b * m**K * p`` to ``(b + 1) * m**K * p - 1``.
-    linear : torch.Tensor or None
-        ``(W, 4)`` each word's forward matrix ``(a, b, c, d)``, for an IFS with ``affine`` rules;
-        None when every word is a similarity.
+    forward : torch.Tensor or None
+        ``(W, 6)`` each word's forward map ``(a, b, tx, c, d, ty)``, for an IFS with ``affine``
+        rules; None when every word is a similarity.
     """
 
     inverse: torch.Tensor
@@ -61,7 +61,7 @@ class Leaves:
     params: torch.Tensor
     kinds: tuple[str, ...]
     words_per_item: int = 0
-    linear: torch.Tensor | None = None
+    forward: torch.Tensor | None = None
 
     @property
     def n_items(self) -> int:
@@ -81,13 +81,13 @@ class Leaves:
 
     def detach(self) -> "Leaves":
         """The same leaves with no autograd history."""
-        linear = None if self.linear is None else self.linear.detach()
+        forward = None if self.forward is None else self.forward.detach()
         return Leaves(self.inverse.detach(), self.scale.detach(), self.params.detach(), self.kinds, self.words_per_item,
-                      linear)
+                      forward)
 
 
 def word_geometry(words: torch.Tensor, similarity: bool) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor | None]:
-    """What a leaf's distance needs of each word map: its inverse, its scale and, for affine words, its matrix.
+    """What a leaf's distance needs of each word map: its inverse, its scale and, for affine words, the map itself.
 
     Parameters
     ----------
@@ -100,12 +100,12 @@ def word_geometry(words: torch.Tensor, similarity: bool) -> tuple[torch.Tensor, 
     -------
     inverse : ``(..., W, 2, 3)``
     scale : ``(..., W)``: the similarity's scale, or the affine map's smallest singular value
-    linear : ``(..., W, 4)`` or None
+    forward : ``(..., W, 6)`` or None: ``(a, b, tx, c, d, ty)``
     """
     inverse, scale = invert_similarities(words)
     if similarity:
         return inverse, scale, None
-    return inverse, singular_values(words)[0], words[..., :2, :2].flatten(-2)
+    return inverse, singular_values(words)[0], words[..., :2, :].flatten(-2)
 
 
 def estimate_bytes(n_leaves_words: int, n_pixels: int, method: str = "fast") -> int:
@@ -202,9 +202,9 @@ def expand(ifs: IFS, depth: int | None = None, *, device: torch.device | str = "
     points = ifs.points.to(device=device, dtype=dtype or ifs.points.dtype)
     maps = rule_maps(points, ifs.rules, gradient)
     ifs.check_contractive(depth, maps)
-    inverse, scale, linear = word_geometry(compose_words(maps, depth), ifs.is_similarity)
+    inverse, scale, forward = word_geometry(compose_words(maps, depth), ifs.is_similarity)
     return Leaves(inverse, scale, primitive_params(points, ifs.primitives),
-                  tuple(p.kind for p in ifs.primitives), 0, linear)
+                  tuple(p.kind for p in ifs.primitives), 0, forward)
 
 
 def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gradient: str = "exact") -> Leaves:
@@ -232,10 +232,10 @@ def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gr
     if points.ndim != 3 or points.shape[1:] != ifs.points.shape:
         raise IFSError(f"points must have shape (B, {ifs.n_points}, 2), got {tuple(points.shape)}")
     words = compose_words(rule_maps(points, ifs.rules, gradient), depth)  # (B, W, 3, 3)
-    inverse, scale, linear = word_geometry(words, ifs.is_similarity)
+    inverse, scale, forward = word_geometry(words, ifs.is_similarity)
     n_items, per_item = words.shape[:2]
     return Leaves(inverse.reshape(-1, 2, 3), scale.reshape(-1), primitive_params(points, ifs.primitives).reshape(-1, 5),
-                  tuple(p.kind for p in ifs.primitives), per_item, None if linear is None else linear.reshape(-1, 4))
+                  tuple(p.kind for p in ifs.primitives), per_item, None if forward is None else forward.reshape(-1, 6))
 
 
 def leaf_count_text(ifs: IFS, depth: int) -> str:
@@ -249,13 +249,16 @@ __all__ = ["Leaves", "expand", "expand_batch", "compose_words", "invert_similari
 
 
 
-def leaf_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, scale: torch.Tensor, params: torch.Tensor,
-             linear: torch.Tensor | None) -> torch.Tensor:
-    """A leaf's signed distance from its pulled-back query ``q = T_w^-1 x``: ``scale * d(q)`` for a similarity word,
-    `ifslib.geometry.primitives.affine_sdf` when the word's matrix ``linear`` (``(..., 4)``) is given."""
-    if linear is None:
+def leaf_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, inverse: torch.Tensor, scale: torch.Tensor,
+             params: torch.Tensor, forward: torch.Tensor | None) -> torch.Tensor:
+    """A leaf's signed distance at ``x``: ``scale * d(T_w^-1 x)`` for a similarity word, and
+    `ifslib.geometry.primitives.affine_sdf` when the word's map ``forward`` (``(..., 6)``) is given.
+    ``inverse`` is ``(..., 6)``, the word's inverse map; every tensor broadcasts against ``x``."""
+    qx = inverse[..., 0] * x + inverse[..., 1] * y + inverse[..., 2]
+    qy = inverse[..., 3] * x + inverse[..., 4] * y + inverse[..., 5]
+    if forward is None:
         return scale * local_sdf(kind, qx, qy, params)
-    return affine_sdf(kind, qx, qy, linear, scale, params)
+    return affine_sdf(kind, x, y, qx, qy, forward, scale, params)
 
 
 def _gather_words(leaves: Leaves, leaf: torch.Tensor):
@@ -292,23 +295,21 @@ def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tens
         ``(N,)`` distances ``s_w * d_p(T_w^{-1} x)``, differentiable in the leaves' tensors.
     """
     inv, scale, prim, row = _gather_words(leaves, leaf)
-    qx = inv[:, 0] * x + inv[:, 1] * y + inv[:, 2]
-    qy = inv[:, 3] * x + inv[:, 4] * y + inv[:, 5]
-    linear = None
-    if leaves.linear is not None:
+    forward = None
+    if leaves.forward is not None:
         word = leaf if leaves.n_prims == 1 else torch.div(leaf, leaves.n_prims, rounding_mode="floor")
-        linear = leaves.linear.index_select(0, word)
+        forward = leaves.forward.index_select(0, word)
     kinds = sorted(set(leaves.kinds))
     if len(kinds) == 1:
         params = leaves.params[0] if row is None else leaves.params.index_select(0, row)
-        return leaf_sdf(kinds[0], qx, qy, scale, params, linear)
-    out = torch.zeros_like(qx)
+        return leaf_sdf(kinds[0], x, y, inv, scale, params, forward)
+    out = torch.zeros_like(x)
     kind_codes = torch.tensor([kinds.index(k) for k in leaves.kinds], device=leaf.device)
     for code, kind in enumerate(kinds):
         sel = (kind_codes[prim] == code).nonzero().flatten()
         if sel.numel():
-            d = leaf_sdf(kind, qx[sel], qy[sel], scale[sel], leaves.params[row[sel]],
-                         None if linear is None else linear[sel])
+            d = leaf_sdf(kind, x[sel], y[sel], inv[sel], scale[sel], leaves.params[row[sel]],
+                         None if forward is None else forward[sel])
             out = out.index_put((sel,), d)
     return out
 
@@ -320,8 +321,8 @@ def leaf_table(leaves: Leaves) -> torch.Tensor | None:
     -------
     torch.Tensor or None
         ``(L, 12)``: the 6 inverse-map entries, the scale and the 5 packed primitive numbers of each
-        leaf id, then (affine leaves only) the 4 entries of the word's matrix: ``(L, 16)``; None
-        when the primitives are of several kinds (use `sdf_pairs` then).
+        leaf id, then (affine leaves only) the 6 entries of the word's forward map: ``(L, 18)``;
+        None when the primitives are of several kinds (use `sdf_pairs` then).
     """
     if len(set(leaves.kinds)) != 1:
         return None
@@ -329,8 +330,8 @@ def leaf_table(leaves: Leaves) -> torch.Tensor | None:
     inv, scale, _, row = _gather_words(leaves, leaf)
     params = leaves.params[0].expand(len(leaf), 5) if row is None else leaves.params.index_select(0, row)
     columns = [inv, scale[:, None], params]
-    if leaves.linear is not None:
-        columns.append(leaves.linear.repeat_interleave(leaves.n_prims, 0))
+    if leaves.forward is not None:
+        columns.append(leaves.forward.repeat_interleave(leaves.n_prims, 0))
     return torch.cat(columns, 1).detach()
 
 
@@ -340,7 +341,7 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
     Parameters
     ----------
     table : torch.Tensor
-        ``(L, 12)`` or ``(L, 16)`` from `leaf_table`.
+        ``(L, 12)`` or ``(L, 18)`` from `leaf_table`.
     kind : str
         The primitives' one kind.
     x, y, leaf : torch.Tensor
@@ -352,9 +353,7 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
         ``(N,)``.
     """
     row = table.index_select(0, leaf)
-    qx = row[:, 0] * x + row[:, 1] * y + row[:, 2]
-    qy = row[:, 3] * x + row[:, 4] * y + row[:, 5]
-    return leaf_sdf(kind, qx, qy, row[:, 6], row[:, 7:12], row[:, 12:] if table.shape[1] > 12 else None)
+    return leaf_sdf(kind, x, y, row[:, :6], row[:, 6], row[:, 7:12], row[:, 12:] if table.shape[1] > 12 else None)
 
 
 def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
@@ -375,9 +374,7 @@ def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
         raise IFSError("sdf_dense takes the leaves of one IFS, not a batch")
     inv = leaves.inverse.reshape(-1, 6)
     x, y = x[:, None], y[:, None]
-    qx = inv[:, 0] * x + inv[:, 1] * y + inv[:, 2]
-    qy = inv[:, 3] * x + inv[:, 4] * y + inv[:, 5]
-    per_prim = [leaf_sdf(kind, qx, qy, leaves.scale, leaves.params[j], leaves.linear)
+    per_prim = [leaf_sdf(kind, x, y, inv, leaves.scale, leaves.params[j], leaves.forward)
                 for j, kind in enumerate(leaves.kinds)]
     return torch.stack(per_prim, -1).reshape(x.shape[0], -1)
 

@@ -143,18 +143,21 @@ def _segment_distance(wx, wy, ux, uy):
     return _safe_norm(wx - h * ux, wy - h * uy)
 
 
-def affine_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, linear: torch.Tensor, smallest: torch.Tensor,
-               params: torch.Tensor) -> torch.Tensor:
-    """Signed distance in the plane from ``x`` to ``T(D)``, for an affine ``T x = A q + t``, given ``q = T^-1 x``.
+def affine_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, qx: torch.Tensor, qy: torch.Tensor, forward: torch.Tensor,
+               smallest: torch.Tensor, params: torch.Tensor) -> torch.Tensor:
+    """Signed distance in the plane from ``x`` to ``T(D)``, for an affine map ``T x = A q + t``.
 
     Parameters
     ----------
     kind : str
         Primitive kind.
+    x, y : torch.Tensor
+        Query points in the plane, any shape ``S``.
     qx, qy : torch.Tensor
-        The query points pulled back into the primitive's frame, ``q = T^-1 x``; any shape ``S``.
-    linear : torch.Tensor
-        ``(..., 4)``: ``T``'s matrix ``A`` as ``(a, b, c, d)`` (``A = [[a, b], [c, d]]``).
+        The same points pulled back into the primitive's frame, ``q = T^-1 x`` (shape ``S``); only
+        the disk uses them.
+    forward : torch.Tensor
+        ``(..., 6)``: ``T`` as ``(a, b, tx, c, d, ty)``, i.e. ``A = [[a, b], [c, d]]``, ``t = (tx, ty)``.
     smallest : torch.Tensor
         ``(...)``: ``A``'s smallest singular value.
     params : torch.Tensor
@@ -165,18 +168,23 @@ def affine_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, linear: torch.Tens
     torch.Tensor
         Shape ``S``. What it is, by kind:
 
-        * ``segment``: the exact distance to the image segment ``[A a + t, A b + t]``, less
+        * ``segment``: the exact distance to the image segment ``[T a, T b]``, less
           ``smallest * radius``. A thick segment under a shear is drawn as the capsule of radius
           ``smallest * radius`` around its image segment (for a similarity, exactly its image).
-          Since ``x - (A a + t) = A (q - a)``, every vector is ``A`` applied to one in the frame.
         * ``box``: the exact signed distance to the parallelogram ``T(box)``: the distance to the
           nearest of its four image edges, negative inside.
         * ``disk``: ``smallest * d_disk(q)``, a lower bound of the distance to the ellipse
           ``T(disk)`` (exact for a similarity) with the ellipse itself as its zero set. It is
           1-Lipschitz, because ``T^-1`` stretches distances by at most ``1 / smallest``, which is
           what the nearest-leaf search needs.
+
+    Notes
+    -----
+    Segments and boxes are measured from the forward map alone, in the plane: a deep word of
+    nearly flat maps has an inverse with entries in the millions, and pulling ``x`` back through it
+    and pushing the difference forward again would lose every digit in float32.
     """
-    a, b, c, d = linear.unbind(-1)
+    a, b, tx, c, d, ty = forward.unbind(-1)
     p = params.unbind(-1)
 
     def image(vx, vy):  # A v
@@ -184,21 +192,25 @@ def affine_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, linear: torch.Tens
 
     if kind == "segment":
         ax, ay, bx, by, r = p
-        wx, wy = image(qx - ax, qy - ay)
+        sx, sy = image(ax, ay)
         ux, uy = image(bx - ax, by - ay)
-        return _segment_distance(wx, wy, ux, uy) - smallest * r
+        return _segment_distance(x - sx - tx, y - sy - ty, ux, uy) - smallest * r
     if kind == "box":
         lx, ly, hx, hy, _ = p
+        ox, oy = image(lx, ly)
+        wx, wy = x - ox - tx, y - oy - ty             # x relative to the image of the lower-left corner
         ex, ey = image(hx - lx, torch.zeros_like(hx))   # the image of the box's horizontal side
         fx, fy = image(torch.zeros_like(hy), hy - ly)   # and of its vertical side
-        wx, wy = image(qx - lx, qy - ly)                # x relative to the image of the lower-left corner
         edges = torch.stack([
             _segment_distance(wx, wy, ex, ey),                   # bottom: from lower-left along e
             _segment_distance(wx - fx, wy - fy, ex, ey),         # top: from upper-left along e
             _segment_distance(wx, wy, fx, fy),                   # left: from lower-left along f
             _segment_distance(wx - ex, wy - ey, fx, fy),         # right: from lower-right along f
         ]).amin(0)
-        inside = (qx > lx) & (qx < hx) & (qy > ly) & (qy < hy)
+        # inside when w = u e + v f with 0 < u, v < 1 (Cramer's rule, without dividing by det [e, f])
+        det = ex * fy - ey * fx
+        u_det, v_det = wx * fy - wy * fx, ex * wy - ey * wx
+        inside = (u_det * det > 0) & (v_det * det > 0) & (u_det.abs() < det.abs()) & (v_det.abs() < det.abs())
         return torch.where(inside, -edges, edges)
     if kind == "disk":
         return smallest * local_sdf(kind, qx, qy, params)

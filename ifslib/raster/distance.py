@@ -45,10 +45,10 @@ def check_size(size) -> int:
 
 def _brute(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     chunk = max(1, BRUTE_CHUNK_BYTES // (len(leaves) * x.element_size() * 16))
-    tensors = (leaves.inverse, leaves.scale, leaves.params) + (() if leaves.linear is None else (leaves.linear,))
+    tensors = (leaves.inverse, leaves.scale, leaves.params) + (() if leaves.forward is None else (leaves.forward,))
 
-    def block(xc, yc, inverse, scale, params, linear=None):
-        return sdf_dense(Leaves(inverse, scale, params, leaves.kinds, 0, linear), xc, yc).min(dim=1).values
+    def block(xc, yc, inverse, scale, params, forward=None):
+        return sdf_dense(Leaves(inverse, scale, params, leaves.kinds, 0, forward), xc, yc).min(dim=1).values
 
     grad = torch.is_grad_enabled() and any(t.requires_grad for t in tensors)
     out = []

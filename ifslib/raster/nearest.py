@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import torch
 
+from ..errors import IFSError
 from ..geometry.leaves import Leaves, leaf_table, sdf_pairs, sdf_table
 
 #: Above this many (block, leaf) pairs a level is processed in chunks of blocks.
@@ -83,6 +84,11 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
     Returns
     -------
     NearestResult
+
+    Raises
+    ------
+    IFSError
+        When some pixel ends with no leaf, which only a non-finite distance can cause.
     """
     leaves = leaves.detach()
     device, dtype = leaves.inverse.device, leaves.inverse.dtype
@@ -164,4 +170,9 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
             sel = ((new_block >= lo) & (new_block < hi)) if n_chunks > 1 else slice(None)
             stack.append((level + 1, child_items[lo:hi], child_rows[lo:hi], child_cols[lo:hi], new_block[sel] - lo,
                           new_leaf[sel]))
+    lost = ((best_leaf < 0) | (best_leaf >= n_leaves)).sum().item()
+    if lost:
+        # only a distance that is not finite (or not 1-Lipschitz) can leave a pixel without a leaf
+        raise IFSError(f"the nearest-leaf search found no leaf for {lost} pixel(s): a leaf's distance is not "
+                       "finite there (a degenerate map?)")
     return NearestResult(best_leaf, best_dist, evaluated)
