@@ -47,7 +47,7 @@ def test_shape_start_maps_contract_and_their_copies_cover_the_figure():
         assert len(start.rules) == k and all(r.kind == "affine" for r in start.rules)
         smallest, largest = singular_values(start.maps().detach())
         assert (largest <= auto.SINGULAR_RANGE[1] + 1e-6).all() and (smallest >= auto.SINGULAR_RANGE[0] - 1e-6).all()
-        assert start.meta["pattern"] == {"name": "auto", "kind": "shape", "maps": k, "primitive": "box"}
+        assert start.meta["pattern"] == {"name": "auto", "kind": "shape", "maps": k, "depth": 2, "primitive": "box"}
         # the collage: the start's figure already overlaps the target well
         assert ifslib.evaluate(start, target)["iou"] > 0.6
     disk = auto.shape_start(target, 4, depth=2, primitive="disk")
@@ -71,9 +71,14 @@ def test_skeleton_path_runs_end_to_end_and_curve_start_follows_it():
 def test_initialize_auto_and_its_errors():
     target = ellipse_target()
     start = ifslib.initialize("auto", target, maps=4, depth=2)
-    assert start.meta["pattern"]["maps"] == 4 and start.depth == 2
-    chosen = ifslib.initialize("auto", target, depth=2)
-    assert chosen.meta["pattern"]["maps"] in auto.SHAPE_MAPS
+    assert start.meta["pattern"]["maps"] == 4 and start.depth == 2 and start.meta["pattern"]["choices"] == [[4, 2]]
+    chosen = ifslib.initialize("auto", target)
+    assert (chosen.meta["pattern"]["maps"], chosen.depth) in auto.SHAPE_CHOICES
+    assert chosen.meta["pattern"]["choices"] == [list(c) for c in auto.SHAPE_CHOICES]
+    at_depth = ifslib.initialize("auto", target, depth=2)
+    assert at_depth.depth == 2 and at_depth.meta["pattern"]["maps"] in auto.SHAPE_MAPS
+    assert auto.choices("curve") == [(k, auto.DEFAULT_DEPTH) for k in auto.CURVE_MAPS]
+    assert auto.choices("shape", maps=5) == [(5, auto.DEFAULT_DEPTH)]
     jittered = ifslib.initialize("auto", target, maps=4, depth=2, jitter=0.01, seed=1)
     assert torch.equal(jittered.points[:4], start.points[:4])  # the fixed frame stays
     assert not torch.equal(jittered.points[4:], start.points[4:])
@@ -89,21 +94,26 @@ def test_initialize_auto_and_its_errors():
 
 def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records_the_choice(tmp_path):
     target = ellipse_target(48)
-    start = ifslib.initialize("auto", target, maps=3, depth=2)
+    start = ifslib.initialize("auto", target, depth=2)
     result = ifslib.fit(start, target, steps=40, loss="multiscale_distance", progress=False)
     tried = result.history["auto"]["candidates"]
-    assert [c["maps"] for c in tried] == list(auto.SHAPE_MAPS) + [3]
+    assert [c["maps"] for c in tried] == list(auto.SHAPE_MAPS) and all(c["depth"] == 2 for c in tried)
     assert all(c["steps"] <= 40 for c in tried)
     best = min(tried, key=lambda c: (c["loss"], c["maps"]))
     assert result.history["auto"]["chosen"] == best["maps"] == result.best.meta["pattern"]["maps"]
     assert len(result.best.rules) == best["maps"]
     assert result.history["strategy"] == "auto"
     assert result.history["cost"] == sum(c["steps"] for c in tried) + sum(s["steps"] for s in result.history["stages"])
+    assert result.history["stages"][-1]["loss"] == "multiscale_pixel"  # a shape ends with the pixel loss
     assert ifslib.evaluate(result.best, target)["iou"] > ifslib.evaluate(start, target)["iou"]
     saved = ifslib.load_ifs(ifslib.save_ifs(result.best, tmp_path / "fit.json"))
     assert saved.meta["pattern"]["chosen"] == best["maps"]
+    fixed = ifslib.fit(ifslib.initialize("auto", target, maps=3, depth=2), target, steps=10, progress=False)
+    assert [c["maps"] for c in fixed.history["auto"]["candidates"]] == [3]  # a number of maps given: no comparison
     with pytest.raises(ValueError, match="strategy 'auto' fits an automatic start"):
         ifslib.fit(ifslib.patterns.koch(), target, strategy="auto", steps=2, progress=False)
+    with pytest.raises(ValueError, match="fix the depth with ifslib.initialize"):
+        ifslib.fit(start, target, depth=3, steps=2, progress=False)
 
 
 def test_cli_fits_any_image_with_pattern_auto(tmp_path, capsys):

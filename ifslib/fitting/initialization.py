@@ -59,10 +59,9 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
         Half-width of the uniform jitter added to every free coordinate (plane units).
     seed : int, optional
         Seed of the jitter (and of the automatic start's k-means).
-    maps : int, optional
-        ``"auto"`` only: this many maps instead of the best candidate.
-    depth : int, optional
-        ``"auto"`` only: the start's depth (3 by default, the paper's).
+    maps, depth : int, optional
+        ``"auto"`` only: fix the number of maps or the depth instead of choosing among candidates
+        (`ifslib.fitting.auto.choices`).
 
     Returns
     -------
@@ -71,7 +70,7 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
     if isinstance(pattern, str):
         if pattern != "auto":
             raise IFSError(f"initialize takes an IFS or 'auto', got {pattern!r} (patterns by name: ifslib.patterns.by_name)")
-        base = auto_start(target, maps, 3 if depth is None else depth, seed=seed or 0)
+        base = auto_start(target, maps, depth, seed=seed or 0)
         new = base.points.detach().double().numpy()
     else:
         if maps is not None or depth is not None:

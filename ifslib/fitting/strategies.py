@@ -196,25 +196,28 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
     if not (isinstance(pattern, dict) and pattern.get("name") == "auto"):
         raise IFSError("strategy 'auto' fits an automatic start: use ifslib.initialize('auto', target)")
     lr = _pyramid_settings(kwargs)
-    depth = kwargs.get("depth") or ifs.depth
+    if kwargs.pop("depth", None) not in (None, ifs.depth):
+        raise IFSError("an automatic start's candidates have depths of their own: fix the depth with "
+                       "ifslib.initialize('auto', target, depth=...)")
     sizes = pyramid_sizes(target.size, coarsest, PYRAMID_FACTOR)
     levels = {size: resize_target(target, size) for size in sizes}
-    options = candidates(target, depth, primitive=pattern.get("primitive", "box"), seed=seed)
-    # the given start stands in for the candidate with its number of maps
-    options = [ifs if o.meta["pattern"]["maps"] == pattern["maps"] else o for o in options]
-    if ifs not in options:
-        options.append(ifs)
+    # the candidates the start was chosen among (`ifslib.fitting.auto.choices`); the start stands in for its own
+    own = (pattern["maps"], ifs.depth)
+    choices = [tuple(c) for c in pattern.get("choices", [own])]
+    options = [ifs if c == own else candidates(target, [c], pattern.get("primitive", "box"), seed)[0]
+               for c in choices + [own] * (own not in choices)]
     coarse, probe = sizes[0], min(steps, AUTO_PROBE_STEPS)
     tried = []
     for o in options:
         k = o.meta["pattern"]["maps"]
         t0 = time.perf_counter()
         result = run(o, levels[coarse], steps=probe, seed=seed, lr=lr * target.size / coarse,
-                     desc=f"{k} maps · {coarse}²", **kwargs)
-        tried.append((result, {"maps": k, "loss": result.best_loss, "steps": result.history["cost"],
+                     desc=f"{k} maps, depth {o.depth} · {coarse}²", **kwargs)
+        tried.append((result, {"maps": k, "depth": o.depth, "loss": result.best_loss, "steps": result.history["cost"],
                                "seconds": time.perf_counter() - t0}))
     # the lowest loss after the same number of steps; fewer maps win a tie
     winner, chosen = min(tried, key=lambda rc: (rc[1]["loss"], rc[1]["maps"]))
+    kwargs["depth"] = chosen["depth"]
     result, stages = _climb(winner.best, levels, sizes, target.size, steps, seed, lr, kwargs,
                             f"{chosen['maps']} maps")
     if winner.best.meta["pattern"]["kind"] == "shape" and kwargs.get("loss") != POLISH_LOSS:
@@ -227,6 +230,7 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
                        "stopped": result.history["stopped"], "best_loss": result.best_loss})
     cost = sum(c["steps"] for _, c in tried) + sum(s["steps"] for s in stages)
     choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}
+    choice.pop("choices", None)
     result.history.update(cost=cost, stages=[{"maps": chosen["maps"], **st} for st in stages], auto=choice)
     for ifs_ in (result.best, result.final):
         ifs_.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
@@ -258,6 +262,7 @@ def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int,
     """
     check_strategy(strategy)
     kwargs = dict(kwargs)
+    given_depth = kwargs.get("depth")
     depth = kwargs.pop("depth", None) or ifs.depth
     rng = np.random.default_rng(seed)
 
@@ -265,7 +270,7 @@ def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int,
         return run(start, target, steps=n, seed=seed, depth=extra.pop("depth", depth), **{**kwargs, **extra})
 
     if strategy == "auto":
-        kwargs["depth"] = depth
+        kwargs["depth"] = given_depth
         result = _auto(ifs, target, steps, seed, kwargs, coarsest)
     elif strategy == "pyramid":
         kwargs["depth"] = depth
