@@ -28,6 +28,7 @@ import torch
 from ..errors import IFSError, check_int
 from ..geometry import patterns
 from ..geometry.ifs import IFS, check_depth
+from ..raster.nearest import pixel_centres
 from .metrics import evaluate
 from .targets import Target, foreground_points
 
@@ -50,23 +51,25 @@ SINGULAR_RANGE = (0.05, 0.85)
 PRIMITIVES = ("box", "disk")
 
 
-def thickness(target: Target) -> float:
-    """The figure's mean width in pixels: its area over the length of its skeleton."""
+def _skeleton(target: Target) -> np.ndarray:
     from skimage.morphology import skeletonize
 
-    mask = np.asarray(target.mask, dtype=bool)  # never empty: load_target refuses an empty mask
-    return int(mask.sum()) / max(int(skeletonize(mask).sum()), 1)
+    return skeletonize(np.asarray(target.mask, dtype=bool))
+
+
+def thickness(target: Target, skeleton: np.ndarray | None = None) -> float:
+    """The figure's mean width in pixels: its area over the length of its skeleton (computed unless given)."""
+    skeleton = _skeleton(target) if skeleton is None else skeleton
+    return int(target.mask.sum()) / max(int(skeleton.sum()), 1)  # never empty: load_target refuses an empty mask
 
 
 def classify(target: Target) -> str:
     """``"curve"`` for a thin figure (`thickness` below `CURVE_WIDTH`) whose skeleton is one path
     (its longest path holds `CURVE_PATH_SHARE` of it), else ``"shape"``."""
-    from skimage.morphology import skeletonize
-
-    if thickness(target) >= CURVE_WIDTH:
+    skeleton = _skeleton(target)
+    if thickness(target, skeleton) >= CURVE_WIDTH:
         return "shape"
-    skeleton = int(skeletonize(np.asarray(target.mask, dtype=bool)).sum())
-    return "curve" if len(skeleton_path(target)) >= CURVE_PATH_SHARE * skeleton else "shape"
+    return "curve" if len(skeleton_path(target, skeleton)) >= CURVE_PATH_SHARE * skeleton.sum() else "shape"
 
 
 def _sqrtm(c: np.ndarray) -> np.ndarray:
@@ -120,15 +123,12 @@ def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", 
                meta={"pattern": {"name": "auto", "kind": "shape", "maps": k, "depth": depth, "primitive": primitive}})
 
 
-def skeleton_path(target: Target) -> np.ndarray:
-    """Plane coordinates ``(L, 2)`` of the skeleton's longest path, from one end to the other."""
+def skeleton_path(target: Target, skeleton: np.ndarray | None = None) -> np.ndarray:
+    """Plane coordinates ``(L, 2)`` of the skeleton's longest path, from one end to the other (skeleton computed unless given)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import shortest_path
-    from skimage.morphology import skeletonize
 
-    from ..raster.nearest import pixel_centres
-
-    skel = skeletonize(np.asarray(target.mask, dtype=bool))
+    skel = _skeleton(target) if skeleton is None else skeleton
     rows, cols = np.nonzero(skel)
     if len(rows) < 2:
         raise IFSError("the target's skeleton is a single pixel: no curve to follow")

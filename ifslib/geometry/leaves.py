@@ -262,20 +262,22 @@ def leaf_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, inverse: torch.Tensor,
 
 
 def _gather_words(leaves: Leaves, leaf: torch.Tensor):
-    """Per-pair inverse-map rows, scale, local primitive index and ``params`` row for leaf ids ``leaf`` (N,).
+    """Per-pair inverse-map rows, scale, forward-map rows, local primitive index and ``params`` row for leaf ids ``leaf`` (N,).
 
-    The primitive index and the row are None when every pair uses ``params[0]`` (one IFS, one primitive).
+    The forward rows are None for similarity leaves; the primitive index and the row are None when
+    every pair uses ``params[0]`` (one IFS, one primitive).
     """
     p = leaves.n_prims
     word = leaf if p == 1 else torch.div(leaf, p, rounding_mode="floor")
     inv = leaves.inverse.reshape(-1, 6).index_select(0, word)
     scale = leaves.scale.index_select(0, word)
+    forward = None if leaves.forward is None else leaves.forward.index_select(0, word)
     prim = None if p == 1 else leaf - word * p
     row = prim
     if leaves.words_per_item:
         item = torch.div(word, leaves.words_per_item, rounding_mode="floor")
         row = item * p if prim is None else item * p + prim
-    return inv, scale, prim, row
+    return inv, scale, forward, prim, row
 
 
 def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
@@ -294,11 +296,7 @@ def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tens
     torch.Tensor
         ``(N,)`` distances ``s_w * d_p(T_w^{-1} x)``, differentiable in the leaves' tensors.
     """
-    inv, scale, prim, row = _gather_words(leaves, leaf)
-    forward = None
-    if leaves.forward is not None:
-        word = leaf if leaves.n_prims == 1 else torch.div(leaf, leaves.n_prims, rounding_mode="floor")
-        forward = leaves.forward.index_select(0, word)
+    inv, scale, forward, prim, row = _gather_words(leaves, leaf)
     kinds = sorted(set(leaves.kinds))
     if len(kinds) == 1:
         params = leaves.params[0] if row is None else leaves.params.index_select(0, row)
@@ -327,12 +325,9 @@ def leaf_table(leaves: Leaves) -> torch.Tensor | None:
     if len(set(leaves.kinds)) != 1:
         return None
     leaf = torch.arange(len(leaves), device=leaves.inverse.device)
-    inv, scale, _, row = _gather_words(leaves, leaf)
+    inv, scale, forward, _, row = _gather_words(leaves, leaf)
     params = leaves.params[0].expand(len(leaf), 5) if row is None else leaves.params.index_select(0, row)
-    columns = [inv, scale[:, None], params]
-    if leaves.forward is not None:
-        columns.append(leaves.forward.repeat_interleave(leaves.n_prims, 0))
-    return torch.cat(columns, 1).detach()
+    return torch.cat([inv, scale[:, None], params] + ([] if forward is None else [forward]), 1).detach()
 
 
 def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
