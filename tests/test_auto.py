@@ -179,3 +179,17 @@ def test_collage_distance_is_lowest_for_the_true_maps_and_its_gradient_is_right(
         assert abs(fd - work.points.grad[i, j].item()) <= 1e-4 * max(1.0, abs(fd))
     fitted, history = collage_prefit(moved, target, steps=60, lr=0.005)
     assert min(history) < 0.5 * history[0] and torch.equal(fitted.points[:4], moved.points[:4])
+
+
+def test_a_dotted_thin_line_is_still_a_curve():
+    """A thin anti-aliased line thresholded at mid-range breaks into dots (the paper's koch.png at 256²)."""
+    mask = curve_target(96).mask.copy()
+    mask[::3, :] = False
+    mask[:, ::4] = False
+    dotted = target_from_mask(mask)
+    from scipy import ndimage
+
+    assert ndimage.label(mask, np.ones((3, 3)))[1] > 5
+    assert auto.classify(dotted) == "curve"
+    start = auto.curve_start(dotted, 4)
+    assert ifslib.evaluate(start, curve_target(96))["chamfer"] < 3.0

@@ -51,14 +51,31 @@ SINGULAR_RANGE = (0.05, 0.85)
 PRIMITIVES = ("box", "disk")
 
 
+#: At most this many one-pixel dilations join a dotted figure before its skeleton is taken.
+MAX_JOIN = 4
+
+
 def _skeleton(target: Target) -> np.ndarray:
+    """The skeleton of the figure, grown first by the fewest one-pixel dilations (up to `MAX_JOIN`) that
+    leave it in as few pieces as it gets: a thin anti-aliased line thresholded at mid-range breaks into
+    dots (the paper's koch.png at 256² is 115 pieces, one piece after three dilations)."""
+    from scipy import ndimage
     from skimage.morphology import skeletonize
 
-    return skeletonize(np.asarray(target.mask, dtype=bool))
+    grown = np.asarray(target.mask, dtype=bool)
+    best, pieces = grown, ndimage.label(grown, np.ones((3, 3)))[1]
+    for _ in range(MAX_JOIN):
+        if pieces == 1:
+            break
+        grown = ndimage.binary_dilation(grown)
+        count = ndimage.label(grown, np.ones((3, 3)))[1]
+        if count < pieces:
+            best, pieces = grown, count
+    return skeletonize(best)
 
 
 def thickness(target: Target, skeleton: np.ndarray | None = None) -> float:
-    """The figure's mean width in pixels: its area over the length of its skeleton (computed unless given)."""
+    """The figure's mean width in pixels: its area over the length of its skeleton (`_skeleton`, computed unless given)."""
     skeleton = _skeleton(target) if skeleton is None else skeleton
     return int(target.mask.sum()) / max(int(skeleton.sum()), 1)  # never empty: load_target refuses an empty mask
 
