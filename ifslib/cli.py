@@ -97,8 +97,7 @@ def cmd_info(args: argparse.Namespace) -> None:
     depth = ifs.depth if args.depth is None else args.depth
     print(repr(ifs))
     maps = ifs.maps().detach().double()
-    scales = ifs.scales().double()
-    smallest = singular_values(maps)[0]
+    smallest, scales = singular_values(maps)  # the contraction is the largest (IFS.scales)
     for i, (rule, t, s, lo) in enumerate(zip(ifs.rules, maps, scales, smallest)):
         # a similarity stretches every direction alike; an affine map has two singular values
         shape = f" (singular values {s:.4f}, {lo:.4f}{', reflects' if torch.det(t[:2, :2]) < 0 else ''})" \

@@ -99,6 +99,12 @@ def _safe_norm(x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     return (x * x + y * y).clamp_min(torch.finfo(x.dtype).tiny).sqrt()
 
 
+def _segment_distance(wx, wy, ux, uy):
+    """Distance from the origin-relative point ``w`` to the segment from 0 to ``u`` (any shapes)."""
+    h = ((wx * ux + wy * uy) / (ux * ux + uy * uy).clamp_min(torch.finfo(wx.dtype).tiny)).clamp(0, 1)
+    return _safe_norm(wx - h * ux, wy - h * uy)
+
+
 def local_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, params: torch.Tensor) -> torch.Tensor:
     """Signed distance from points ``(qx, qy)`` to a primitive, in the primitive's own frame.
 
@@ -119,10 +125,7 @@ def local_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, params: torch.Tenso
     p = params.unbind(-1)
     if kind == "segment":
         ax, ay, bx, by, r = p
-        ux, uy = bx - ax, by - ay
-        wx, wy = qx - ax, qy - ay
-        h = ((wx * ux + wy * uy) / (ux * ux + uy * uy).clamp_min(torch.finfo(qx.dtype).tiny)).clamp(0, 1)
-        return _safe_norm(wx - h * ux, wy - h * uy) - r
+        return _segment_distance(qx - ax, qy - ay, bx - ax, by - ay) - r
     if kind == "box":
         lx, ly, hx, hy, _ = p
         cx, cy = (lx + hx) / 2, (ly + hy) / 2
@@ -135,12 +138,6 @@ def local_sdf(kind: str, qx: torch.Tensor, qy: torch.Tensor, params: torch.Tenso
         cx, cy, r, _, _ = p
         return _safe_norm(qx - cx, qy - cy) - r
     raise IFSError(f"unknown primitive kind {kind!r}")
-
-
-def _segment_distance(wx, wy, ux, uy):
-    """Distance from the origin-relative point ``w`` to the segment from 0 to ``u`` (any shapes)."""
-    h = ((wx * ux + wy * uy) / (ux * ux + uy * uy).clamp_min(torch.finfo(wx.dtype).tiny)).clamp(0, 1)
-    return _safe_norm(wx - h * ux, wy - h * uy)
 
 
 def affine_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, qx: torch.Tensor, qy: torch.Tensor, forward: torch.Tensor,
