@@ -318,16 +318,18 @@ def leaf_table(leaves: Leaves) -> torch.Tensor | None:
     Returns
     -------
     torch.Tensor or None
-        ``(L, 12)``: the 6 inverse-map entries, the scale and the 5 packed primitive numbers of each
-        leaf id, then (affine leaves only) the 6 entries of the word's forward map: ``(L, 18)``;
-        None when the primitives are of several kinds (use `sdf_pairs` then).
+        ``(12, L)``: the 6 inverse-map entries, the scale and the 5 packed primitive numbers of each
+        leaf id, then (affine leaves only) the 6 entries of the word's forward map: ``(18, L)``;
+        None when the primitives are of several kinds (use `sdf_pairs` then). One row per quantity
+        (not per leaf), so that a gather gives each quantity as a contiguous vector: the distance
+        arithmetic then runs about twice as fast on CPU as on the columns of an ``(N, 12)`` gather.
     """
     if len(set(leaves.kinds)) != 1:
         return None
     leaf = torch.arange(len(leaves), device=leaves.inverse.device)
     inv, scale, forward, _, row = _gather_words(leaves, leaf)
     params = leaves.params[0].expand(len(leaf), 5) if row is None else leaves.params.index_select(0, row)
-    return torch.cat([inv, scale[:, None], params] + ([] if forward is None else [forward]), 1).detach()
+    return torch.cat([inv, scale[:, None], params] + ([] if forward is None else [forward]), 1).detach().T.contiguous()
 
 
 def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
@@ -336,7 +338,7 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
     Parameters
     ----------
     table : torch.Tensor
-        ``(L, 12)`` or ``(L, 18)`` from `leaf_table`.
+        ``(12, L)`` or ``(18, L)`` from `leaf_table`.
     kind : str
         The primitives' one kind.
     x, y, leaf : torch.Tensor
@@ -347,8 +349,8 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
     torch.Tensor
         ``(N,)``.
     """
-    row = table.index_select(0, leaf)
-    return leaf_sdf(kind, x, y, row[:, :6], row[:, 6], row[:, 7:12], row[:, 12:] if table.shape[1] > 12 else None)
+    row = table.index_select(1, leaf)  # (12 or 18, N): each quantity contiguous
+    return leaf_sdf(kind, x, y, row[:6].T, row[6], row[7:12].T, row[12:].T if table.shape[0] > 12 else None)
 
 
 def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:

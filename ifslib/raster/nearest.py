@@ -65,8 +65,19 @@ def pixel_centres(size: int, device: torch.device | str = "cpu", dtype: torch.dt
     return t.repeat(size), y.repeat_interleave(size)
 
 
+def _max_pyramid(upper: torch.Tensor, n_items: int, size: int, side: int, start: int, top: int) -> dict:
+    """Per level from ``start`` to ``top``: ``(items, blocks, blocks)``, the largest ``upper`` over each block's pixels."""
+    grid = torch.full((n_items, side, side), -math.inf, dtype=upper.dtype, device=upper.device)
+    grid[:, :size, :size] = upper.view(n_items, size, size)
+    levels = {top: grid}
+    for level in range(top - 1, start - 1, -1):
+        levels[level] = torch.nn.functional.max_pool2d(levels[level + 1][:, None], 2)[:, 0]
+    return levels
+
+
 @torch.no_grad()
-def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> NearestResult:
+def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS,
+                 upper: torch.Tensor | None = None) -> NearestResult:
     """Find the nearest leaf of every pixel centre, exactly.
 
     Parameters
@@ -80,6 +91,13 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
         Image side in pixels.
     max_pairs : int
         Memory bound: a level with more (block, leaf) pairs is split into chunks of blocks.
+    upper : torch.Tensor, optional
+        A warm start: ``(size * size,)`` (item-major for a batch) upper bounds on each pixel's
+        nearest distance, such as each pixel's distance to its winner of the previous fit step.
+        A block's bound is then also the largest of its pixels' (a max pyramid), which can only
+        prune more; the result is the same. Measured along Koch fits (`benchmarks/warm_search.py`)
+        it removes under 5% of the pairs and saves no time, since the pairs that remain are the
+        near-ties of the last two levels, so fits do not use it.
 
     Returns
     -------
@@ -120,6 +138,7 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
     stack = [(start, items, rows, cols, torch.arange(rows.numel(), device=device).repeat_interleave(per_item),
               (items[:, None] * per_item + torch.arange(per_item, device=device)).flatten())]
     table = leaf_table(leaves)
+    ceiling = None if upper is None else _max_pyramid(upper.detach().to(dtype), n_items, size, side, start, top)
 
     def distances(x, y, leaf):
         if table is None:
@@ -153,10 +172,13 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> Neare
         child_cols = (2 * cols[:, None] + quad_c).flatten()
         inside = (child_rows * child < size) & (child_cols * child < size)
         cx, cy = centres(child_rows, child_cols, child)
-        upper = distances(cx, cy, best.repeat_interleave(4)) + child_half_diag
-        upper = torch.where(inside, upper, -math.inf).view(-1, 4)
+        bound = distances(cx, cy, best.repeat_interleave(4)) + child_half_diag
+        if ceiling is not None:
+            bound = torch.minimum(bound, ceiling[level + 1][child_items, child_rows.clamp_max(side - 1),
+                                                            child_cols.clamp_max(side - 1)])
+        bound = torch.where(inside, bound, -math.inf).view(-1, 4)
         lower = d - half_diag - slack
-        passes = lower[:, None] <= upper.index_select(0, pair_block)  # (pairs, 4)
+        passes = lower[:, None] <= bound.index_select(0, pair_block)  # (pairs, 4)
         child_id = torch.where(inside, torch.cumsum(inside.long(), 0) - 1, -1).view(-1, 4)
         hit = passes.view(-1).nonzero().squeeze(1)  # pair * 4 + quadrant of every pair that passes
         pair = torch.div(hit, 4, rounding_mode="floor")
