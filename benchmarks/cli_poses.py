@@ -54,12 +54,24 @@ def random_poses(n: int, seed: int = 2026) -> list[tuple[float, float, float, fl
     return poses
 
 
-def fit_once(png: Path, out: Path, size: int, strategy: str | None, threads: int) -> float:
-    """Run the CLI fit; returns its wall time in seconds."""
+def fit_command(png: Path, out: Path, size: int, strategy: str | None = None) -> list[str]:
+    """The command line of a default CLI fit of ``png`` (the Koch pattern) written to ``out``."""
     command = [sys.executable, "-m", "ifslib", "fit", str(png), "--pattern", "koch", "--size", str(size), "--quiet",
                "-o", str(out)]
-    if strategy is not None:
-        command += ["--strategy", strategy]
+    return command + ([] if strategy is None else ["--strategy", strategy])
+
+
+def write_pose(pose: tuple[float, float, float, float], size: int, png: Path) -> ifslib.IFS:
+    """Render the posed Koch curve at ``size`` into ``png``; returns the posed IFS (the truth)."""
+    truth = posed_koch(*pose)
+    image = ifslib.render(truth, size).detach().numpy()
+    Image.fromarray((image * 255).round().astype(np.uint8), mode="L").save(png)
+    return truth
+
+
+def fit_once(png: Path, out: Path, size: int, strategy: str | None, threads: int | str) -> float:
+    """Run the CLI fit; returns its wall time in seconds."""
+    command = fit_command(png, out, size, strategy)
     t0 = time.perf_counter()
     subprocess.run(command, check=True, capture_output=True, env={**os.environ, "IFSLIB_THREADS": str(threads)})
     return time.perf_counter() - t0
@@ -71,7 +83,7 @@ def main() -> None:
     parser.add_argument("--poses", type=int, default=20)
     parser.add_argument("--first", type=int, default=0, help="skip the first poses (to split a run)")
     parser.add_argument("--strategy", action="append", help="strategies to compare (default: the CLI's default)")
-    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--threads", default="2", help="IFSLIB_THREADS of the fits: a number or auto")
     parser.add_argument("--json", help="also write every row here")
     args = parser.parse_args()
     strategies = args.strategy or [None]
@@ -83,10 +95,8 @@ def main() -> None:
         for k, (angle, scale, dx, dy) in enumerate(random_poses(args.poses)):
             if k < args.first:
                 continue
-            truth = posed_koch(angle, scale, dx, dy)
             png = Path(tmp) / "target.png"
-            image = ifslib.render(truth, args.size).detach().numpy()
-            Image.fromarray((image * 255).round().astype(np.uint8), mode="L").save(png)
+            truth = write_pose((angle, scale, dx, dy), args.size, png)
             target = ifslib.load_target(png, args.size)
             for strategy in strategies:
                 out = Path(tmp) / "fitted.json"

@@ -18,7 +18,7 @@ Typical use::
 """
 from .threads import configure_threads
 
-configure_threads()  # IFSLIB_THREADS, when set, fixes torch's thread count once for the package
+configure_threads()  # IFSLIB_THREADS=N fixes torch's thread count for the package; unset: the free cores
 
 from .errors import IFSError  # noqa: E402
 from .geometry import crossings, patterns  # noqa: E402

@@ -1,14 +1,22 @@
-"""How many CPU threads torch uses, set once for the whole package with ``IFSLIB_THREADS``.
+"""How many CPU threads torch uses: the cores that are free, or a number set once with ``IFSLIB_THREADS``.
 
 torch picks one thread per core by default. On a shared machine, or when several fits run side by
-side (the Dask sweep, a notebook beside a test run), that oversubscribes the cores; and at small
-images one thread is often faster than two. ``IFSLIB_THREADS=N`` sets torch's intra-op thread
-count when ``ifslib`` is imported, so a notebook, the CLI and the tests follow one setting without
-a ``torch.set_num_threads`` line of their own.
+side (the Dask sweep, a notebook beside a test run), that oversubscribes the cores, and a fit does
+not slow down by half but collapses: on this project's 2-core machine, a 27 s CLI fit took 426 s
+while another process ran two threads of its own.
+
+So by default (``IFSLIB_THREADS`` unset or ``auto``) ifslib counts the cores that other processes
+keep busy (`busy_cores`, a short sample of ``/proc/stat``) and gives torch the rest, at least one:
+when the package is imported and again at the start of every single run (`refresh`; each stage of a
+strategy is one), so a fit and a notebook that runs for an hour follow the machine. ``IFSLIB_THREADS=N`` fixes the count for the notebooks, the
+CLI and the tests alike; `configure_threads` does the same from Python.
 """
 from __future__ import annotations
 
 import os
+import time
+from contextlib import contextmanager
+from typing import Iterator
 
 import torch
 
@@ -17,6 +25,59 @@ from .errors import IFSError
 #: The environment variable read by `configure_threads`.
 ENV = "IFSLIB_THREADS"
 
+#: How long `busy_cores` watches the machine, in seconds.
+SAMPLE_SECONDS = 0.1
+
+_state = {"auto": False}
+
+
+def cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system says, else ``os.cpu_count()``)."""
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return max(1, os.cpu_count() or 1)
+
+
+def _busy_jiffies() -> tuple[int, int]:
+    """Busy CPU time of the whole machine (``/proc/stat``) and of this process (``/proc/self/stat``), in clock ticks."""
+    with open("/proc/stat") as f:
+        fields = [int(v) for v in f.readline().split()[1:]]
+    idle = fields[3] + (fields[4] if len(fields) > 4 else 0)  # idle + iowait
+    with open("/proc/self/stat") as f:
+        own = f.read().rsplit(")", 1)[1].split()
+    return sum(fields[:8]) - idle, int(own[11]) + int(own[12])  # utime + stime
+
+
+def busy_cores(seconds: float = SAMPLE_SECONDS) -> float | None:
+    """How many cores other processes keep busy, sampled over ``seconds``; None where ``/proc`` is missing.
+
+    Parameters
+    ----------
+    seconds : float
+        Length of the sample.
+
+    Returns
+    -------
+    float or None
+        Busy time of the machine minus this process's, per second of wall time.
+    """
+    try:
+        total0, own0 = _busy_jiffies()
+        t0 = time.perf_counter()
+        time.sleep(seconds)
+        total1, own1 = _busy_jiffies()
+    except (OSError, ValueError, IndexError):
+        return None
+    ticks = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+    return max(0.0, ((total1 - total0) - (own1 - own0)) / ticks / (time.perf_counter() - t0))
+
+
+def free_threads() -> int:
+    """`cores` minus the cores other processes keep busy (rounded), at least 1."""
+    busy = busy_cores()
+    n = cores()
+    return n if busy is None else max(1, min(n, round(n - busy)))
+
 
 def configure_threads(threads: int | str | None = None) -> int:
     """Set torch's CPU thread count from ``threads`` or, when None, from ``$IFSLIB_THREADS``.
@@ -24,8 +85,9 @@ def configure_threads(threads: int | str | None = None) -> int:
     Parameters
     ----------
     threads : int or str, optional
-        A positive number of threads. None reads ``IFSLIB_THREADS``; when that is unset or empty,
-        torch's current setting is kept.
+        A positive number of threads, or ``"auto"``: the cores that other processes leave free
+        (`free_threads`), picked now and again at the start of each run (`refresh`). None reads
+        ``IFSLIB_THREADS``; unset or empty means ``"auto"``.
 
     Returns
     -------
@@ -35,18 +97,58 @@ def configure_threads(threads: int | str | None = None) -> int:
     Raises
     ------
     IFSError
-        If the value is not a positive integer.
+        If the value is neither ``"auto"`` nor a positive integer.
     """
     source = f"{ENV}={os.environ.get(ENV)!r}" if threads is None else f"threads={threads!r}"
     value = os.environ.get(ENV, "") if threads is None else threads
     if isinstance(value, str):
-        if not value.strip():
-            return torch.get_num_threads()
-        try:
-            value = int(value.strip())
-        except ValueError:
-            raise IFSError(f"{source}: expected a positive integer number of threads") from None
+        value = value.strip().lower() or "auto"
+        if value != "auto":
+            try:
+                value = int(value)
+            except ValueError:
+                raise IFSError(f"{source}: expected 'auto' or a positive integer number of threads") from None
+    if value == "auto":
+        _state["auto"] = True
+        torch.set_num_threads(free_threads())
+        return torch.get_num_threads()
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise IFSError(f"{source}: expected a positive integer number of threads")
+        raise IFSError(f"{source}: expected 'auto' or a positive integer number of threads")
+    _state["auto"] = False
     torch.set_num_threads(value)
     return torch.get_num_threads()
+
+
+def refresh() -> int:
+    """In ``auto`` mode, pick the thread count again from the cores free now; else keep it.
+
+    Called at the start of every single run (`ifslib.fitting.run.run`, each stage of a strategy)
+    and of `ifslib.fit_many`, so a long fit follows the machine's load.
+
+    Returns
+    -------
+    int
+        The thread count now in force.
+    """
+    if _state["auto"]:
+        torch.set_num_threads(free_threads())
+    return torch.get_num_threads()
+
+
+def is_auto() -> bool:
+    """Whether the thread count follows the free cores (``IFSLIB_THREADS`` unset or ``auto``)."""
+    return _state["auto"]
+
+
+@contextmanager
+def fixed_threads(threads: int) -> Iterator[int]:
+    """Run a block with exactly ``threads`` torch threads (no `refresh`), then restore the previous setting.
+
+    The Dask sweep's workers use it: one thread per worker, so workers x threads never exceeds the cores.
+    """
+    saved = (_state["auto"], torch.get_num_threads())
+    try:
+        yield configure_threads(threads)
+    finally:
+        _state["auto"] = saved[0]
+        torch.set_num_threads(saved[1])

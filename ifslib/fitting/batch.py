@@ -27,6 +27,7 @@ from tqdm.auto import tqdm
 
 from ..raster.distance import distance_fields, resolve_device
 from ..errors import IFSError, check_int
+from ..threads import refresh as refresh_threads
 from .run import FitResult
 from ..geometry.ifs import IFS, check_depth
 from .losses import loss as loss_fn
@@ -117,6 +118,7 @@ def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, se
     if not seeds:
         raise IFSError("fit_many needs at least one seed")
     check_int(steps, "steps", 0)
+    refresh_threads()  # in auto mode: the cores free now (see ifslib.threads)
     check_int(max_rollbacks, "max_rollbacks", 1)
     check_gradient_mode(gradient)
     if not (isinstance(lr, (int, float)) and lr > 0 and math.isfinite(lr)):

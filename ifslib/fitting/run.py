@@ -25,6 +25,7 @@ from tqdm.auto import tqdm
 from ..geometry.crossings import check_curve, crossing_penalty
 from ..raster.distance import distance_field
 from ..errors import IFSError, check_int
+from ..threads import refresh as refresh_threads
 from ..geometry.ifs import IFS, check_depth
 from ..geometry.io import ifs_to_dict, load_ifs, save_ifs
 from .losses import loss as loss_fn
@@ -177,6 +178,7 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
     if not (isinstance(lr, (int, float)) and lr > 0 and math.isfinite(lr)):
         raise IFSError(f"lr must be a finite number > 0, got {lr!r}")
     depth = ifs.depth if depth is None else check_depth(depth)
+    refresh_threads()  # in auto mode: the cores free now, at every run (each stage of a strategy)
     torch.manual_seed(seed)
     work = ifs.clone()
     fixed = list(work.fixed)

@@ -24,6 +24,15 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import IFSError, check_int
+from ..geometry import patterns
+from ..geometry.rules import check_gradient_mode
+from ..threads import fixed_threads
+from .fit import fit
+from .initialization import initialize
+from .losses import LOSSES
+from .metrics import evaluate, point_error, self_crossings
+from .strategies import check_strategy
+from .targets import load_target
 
 INITS = ("paper", "line")
 
@@ -72,9 +81,6 @@ class Setup:
 
 def start_for(cell: Cell, seed: int, setup: Setup, target=None):
     """The starting IFS of one fit: the paper's Koch start, or the jittered best-fit line of ``target``."""
-    from ..geometry import patterns
-    from .initialization import initialize
-
     if cell.init == "paper":
         return patterns.koch_paper(seed, depth=setup.depth)
     return initialize(patterns.koch(depth=setup.depth), target, jitter=0.05, seed=seed)
@@ -82,21 +88,16 @@ def start_for(cell: Cell, seed: int, setup: Setup, target=None):
 
 def load_setup_target(setup: Setup):
     """The sweep's `Target`: a paper image by name, or the library's Koch curve (``"rendered"``)."""
-    from ..geometry import patterns
-    from .targets import load_target
-
     return load_target(patterns.koch(depth=setup.depth) if setup.target == "rendered" else setup.target, setup.size)
 
 
 def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
     """Fit one cell for each seed; one row per fit (the task a worker runs)."""
-    import torch
+    with fixed_threads(1):
+        return _fit_cell(cell, seeds, setup)
 
-    from ..geometry import patterns
-    from .fit import fit
-    from .metrics import evaluate, point_error, self_crossings
 
-    torch.set_num_threads(1)
+def _fit_cell(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
     target = load_setup_target(setup)
     stop = {} if cell.strategy == "pyramid" else dict(tol=setup.tol, patience=setup.patience)
     rows = []
@@ -116,10 +117,6 @@ def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
 
 
 def _check(cells: list[Cell], seeds: list[int]) -> None:
-    from .losses import LOSSES
-    from ..geometry.rules import check_gradient_mode
-    from .strategies import check_strategy
-
     if not cells or not seeds:
         raise IFSError("a sweep needs at least one cell and one seed")
     for cell in cells:

@@ -1,0 +1,68 @@
+"""The thread count: fixed by IFSLIB_THREADS or a call, or picked from the cores other processes leave free."""
+import subprocess
+import sys
+import time
+
+import pytest
+import torch
+
+import ifslib
+from ifslib import threads
+from ifslib.errors import IFSError
+
+
+@pytest.fixture(autouse=True)
+def restore_threads():
+    saved = (threads.is_auto(), torch.get_num_threads())
+    yield
+    threads._state["auto"] = saved[0]
+    torch.set_num_threads(saved[1])
+
+
+@pytest.fixture
+def spinner():
+    """Another process keeping one core busy."""
+    proc = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    time.sleep(0.5)
+    yield proc
+    proc.kill()
+    proc.wait()
+
+
+def test_a_number_fixes_the_count_and_auto_follows_the_free_cores(monkeypatch):
+    assert ifslib.configure_threads(1) == 1 and not threads.is_auto()
+    assert threads.refresh() == 1  # fixed: refresh keeps it
+    n = ifslib.configure_threads("auto")
+    assert threads.is_auto() and 1 <= n <= threads.cores()
+    monkeypatch.setenv("IFSLIB_THREADS", "1")
+    assert ifslib.configure_threads() == 1 and not threads.is_auto()
+    for unset in ("", " auto ", "AUTO"):
+        monkeypatch.setenv("IFSLIB_THREADS", unset)
+        ifslib.configure_threads()
+        assert threads.is_auto()
+
+
+@pytest.mark.parametrize("bad", ["x", "0", "-2", "1.5", 0, -1, True, 1.5])
+def test_bad_thread_counts_are_clear_errors(bad, monkeypatch):
+    with pytest.raises(IFSError, match="'auto' or a positive integer"):
+        ifslib.configure_threads(bad)
+    monkeypatch.setenv("IFSLIB_THREADS", str(bad))
+    with pytest.raises(IFSError, match="IFSLIB_THREADS"):
+        ifslib.configure_threads()
+
+
+def test_fixed_threads_restores_the_setting():
+    ifslib.configure_threads("auto")
+    with threads.fixed_threads(1) as n:
+        assert n == 1 and not threads.is_auto()
+        assert threads.refresh() == 1
+    assert threads.is_auto()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="busy cores are read from /proc")
+def test_a_busy_core_is_seen_and_left_alone(spinner):
+    busy = threads.busy_cores(0.5)
+    assert 0.6 <= busy <= threads.cores() + 0.5
+    assert threads.free_threads() <= max(1, threads.cores() - 1)
+    ifslib.configure_threads("auto")
+    assert torch.get_num_threads() <= max(1, threads.cores() - 1)
