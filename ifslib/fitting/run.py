@@ -115,7 +115,7 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         sigma: float | None = None, levels: int = 5, method: str = "fast", device: str = "auto",
         gradient: str = "exact", max_rollbacks: int = 20, keep_every: int | None = None,
         crossing_weight: float = 0.0, tol: float | None = None, patience: int = 50,
-        desc: str = "fit") -> FitResult:
+        desc: str | None = None) -> FitResult:
     """One Adam run on the control points at the target's size.
 
     Parameters
@@ -158,8 +158,8 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
     tol, patience
         Early stop: end the run once `converged` (the best loss improved by at most a fraction
         ``tol`` over the last ``patience`` steps). None (the default) runs every step.
-    desc : str
-        The progress bar's label (strategies name the stage: probe, size).
+    desc : str, optional
+        The progress bar's label (strategies name the stage: probe, size); ``"fit · <size>²"`` when None.
 
     Returns
     -------
@@ -211,6 +211,7 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
                             "loss": loss if isinstance(loss, str) else "custom", "depth": depth, "size": target.size}
         save_ifs(snap, checkpoint)
 
+    desc = f"fit · {target.size}²" if desc is None else desc
     bar = tqdm(total=steps, initial=start, disable=not progress, desc=desc, unit="step")
     stopped = "steps"
     for step in range(start, steps):

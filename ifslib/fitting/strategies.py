@@ -291,10 +291,10 @@ def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int,
         result.history["cost"] = sum(r.history["cost"] for r in results)
     elif strategy == "multistart":
         n_probe = max(1, int(round(probe * steps)))
-        probes = [one(c, n_probe, desc=f"probe {k + 1}/{n_starts}")
+        probes = [one(c, n_probe, desc=f"probe {k + 1}/{n_starts} · {target.size}²")
                   for k, c in enumerate(starts(ifs, target, n_starts, jitter, rng))]
         order = sorted(range(len(probes)), key=lambda i: (_crosses(probes[i].best), probes[i].best_loss))
-        finals = [one(probes[i].best, steps - n_probe, desc=f"continue {j + 1}/{keep}") for j, i in enumerate(order[:keep])]
+        finals = [one(probes[i].best, steps - n_probe, desc=f"continue {j + 1}/{keep} · {target.size}²") for j, i in enumerate(order[:keep])]
         result = _combine(finals, sum(r.history["cost"] for r in probes + finals))
     elif strategy == "restart":
         window = max(1, steps // 3)
