@@ -73,10 +73,17 @@ def busy_cores(seconds: float = SAMPLE_SECONDS) -> float | None:
 
 
 def free_threads() -> int:
-    """`cores` minus the cores other processes keep busy (rounded), at least 1."""
+    """`cores` minus the cores other processes keep busy (rounded), at least 1.
+
+    ``/proc/stat`` counts every CPU of the machine; where this process may use only some of them
+    (a container's CPU set), the busy share of the machine is taken as that of its own cores.
+    """
     busy = busy_cores()
     n = cores()
-    return n if busy is None else max(1, min(n, round(n - busy)))
+    if busy is None:
+        return n
+    total = max(n, os.cpu_count() or n)
+    return max(1, min(n, round(n - busy * n / total)))
 
 
 def configure_threads(threads: int | str | None = None) -> int:
