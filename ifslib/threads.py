@@ -7,9 +7,10 @@ while another process ran two threads of its own.
 
 So by default (``IFSLIB_THREADS`` unset or ``auto``) ifslib counts the cores that other processes
 keep busy (`busy_cores`, a short sample of ``/proc/stat``) and gives torch the rest, at least one:
-when the package is imported and again at the start of every single run (`refresh`; each stage of a
-strategy is one), so a fit and a notebook that runs for an hour follow the machine. ``IFSLIB_THREADS=N`` fixes the count for the notebooks, the
-CLI and the tests alike; `configure_threads` does the same from Python.
+when the package is imported and again at the start of a single run (`refresh`; each stage of a
+strategy is one) once `REFRESH_SECONDS` have passed since the last look, so a long fit and a
+notebook that runs for an hour follow the machine. ``IFSLIB_THREADS=N`` fixes the count for the
+notebooks, the CLI and the tests alike; `configure_threads` does the same from Python.
 """
 from __future__ import annotations
 
@@ -26,9 +27,13 @@ from .errors import IFSError
 ENV = "IFSLIB_THREADS"
 
 #: How long `busy_cores` watches the machine, in seconds.
-SAMPLE_SECONDS = 0.1
+SAMPLE_SECONDS = 0.05
 
-_state = {"auto": False}
+#: `refresh` looks at the machine again only after this many seconds (a strategy's short runs
+#: would otherwise each wait `SAMPLE_SECONDS`; at most a tenth of the time goes to looking).
+REFRESH_SECONDS = 0.5
+
+_state = {"auto": False, "sampled": -float("inf")}
 
 
 def cores() -> int:
@@ -79,6 +84,7 @@ def free_threads() -> int:
     (a container's CPU set), the busy share of the machine is taken as that of its own cores.
     """
     busy = busy_cores()
+    _state["sampled"] = time.monotonic()
     n = cores()
     if busy is None:
         return n
@@ -130,14 +136,15 @@ def refresh() -> int:
     """In ``auto`` mode, pick the thread count again from the cores free now; else keep it.
 
     Called at the start of every single run (`ifslib.fitting.run.run`, each stage of a strategy)
-    and of `ifslib.fit_many`, so a long fit follows the machine's load.
+    and of `ifslib.fit_many`, so a long fit follows the machine's load. It looks again only when
+    `REFRESH_SECONDS` have passed since the last look.
 
     Returns
     -------
     int
         The thread count now in force.
     """
-    if _state["auto"]:
+    if _state["auto"] and time.monotonic() - _state["sampled"] >= REFRESH_SECONDS:
         torch.set_num_threads(free_threads())
     return torch.get_num_threads()
 

@@ -66,3 +66,14 @@ def test_a_busy_core_is_seen_and_left_alone(spinner):
     assert threads.free_threads() <= max(1, threads.cores() - 1)
     ifslib.configure_threads("auto")
     assert torch.get_num_threads() <= max(1, threads.cores() - 1)
+
+
+def test_refresh_looks_again_only_after_a_while(monkeypatch):
+    ifslib.configure_threads("auto")
+    looked = []
+    monkeypatch.setattr(threads, "busy_cores", lambda: looked.append(1) or 0.0)
+    threads.refresh()
+    assert looked == []  # configure_threads has just looked
+    monkeypatch.setitem(threads._state, "sampled", time.monotonic() - threads.REFRESH_SECONDS)
+    assert threads.refresh() == threads.cores()  # nothing else busy (as the stub says): every core
+    assert looked == [1]
