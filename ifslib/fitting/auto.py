@@ -202,10 +202,12 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None) -> lis
     return [(k, DEFAULT_DEPTH if depth is None else depth) for k in (CURVE_MAPS if kind == "curve" else SHAPE_MAPS)]
 
 
-def candidates(target: Target, options: list[tuple[int, int]], primitive: str = "box", seed: int = 0) -> list[IFS]:
+def candidates(target: Target, options: list[tuple[int, int]], primitive: str = "box", seed: int = 0,
+               kind: str | None = None) -> list[IFS]:
     """One automatic start for each ``(maps, depth)`` of ``options`` (see `choices`); each records them all
-    in ``meta["pattern"]["choices"]``, so that the ``auto`` strategy can compare them again."""
-    kind = classify(target)
+    in ``meta["pattern"]["choices"]``, so that the ``auto`` strategy can compare them again. ``kind``
+    (``"curve"`` or ``"shape"``) is `classify`'s answer, computed unless the caller has it."""
+    kind = classify(target) if kind is None else kind
     starts = [curve_start(target, k, d) if kind == "curve" else shape_start(target, k, d, primitive, seed)
               for k, d in options]
     for start in starts:
@@ -221,7 +223,8 @@ def auto_start(target: Target, maps: int | None = None, depth: int | None = None
     size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
     strategy compares the same candidates by fitting them instead.
     """
-    options = candidates(target, choices(classify(target), maps, depth), primitive, seed)
+    kind = classify(target)
+    options = candidates(target, choices(kind, maps, depth), primitive, seed, kind=kind)
     if len(options) == 1:
         return options[0]
     scores = [evaluate(o, target) for o in options]

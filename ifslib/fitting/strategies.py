@@ -204,7 +204,8 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
     # the candidates the start was chosen among (`ifslib.fitting.auto.choices`); the start stands in for its own
     own = (pattern["maps"], ifs.depth)
     choices = [tuple(c) for c in pattern.get("choices", [own])]
-    options = [ifs if c == own else candidates(target, [c], pattern.get("primitive", "box"), seed)[0]
+    options = [ifs if c == own else candidates(target, [c], pattern.get("primitive", "box"), seed,
+                                               kind=pattern.get("kind"))[0]
                for c in choices + [own] * (own not in choices)]
     coarse, probe = sizes[0], min(steps, AUTO_PROBE_STEPS)
     tried = []
