@@ -174,8 +174,7 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS,
         cx, cy = centres(child_rows, child_cols, child)
         bound = distances(cx, cy, best.repeat_interleave(4)) + child_half_diag
         if ceiling is not None:
-            bound = torch.minimum(bound, ceiling[level + 1][child_items, child_rows.clamp_max(side - 1),
-                                                            child_cols.clamp_max(side - 1)])
+            bound = torch.minimum(bound, ceiling[level + 1][child_items, child_rows, child_cols])
         bound = torch.where(inside, bound, -math.inf).view(-1, 4)
         lower = d - half_diag - slack
         passes = lower[:, None] <= bound.index_select(0, pair_block)  # (pairs, 4)
