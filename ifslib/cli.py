@@ -31,14 +31,40 @@ def _save_png(image: np.ndarray, path: str) -> None:
     Image.fromarray((np.clip(image, 0, 1) * 255).round().astype(np.uint8), mode="L").save(path)
 
 
+def _depth(value: str) -> int | str:
+    """``--depth``: an integer K, or ``attractor``."""
+    if value == "attractor":
+        return value
+    try:
+        return int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer or 'attractor', got {value!r}") from None
+
+
 def cmd_render(args: argparse.Namespace) -> None:
     from . import render
+    from .errors import IFSError
 
     ifs = _spec(args.spec)
-    depth = ifs.depth if args.depth is None else args.depth
-    image = render(ifs, args.size, depth, args.sigma).detach().cpu().numpy()
-    _save_png(image, args.output)
-    print(f"wrote {args.output}: {args.size}x{args.size}, depth {depth}, {ifs.n_leaves(depth):,} leaves")
+    depth = args.depth
+    if args.window is not None and depth is None:
+        depth = "attractor"
+    if args.chaos is not None:
+        if depth not in (None, "attractor"):
+            raise IFSError("--chaos draws the attractor: leave out --depth (or say --depth attractor)")
+        image = render(ifs, args.size, sigma=args.sigma, method="chaos", points=args.chaos, seed=args.seed,
+                       window=args.window)
+        what = f"the attractor by the chaos game ({args.chaos:,} points, seed {args.seed})"
+    elif depth == "attractor":
+        image = render(ifs, args.size, depth, args.sigma, window=args.window, tolerance=args.tolerance)
+        what = f"the attractor (within {args.tolerance:g} px)"
+    else:
+        depth = ifs.depth if depth is None else depth
+        image = render(ifs, args.size, depth, args.sigma)
+        what = f"depth {depth}, {ifs.n_leaves(depth):,} leaves"
+    _save_png(image.detach().cpu().numpy(), args.output)
+    window = "" if args.window is None else f", window {tuple(args.window)}"
+    print(f"wrote {args.output}: {args.size}x{args.size}{window}, {what}")
 
 
 def _stages_text(history: dict) -> str:
@@ -112,9 +138,16 @@ def build_parser() -> argparse.ArgumentParser:
                                      "render an IFS, fit one to an image, or describe one.")
     sub = parser.add_subparsers(dest="command", required=True, metavar="{render,fit,info}")
     r = sub.add_parser("render", help="render an IFS (JSON file or pattern name) to a PNG")
-    r.add_argument("spec", help="an ifslib/1 JSON file, or a pattern: koch, koch_paper, carpet, gridN, rosetteN")
+    r.add_argument("spec", help="an ifslib/1 JSON file, or a pattern: koch, koch_paper, carpet, fern, gridN, rosetteN")
     r.add_argument("--size", type=int, default=512, help="pixels per side (default 512)")
-    r.add_argument("--depth", type=int, help="recursion depth (default: the file's)")
+    r.add_argument("--depth", type=_depth, help="recursion depth K, or 'attractor' for the attractor itself "
+                   "(default: the file's depth)")
+    r.add_argument("--window", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"),
+                   help="draw this box of the plane (the frame is -0.5 -0.5 0.5 0.5) at full detail: the attractor")
+    r.add_argument("--tolerance", type=float, default=0.5,
+                   help="for the attractor: the distance is within this many pixels of the true one (default 0.5)")
+    r.add_argument("--chaos", type=int, metavar="N", help="draw the attractor by the chaos game with N points")
+    r.add_argument("--seed", type=int, default=0, help="seed of the chaos game (default 0)")
     r.add_argument("--sigma", type=float, help="line width in plane units (default: one pixel)")
     r.add_argument("-o", "--output", required=True, help="PNG file to write")
     r.set_defaults(run=cmd_render)

@@ -202,16 +202,42 @@ def affine(maps, depth: int = 3, primitive: str = "box", name: str = "affine", e
     return IFS(points, rules, [prim], depth=depth, name=name, fixed=(0, 1, 2, 3), dtype=dtype)
 
 
-PATTERNS = {"koch": koch, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper}
+#: Barnsley's fern in its classic coordinates (x in [-2.2, 2.7], y in [0, 10]): ``[A | t]`` per map.
+#: The stem's first column is 0.001 instead of the classic 0, so that the fern can also be drawn at
+#: a depth K (which needs every map's inverse); its attractor is the same to the eye.
+FERN_MAPS = (((0.001, 0.0, 0.0), (0.0, 0.16, 0.0)),
+             ((0.85, 0.04, 0.0), (-0.04, 0.85, 1.6)),
+             ((0.2, -0.26, 0.0), (0.23, 0.22, 1.6)),
+             ((-0.15, 0.28, 0.0), (0.26, 0.24, 0.44)))
+
+
+def fern(depth: int = 3, maps=FERN_MAPS, name: str = "fern") -> IFS:
+    """Barnsley's fern, scaled into the frame: four affine maps, one of them (the stem) nearly singular.
+
+    Its attractor is the fern; a drawing at a finite depth is not (draw it with
+    ``depth="attractor"``). Each map ``x -> A x + t`` of ``maps`` (classic coordinates) becomes
+    ``S T S^-1`` with ``S`` the similarity that puts the fern's box ``[-2.2, 2.7] x [0, 10]`` in the
+    frame ``[-0.45, 0.45]^2``: the matrices stay as they are and the shifts move.
+    """
+    k = 0.09
+    b = -k * torch.tensor([0.25, 5.0], dtype=torch.float64)
+    m = torch.as_tensor(maps, dtype=torch.float64)
+    a, t = m[:, :, :2], m[:, :, 2]
+    shifted = k * t + b - a @ b
+    return affine(torch.cat([a, shifted[:, :, None]], 2), depth=depth, name=name)
+
+
+PATTERNS = {"koch": koch, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper,
+            "fern": fern}
 
 
 def by_name(name: str, depth: int = 3) -> IFS:
-    """A pattern by name: ``koch``, ``koch_paper`` (seed 0), ``carpet`` / ``sierpinski_carpet``,
+    """A pattern by name: ``koch``, ``koch_paper`` (seed 0), ``carpet`` / ``sierpinski_carpet``, ``fern``,
     ``gridN`` (e.g. ``grid3``) or ``rosetteN`` (e.g. ``rosette6``)."""
     if name in PATTERNS:
         return PATTERNS[name](depth=depth)
     for prefix, build in (("grid", grid), ("rosette", rosette)):
         if name.startswith(prefix) and name[len(prefix):].isdigit():
             return build(int(name[len(prefix):]), depth=depth)
-    raise IFSError(f"unknown pattern {name!r}; known: koch, koch_paper, carpet, sierpinski_carpet, "
+    raise IFSError(f"unknown pattern {name!r}; known: koch, koch_paper, carpet, sierpinski_carpet, fern, "
                    "gridN (e.g. grid3), rosetteN (e.g. rosette6)")

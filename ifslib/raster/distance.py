@@ -11,6 +11,14 @@ while autograd still differentiates the true minimum.
 
 Inside overlapping closed shapes (boxes, disks, thick segments) the minimum of the leaves' signed
 distances is what the paper computes; outside the union it is the exact distance to the union.
+
+``depth="attractor"`` measures the distance to the attractor itself instead of a drawing at one
+depth: the leaves are points of the attractor's word tree, each branch cut where it is finer than
+``tolerance`` pixels (`ifslib.geometry.attractor`, which proves the bound
+``|field - d(x, A)| <= tolerance``), the nearest leaf of each pixel is found by a KD-tree
+(`ifslib.raster.nearest.nearest_point`), and the distance to it is taken with autograd through the
+winning leaf's word. That distance is unsigned: a filled attractor reads 0 (within the tolerance)
+inside.
 """
 from __future__ import annotations
 
@@ -18,9 +26,14 @@ import torch
 from torch.utils.checkpoint import checkpoint
 
 from ..errors import IFSError, check_int
-from ..geometry.ifs import IFS, check_depth
+from ..geometry.attractor import (DEFAULT_TOLERANCE, AttractorLeaves, check_depth_or_attractor, check_tolerance,
+                                  check_window, expand_attractor, is_attractor, leaf_points)
+from ..geometry.ifs import IFS
 from ..geometry.leaves import Leaves, check_budget, expand, expand_batch, sdf_dense, sdf_pairs
-from .nearest import nearest_leaf, pixel_centres
+from .nearest import nearest_leaf, nearest_point, pixel_centres
+
+#: The frame of a picture: the image plane ``[-0.5, 0.5]^2`` as a window ``(x0, y0, x1, y1)``.
+FRAME = (-0.5, -0.5, 0.5, 0.5)
 
 METHODS = ("fast", "brute")
 
@@ -58,10 +71,52 @@ def _brute(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     return torch.cat(out)
 
 
-def distance_field(ifs: IFS, size: int, depth: int | None = None, method: str = "fast", *,
+def pixel_size(size: int, window: tuple[float, float, float, float] | None = None) -> float:
+    """A pixel's side in plane units (the smaller side, for a window that is not square)."""
+    x0, y0, x1, y1 = FRAME if window is None else window
+    return min(x1 - x0, y1 - y0) / size
+
+
+def point_distance(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
+    """``|(x, y) - points|`` row by row, ``(N,)`` from ``(N, 2)`` points and ``(N,)`` coordinates.
+
+    Differentiable, and finite where a query sits exactly on its point (gradient 0 there).
+    """
+    sq = (x - points[:, 0]).square() + (y - points[:, 1]).square()
+    return sq.clamp_min(torch.finfo(sq.dtype).tiny).sqrt()
+
+
+def attractor_leaves_for(ifs: IFS, size: int, window=None, tolerance: float = DEFAULT_TOLERANCE, *,
+                         device: str | torch.device = "cpu", dtype: torch.dtype | None = None,
+                         gradient: str = "exact", max_leaves: int | None = None) -> AttractorLeaves:
+    """The attractor's leaves for a ``size x size`` picture of ``window``: ``tolerance`` pixels of it, in plane units."""
+    size = check_size(size)
+    window = FRAME if window is None else check_window(window)
+    eps = check_tolerance(tolerance) * pixel_size(size, window)
+    return expand_attractor(ifs, eps, window, max_leaves=max_leaves, device=device, dtype=dtype, gradient=gradient)
+
+
+def _attractor_field(ifs: IFS, size: int, method: str, window, tolerance: float, dev: torch.device, dtype: torch.dtype,
+                     gradient: str, max_leaves: int | None) -> torch.Tensor:
+    leaves = attractor_leaves_for(ifs, size, window, tolerance, device=dev, dtype=dtype, gradient=gradient,
+                                  max_leaves=max_leaves)
+    x, y = pixel_centres(size, dev, dtype, window)
+    if method == "brute":  # every leaf at every pixel: the reference for the KD-tree
+        sq = torch.cat([torch.cdist(torch.stack([x[i:i + 4096], y[i:i + 4096]], 1), leaves.points)
+                        for i in range(0, x.numel(), 4096)])
+        winner = sq.argmin(dim=1)
+    else:
+        winner = nearest_point(leaves.points, x, y)[0]
+    # the minimum's gradient is its winner's: recompute the few winning leaves with autograd
+    unique, inverse = torch.unique(winner, return_inverse=True)
+    return point_distance(leaf_points(leaves, unique).index_select(0, inverse), x, y)
+
+
+def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: str = "fast", *,
                    device: str | torch.device = "auto", dtype: torch.dtype | None = None,
-                   gradient: str = "exact", memory_budget: int | None = None) -> torch.Tensor:
-    """Signed distance from every pixel centre to the union of the depth-K leaf shapes.
+                   gradient: str = "exact", memory_budget: int | None = None,
+                   tolerance: float = DEFAULT_TOLERANCE, window=None, max_leaves: int | None = None) -> torch.Tensor:
+    """Signed distance from every pixel centre to the union of the depth-K leaf shapes, or to the attractor.
 
     Parameters
     ----------
@@ -69,8 +124,10 @@ def distance_field(ifs: IFS, size: int, depth: int | None = None, method: str = 
         The fractal; the result is differentiable in ``ifs.points``.
     size : int
         Image side in pixels; pixel centres follow CONVENTIONS.md (row 0 at the top).
-    depth : int, optional
-        Number of Hutchinson steps ``K`` (``ifs.depth`` when None).
+    depth : int or "attractor", optional
+        Number of Hutchinson steps ``K`` (``ifs.depth`` when None), or ``"attractor"``: the
+        unsigned distance to the attractor itself, within ``tolerance`` pixels (see the module
+        docstring). A ``window`` implies ``"attractor"``.
     method : {"fast", "brute"}
         ``"fast"`` (default): exact nearest-leaf search, then autograd through the winner only.
         ``"brute"``: every leaf at every pixel (the paper's algorithm), the reference.
@@ -81,26 +138,42 @@ def distance_field(ifs: IFS, size: int, depth: int | None = None, method: str = 
     gradient : {"exact", "paper"}
         ``"paper"`` cuts the gradient through segment rules' rotations, as the paper's code did.
     memory_budget : int, optional
-        Bytes; the estimate is checked before anything is allocated.
+        Bytes; the estimate is checked before anything is allocated (depth K).
+    tolerance : float
+        For the attractor: the field is within this many pixels of the distance to it (0.5).
+    window : (x0, y0, x1, y1), optional
+        For the attractor: the box of the plane the picture covers (the frame ``[-0.5, 0.5]^2``
+        when None); its leaves are refined for its own pixels, so a small window shows detail
+        the frame's pixels cannot.
+    max_leaves : int, optional
+        For the attractor: the leaf budget (`ifslib.geometry.attractor.DEFAULT_MAX_LEAVES`).
 
     Returns
     -------
     torch.Tensor
-        ``(size, size)`` signed distances in plane units.
+        ``(size, size)`` signed distances in plane units (unsigned for the attractor).
 
     Raises
     ------
     IFSError
-        Unknown method or device, bad size or depth, a degenerate or non-contractive rule, NaN
-        points, or an estimate over the memory budget.
+        Unknown method or device, bad size, depth, tolerance or window, a degenerate or
+        non-contractive rule, NaN points, an estimate over the memory budget or more leaves
+        than the leaf budget.
     """
     if method not in METHODS:
         raise IFSError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}")
     check_size(size)
-    depth = ifs.depth if depth is None else check_depth(depth)
+    if window is not None and depth is None:
+        depth = "attractor"
+    depth = ifs.depth if depth is None else check_depth_or_attractor(depth)
     dtype = dtype or ifs.points.dtype
     if dtype not in (torch.float32, torch.float64):
         raise IFSError(f"dtype must be torch.float32 or torch.float64, got {dtype}")
+    if is_attractor(depth):
+        return _attractor_field(ifs, size, method, window, tolerance, resolve_device(device), dtype, gradient,
+                                max_leaves).view(size, size)
+    if window is not None:
+        raise IFSError(f"a window is drawn at full detail: use depth='attractor' (not depth {depth})")
     check_budget(ifs, depth, size * size, method, memory_budget)
     dev = resolve_device(device)
     leaves = expand(ifs, depth, device=dev, dtype=dtype, gradient=gradient)

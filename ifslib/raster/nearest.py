@@ -52,17 +52,58 @@ class NearestResult:
     pairs: int
 
 
-def pixel_centres(size: int, device: torch.device | str = "cpu", dtype: torch.dtype = torch.float64):
+def pixel_centres(size: int, device: torch.device | str = "cpu", dtype: torch.dtype = torch.float64,
+                  window: tuple[float, float, float, float] | None = None):
     """Pixel-centre coordinates of a ``size x size`` image, as in CONVENTIONS.md.
+
+    Parameters
+    ----------
+    size : int
+    device, dtype
+    window : (x0, y0, x1, y1), optional
+        The box of the plane the image covers; the frame ``[-0.5, 0.5]^2`` when None. Pixel
+        ``(r, c)`` then sits at ``x = x0 + (c + 0.5) (x1 - x0) / size``, ``y = y1 - (r + 0.5) (y1 - y0) / size``.
 
     Returns
     -------
     x, y : torch.Tensor
         ``(size * size,)`` each, row-major (row 0 at the top, ``y`` growing upward).
     """
-    t = -0.5 + (torch.arange(size, device=device, dtype=dtype) + 0.5) / size
-    y = -t  # row r has y = 0.5 - (r + 0.5) / size
-    return t.repeat(size), y.repeat_interleave(size)
+    t = (torch.arange(size, device=device, dtype=dtype) + 0.5) / size
+    if window is None:
+        x, y = t - 0.5, 0.5 - t  # row r has y = 0.5 - (r + 0.5) / size
+    else:
+        x0, y0, x1, y1 = window
+        x, y = x0 + t * (x1 - x0), y1 - t * (y1 - y0)
+    return x.repeat(size), y.repeat_interleave(size)
+
+
+def nearest_point(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """The nearest of ``points`` to each query ``(x, y)``, exactly, by a KD-tree (`scipy.spatial.cKDTree`).
+
+    Point leaves (the attractor's, `ifslib.geometry.attractor`) are many and tiny, which is what a
+    KD-tree is made for: O(L log L) to build and about log L per query, memory O(L + queries).
+
+    Parameters
+    ----------
+    points : torch.Tensor
+        ``(L, 2)``, L >= 1.
+    x, y : torch.Tensor
+        ``(N,)`` query coordinates.
+
+    Returns
+    -------
+    index : torch.Tensor
+        ``(N,)`` long, on the points' device: the nearest point of each query (ties: any of them).
+    distance : torch.Tensor
+        ``(N,)`` its Euclidean distance, in the queries' dtype (no gradient).
+    """
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(points.detach().cpu().double().numpy(), balanced_tree=False, compact_nodes=False)
+    query = torch.stack([x.detach(), y.detach()], 1).cpu().double().numpy()
+    dist, index = tree.query(query)
+    return (torch.from_numpy(index).to(points.device), torch.from_numpy(dist).to(device=x.device, dtype=x.dtype))
 
 
 def _max_pyramid(upper: torch.Tensor, n_items: int, size: int, side: int, start: int, top: int) -> dict:

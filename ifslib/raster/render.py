@@ -8,8 +8,11 @@ from __future__ import annotations
 
 import torch
 
-from .distance import check_size, distance_field
+from ..errors import IFSError
+from ..geometry.attractor import check_window
 from ..geometry.ifs import IFS, check_sigma
+from .chaos import DEFAULT_POINTS, chaos_field
+from .distance import check_size, distance_field, pixel_size
 
 
 def default_sigma(size: int) -> float:
@@ -22,7 +25,8 @@ def shade(distance: torch.Tensor, sigma: float) -> torch.Tensor:
     return torch.exp(-torch.relu(distance).square() / check_sigma(sigma) ** 2)
 
 
-def render(ifs: IFS, size: int, depth: int | None = None, sigma: float | None = None, **kwargs) -> torch.Tensor:
+def render(ifs: IFS, size: int, depth: int | str | None = None, sigma: float | None = None, *,
+           method: str = "fast", window=None, points: int = DEFAULT_POINTS, seed: int = 0, **kwargs) -> torch.Tensor:
     """Render an IFS to a ``(size, size)`` image in ``[0, 1]``, 1 on the figure.
 
     Parameters
@@ -30,24 +34,42 @@ def render(ifs: IFS, size: int, depth: int | None = None, sigma: float | None = 
     ifs : IFS
     size : int
         Pixels per side.
-    depth : int, optional
-        ``ifs.depth`` when None.
+    depth : int or "attractor", optional
+        ``ifs.depth`` when None; ``"attractor"`` draws the attractor itself (see
+        `ifslib.distance_field`), as does a ``window``.
     sigma : float, optional
-        Width in plane units; ``ifs.sigma`` when set, else `default_sigma` (one pixel).
+        Width in plane units; ``ifs.sigma`` when set, else one pixel (of the window, when given).
+    method : {"fast", "brute", "chaos"}
+        ``"chaos"`` draws the attractor from ``points`` chaos-game points (`ifslib.chaos_game`,
+        seeded by ``seed``): the classic picture, float64, with no gradient.
+    window : (x0, y0, x1, y1), optional
+        The box of the plane to draw (the frame ``[-0.5, 0.5]^2`` when None), at full detail: the
+        attractor's leaves are refined for this window's pixels.
+    points, seed
+        For ``method="chaos"``.
     **kwargs
-        Passed to `ifslib.distance_field` (``method``, ``device``, ``dtype``, ``gradient``, ...).
+        Passed to `ifslib.distance_field` (``device``, ``dtype``, ``gradient``, ``tolerance``, ...).
 
     Returns
     -------
     torch.Tensor
-        ``(size, size)``, differentiable in ``ifs.points``.
+        ``(size, size)``, differentiable in ``ifs.points`` (except with ``method="chaos"``).
     """
+    if window is not None:
+        window = check_window(window)
     if sigma is None:
-        sigma = ifs.sigma if ifs.sigma is not None else default_sigma(size)
-    return shade(distance_field(ifs, size, depth, **kwargs), sigma)
+        sigma = ifs.sigma if ifs.sigma is not None else pixel_size(size, window)
+    if method == "chaos":
+        if depth not in (None, "attractor"):
+            raise IFSError(f"the chaos game draws the attractor: depth {depth!r} does not apply")
+        return shade(chaos_field(ifs, size, points, seed, window), sigma)
+    return shade(distance_field(ifs, size, depth, method, window=window, **kwargs), sigma)
 
 
-def figure_mask(ifs: IFS, size: int, depth: int | None = None, sigma: float | None = None):
-    """The fractal's pixels: where its render is >= 0.5, as a ``(size, size)`` bool numpy array."""
+def figure_mask(ifs: IFS, size: int, depth: int | str | None = None, sigma: float | None = None, **kwargs):
+    """The fractal's pixels: where its render is >= 0.5, as a ``(size, size)`` bool numpy array.
+
+    ``depth="attractor"`` gives the attractor's pixels; ``**kwargs`` go to `render`.
+    """
     with torch.no_grad():
-        return render(ifs, size, depth, sigma).cpu().numpy() >= 0.5
+        return render(ifs, size, depth, sigma, **kwargs).cpu().numpy() >= 0.5

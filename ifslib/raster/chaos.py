@@ -1,0 +1,106 @@
+"""The chaos game: points of an IFS's attractor by random iteration, in float64 (Barnsley).
+
+Every map's fixed point lies on the attractor, and so does the image of any point of it under any
+map: a chain that starts at a fixed point and applies randomly chosen maps never leaves the
+attractor (up to float64 rounding). Many chains run side by side, each from the fixed point of a
+randomly chosen map. The maps are chosen with probabilities in proportion to the area they keep
+(``|det L_i|``), with a floor so that a map that flattens (a fern's stem) is still visited.
+
+This is the independent reference of the tests (no leaves, no bound, no search of ours) and the
+classic way to draw an attractor: `chaos_field` turns the points into a distance field of the same
+pixel grid, which `ifslib.render` shades with ``method="chaos"``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import torch
+
+from ..errors import IFSError, check_int
+from ..geometry.attractor import check_contractive_maps
+from ..geometry.ifs import IFS
+from .nearest import nearest_point, pixel_centres
+
+#: Chains run side by side (each a vectorised row).
+CHAINS = 1024
+
+#: A map is chosen with probability in proportion to ``max(|det L_i|, FLOOR * max_j |det L_j|)``.
+FLOOR = 0.02
+
+#: Points of the chaos game a picture uses by default.
+DEFAULT_POINTS = 1_000_000
+
+
+def chaos_probabilities(maps: np.ndarray) -> np.ndarray:
+    """The chaos game's choice probabilities ``(m,)`` for ``(m, 3, 3)`` (or ``(m, 2, 3)``) float maps."""
+    det = np.abs(maps[:, 0, 0] * maps[:, 1, 1] - maps[:, 0, 1] * maps[:, 1, 0])
+    weight = np.maximum(det, FLOOR * max(det.max(), 1e-300))
+    return weight / weight.sum()
+
+
+def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
+    """``n`` points of the attractor by the chaos game, in float64.
+
+    Parameters
+    ----------
+    ifs : IFS
+        Its rules must contract (largest singular value < 1); primitives and depth play no part.
+    n : int
+        Number of points, >= 1.
+    seed : int
+        Seeds `numpy.random.default_rng`: the same seed gives the same points.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, 2)`` float64 points on the attractor (plane units).
+
+    Raises
+    ------
+    IFSError
+        For ``n < 1`` or a map that does not contract.
+    """
+    check_int(n, "the number of chaos-game points", 1)
+    check_int(seed, "seed", 0)
+    with torch.no_grad():
+        maps_t = ifs.to(torch.float64).maps()
+    check_contractive_maps(maps_t, ifs.rules)
+    maps = maps_t.numpy()
+    lin, shift = maps[:, :2, :2], maps[:, :2, 2]
+    m = len(maps)
+    fixed = np.stack([np.linalg.solve(np.eye(2) - lin[i], shift[i]) for i in range(m)])
+    rng = np.random.default_rng(seed)
+    chains = min(CHAINS, n)
+    steps = math.ceil(n / chains)
+    p = chaos_probabilities(maps)
+    current = fixed[rng.choice(m, size=chains, p=p)]
+    out = np.empty((steps, chains, 2))
+    for k in range(steps):
+        pick = rng.choice(m, size=chains, p=p)
+        current = np.einsum("nij,nj->ni", lin[pick], current) + shift[pick]
+        out[k] = current
+    return out.reshape(-1, 2)[:n]
+
+
+def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, window=None) -> torch.Tensor:
+    """Distance from every pixel centre to the nearest of ``n`` chaos-game points: ``(size, size)`` float64, no gradient.
+
+    Every chaos-game point lies on the attractor, so this is never below the distance to the
+    attractor; it exceeds it only where the points have not yet come near (rarely visited parts).
+
+    Parameters
+    ----------
+    ifs : IFS
+    size : int
+    n, seed
+        As in `chaos_game`.
+    window : (x0, y0, x1, y1), optional
+        The box of the plane the picture covers (the frame when None).
+    """
+    points = torch.from_numpy(chaos_game(ifs, n, seed))
+    x, y = pixel_centres(size, dtype=torch.float64, window=window)
+    return nearest_point(points, x, y)[1].view(size, size)
+
+
+__all__ = ["CHAINS", "DEFAULT_POINTS", "FLOOR", "chaos_field", "chaos_game", "chaos_probabilities"]
