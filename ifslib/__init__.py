@@ -15,6 +15,7 @@ Typical use::
     import ifslib
     ifs = ifslib.patterns.koch(depth=4)
     image = ifslib.render(ifs, 256)            # (256, 256) tensor in [0, 1], differentiable
+    limit = ifslib.render(ifs, 256, "attractor")  # the attractor itself, within half a pixel
 """
 from .threads import configure_threads
 
@@ -27,6 +28,7 @@ from .geometry.io import load_ifs, save_ifs  # noqa: E402
 from .geometry.leaves import expand  # noqa: E402
 from .geometry.primitives import Primitive  # noqa: E402
 from .geometry.rules import Rule, rule_maps  # noqa: E402
+from .raster.chaos import chaos_game  # noqa: E402
 from .raster.distance import distance_field  # noqa: E402
 from .raster.nearest import nearest_leaf, pixel_centres  # noqa: E402
 from .raster.render import default_sigma, render  # noqa: E402
@@ -57,7 +59,7 @@ def __getattr__(name: str):
 __version__ = "0.1.0"
 
 __all__ = ["FitResult", "IFS", "IFSError", "LOSSES", "Primitive", "Rule", "Target", "animate", "auto", "best_fit_line",
-           "chamfer", "configure_threads", "crossings", "data", "default_sigma", "distance_field", "evaluate",
+           "chamfer", "chaos_game", "configure_threads", "crossings", "data", "default_sigma", "distance_field", "evaluate",
            "exercises", "expand", "f1", "figures", "fit", "fit_many", "initialization", "initialize", "iou",
            "landscape", "load_ifs", "load_target", "loss", "losses", "metrics", "nearest_leaf", "patterns",
            "pixel_centres", "point_error", "render", "rule_maps", "save_ifs", "strategies", "sweep"]

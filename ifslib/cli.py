@@ -67,19 +67,24 @@ def cmd_render(args: argparse.Namespace) -> None:
     print(f"wrote {args.output}: {args.size}x{args.size}{window}, {what}")
 
 
+def _stage_text(stage: dict) -> str:
+    """``256² 120`` for a stage of a drawing, ``256² attractor 80`` for one of the attractor."""
+    return f"{stage['size']}²{' attractor' if stage.get('depth') == 'attractor' else ''} {stage['steps']}"
+
+
 def _stages_text(history: dict) -> str:
     """One line on how a strategy spent its steps (the pyramid's starts and stages, the automatic pattern's choice)."""
     stages = history.get("stages")
     if "auto" in history:
         auto = history["auto"]
         tried = ", ".join(f"{c['maps']} maps {c['loss']:.3g}" for c in auto["candidates"])
-        runs = ", ".join(f"{s['size']}² {s['steps']}" for s in stages)
+        runs = ", ".join(_stage_text(s) for s in stages)
         return (f"{history['cost']} steps spent (auto: a {auto['kind']}, {auto['chosen']} maps chosen by the loss "
                 f"after {auto['candidates'][0]['steps']} steps at {stages[0]['size']}² ({tried}); then {runs} steps)")
     if not stages:
         return f"{history['cost']} steps spent ({history.get('strategy', 'plain')})"
     last = max(s["start"] for s in stages)
-    runs = ", ".join(f"{s['size']}² {s['steps']}" for s in stages if s["start"] == last)
+    runs = ", ".join(_stage_text(s) for s in stages if s["start"] == last)
     verdict = "recovered the target" if history.get("recovered") else "was the best"
     return (f"{history['cost']} steps spent (pyramid: start {last + 1} of the {history['starts_tried']} tried "
             f"{verdict}; its stages: {runs} steps)")
@@ -105,10 +110,14 @@ def cmd_fit(args: argparse.Namespace) -> None:
     result = fit(start, target, steps=args.steps, lr=args.lr, loss=args.loss, seed=args.seed,
                  checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet, strategy=args.strategy,
                  tol=args.tol)
-    save_ifs(result.best, args.output)
     m = evaluate(result.best, target)
-    print(f"wrote {args.output}: best loss {result.best_loss:.4g}; IoU {m['iou']:.3f}, F1 {m['f1']:.3f}, "
-          f"Chamfer {m['chamfer']:.2f} px"
+    result.best.meta["scores"] = {
+        "depth": {"depth": result.best.depth, **{k: m[k] for k in ("iou", "f1", "chamfer")}},
+        "attractor": {k: m[f"attractor_{k}"] for k in ("iou", "f1", "chamfer")}}
+    save_ifs(result.best, args.output)
+    print(f"wrote {args.output}: best loss {result.best_loss:.4g}; attractor: IoU {m['attractor_iou']:.3f}, "
+          f"F1 {m['attractor_f1']:.3f}, Chamfer {m['attractor_chamfer']:.2f} px; drawn at depth {result.best.depth}: "
+          f"IoU {m['iou']:.3f}, F1 {m['f1']:.3f}, Chamfer {m['chamfer']:.2f} px"
           + (f"; {len(result.history['rollbacks'])} rolled-back steps" if result.history["rollbacks"] else "")
           + f"; {_stages_text(result.history)}; {time.perf_counter() - t0:.1f} s")
 

@@ -14,3 +14,7 @@ def check_int(value, name: str, minimum: int, hint: str = "") -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
         raise IFSError(f"{name} must be an integer >= {minimum}{hint}, got {value!r}")
     return value
+
+
+class LeafBudgetError(IFSError):
+    """More leaves than the leaf budget allows (the message says how many, and what to change)."""

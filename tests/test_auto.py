@@ -104,7 +104,8 @@ def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records
     assert len(result.best.rules) == best["maps"]
     assert result.history["strategy"] == "auto"
     assert result.history["cost"] == sum(c["steps"] for c in tried) + sum(s["steps"] for s in result.history["stages"])
-    assert result.history["stages"][-1]["loss"] == "multiscale_pixel"  # a shape ends with the pixel loss
+    last = result.history["stages"][-1]
+    assert last["loss"] == "multiscale_pixel" and last["depth"] == "attractor"  # a shape ends on its attractor, pixel loss
     assert ifslib.evaluate(result.best, target)["iou"] > ifslib.evaluate(start, target)["iou"]
     saved = ifslib.load_ifs(ifslib.save_ifs(result.best, tmp_path / "fit.json"))
     assert saved.meta["pattern"]["chosen"] == best["maps"]

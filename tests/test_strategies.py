@@ -21,17 +21,19 @@ def test_strategy_runs_and_counts_its_cost(strategy, target):
     assert result.history.get("strategy", "plain") == strategy
     if strategy == "multistart":
         assert STEPS < cost <= 3 * STEPS
-    elif strategy == "pyramid":  # up to 8 starts, one stage each at this size, each stage at most STEPS
-        assert 0 < cost <= 8 * STEPS and result.history["starts_tried"] == len(result.history["stages"])
-    elif strategy == "auto":  # a probe of each candidate, then the chosen one's stage (one size here)
-        assert 0 < cost <= 4 * STEPS and len(result.history["stages"]) == 1
+    elif strategy == "pyramid":  # up to 8 starts, two stages each at this size (the drawing's, the attractor's)
+        assert 0 < cost <= 16 * STEPS and 2 * result.history["starts_tried"] == len(result.history["stages"])
+        assert all(s["depth"] == "attractor" for s in result.history["stages"][1::2])
+    elif strategy == "auto":  # a probe of each candidate, the chosen one's stage (one size here), its attractor's
+        assert 0 < cost <= 5 * STEPS and len(result.history["stages"]) == 2
     elif strategy == "restart":
         assert 0 < cost <= 3 * STEPS
     else:
         assert cost == STEPS
     weight = UNCROSS_WEIGHT if strategy == "uncross" else 0.0  # its loss includes the crossing barrier
+    depth = "attractor" if strategy in ("pyramid", "auto") else None  # those end on the attractor
     start_loss = ifslib.fit(start, target, steps=1, loss="multiscale_distance", progress=False, strategy="plain",
-                            crossing_weight=weight).best_loss
+                            crossing_weight=weight, depth=depth).best_loss
     assert result.best_loss <= start_loss
 
 

@@ -227,7 +227,7 @@ def auto_start(target: Target, maps: int | None = None, depth: int | None = None
     options = candidates(target, choices(kind, maps, depth), primitive, seed, kind=kind)
     if len(options) == 1:
         return options[0]
-    scores = [evaluate(o, target) for o in options]
+    scores = [evaluate(o, target, attractor=False) for o in options]
     if options[0].meta["pattern"]["kind"] == "curve":
         return options[int(np.argmin([s["chamfer"] for s in scores]))]
     return options[int(np.argmax([s["iou"] for s in scores]))]

@@ -10,7 +10,8 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import IFSError, check_int
-from ..geometry.ifs import IFS, check_depth
+from ..geometry.attractor import check_depth_or_attractor
+from ..geometry.ifs import IFS
 from .run import FitResult, check_stop, run
 from .strategies import DEFAULT_STRATEGY, check_strategy, run_strategy
 from .targets import Target
@@ -22,7 +23,7 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         sigma: float | None = None, levels: int = 5, method: str = "fast", device: str = "auto",
         gradient: str = "exact", max_rollbacks: int = 20, keep_every: int | None = None,
         strategy: str | None = None, crossing_weight: float = 0.0, tol: float | None = None,
-        patience: int | None = None) -> FitResult:
+        patience: int | None = None, end_on_attractor: bool = True) -> FitResult:
     """Fit an IFS's control points to a target with Adam.
 
     Parameters
@@ -39,8 +40,10 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         Learning rate at the target's size (the paper used 0.003).
     loss : str or callable
         ``pixel``, ``multiscale_pixel``, ``distance``, ``multiscale_distance`` or ``f(distance, target)``.
-    depth : int, optional
-        Render depth (``ifs.depth`` when None).
+    depth : int or "attractor", optional
+        Render depth (``ifs.depth`` when None); ``"attractor"`` fits the attractor itself, every
+        stage (the default strategies end with an attractor stage anyway: see
+        `ifslib.fitting.strategies`).
     seed : int
         Seeds torch and the strategies' jitter; a seeded fit on CPU is reproducible.
     callback : callable, optional
@@ -74,6 +77,10 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         setting: off for ``plain`` and the other single-run strategies, on for ``pyramid``;
         ``tol=0`` stops only when the loss no longer improves at all.
 
+    end_on_attractor : bool
+        The default strategies (``pyramid``, ``auto``) end with a stage that fits the attractor
+        itself and judge it; False keeps them on the drawing at ``depth`` (the paper's question).
+
     Returns
     -------
     FitResult
@@ -93,7 +100,7 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
     if not isinstance(ifs, IFS):
         raise IFSError(f"ifs must be an IFS, got a {type(ifs).__name__}")
     if depth is not None:
-        check_depth(depth)
+        check_depth_or_attractor(depth)
     single = checkpoint is not None or resume is not None
     if strategy is None:
         automatic = isinstance(ifs.meta.get("pattern"), dict) and ifs.meta["pattern"].get("name") == "auto"
@@ -111,4 +118,4 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
                    resume=resume, **kwargs)
     if single:
         raise IFSError("checkpoint and resume work with strategy='plain' only")
-    return run_strategy(strategy, ifs, target, steps, seed, kwargs)
+    return run_strategy(strategy, ifs, target, steps, seed, kwargs, end_on_attractor=end_on_attractor)

@@ -26,7 +26,8 @@ from ..geometry.crossings import check_curve, crossing_penalty
 from ..raster.distance import distance_field
 from ..errors import IFSError, check_int
 from ..threads import refresh as refresh_threads
-from ..geometry.ifs import IFS, check_depth
+from ..geometry.attractor import check_depth_or_attractor
+from ..geometry.ifs import IFS
 from ..geometry.io import ifs_to_dict, load_ifs, save_ifs
 from .losses import loss as loss_fn
 from .targets import Target
@@ -130,8 +131,9 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         Learning rate (the paper used 0.003).
     loss : str or callable
         ``pixel``, ``multiscale_pixel``, ``distance``, ``multiscale_distance`` or ``f(distance, target)``.
-    depth : int, optional
-        Render depth (``ifs.depth`` when None).
+    depth : int or "attractor", optional
+        Render depth (``ifs.depth`` when None); ``"attractor"`` fits the attractor itself (its
+        depth-free distance, `ifslib.distance_field`).
     seed : int
         Seeds torch before the loop; a seeded run on CPU is reproducible.
     callback : callable, optional
@@ -177,7 +179,7 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         check_int(keep_every, "keep_every", 1)
     if not (isinstance(lr, (int, float)) and lr > 0 and math.isfinite(lr)):
         raise IFSError(f"lr must be a finite number > 0, got {lr!r}")
-    depth = ifs.depth if depth is None else check_depth(depth)
+    depth = ifs.depth if depth is None else check_depth_or_attractor(depth)
     refresh_threads()  # in auto mode: the cores free now, at every run (each stage of a strategy)
     torch.manual_seed(seed)
     work = ifs.clone()

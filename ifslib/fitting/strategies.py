@@ -11,15 +11,19 @@ strategies compare per step spent:
     every stage ending when its loss has converged (``tol``, ``patience``). The learning rate
     grows with the pixel size (``lr * size / stage_size``), so a coarse step moves the points as
     far, in pixels, as a fine one.
-    After each start the result is judged at the full size; once the symmetric Chamfer distance to
-    the target is at most ``success`` pixels, no more starts are tried. The starts are those of
-    ``multistart``. Each stage spends at most ``min(steps, PYRAMID_STAGE_STEPS)`` steps.
+    Each start then ends with a stage that fits its **attractor** at the full size
+    (`attractor_stage`), and is judged by the attractor's symmetric Chamfer distance to the target;
+    once it is at most ``success`` pixels, no more starts are tried. The starts are those of
+    ``multistart``. Each stage spends at most ``min(steps, PYRAMID_STAGE_STEPS)`` steps (the
+    attractor's, `ATTRACTOR_STAGE_STEPS`).
 ``auto``
     For an automatic start (`ifslib.initialize("auto", target)`, `ifslib.fitting.auto`): a start
     is built for each candidate number of maps, each is fitted at the coarsest size of the pyramid
     for the same number of steps (`AUTO_PROBE_STEPS`), and the one with the lowest loss goes on
-    through the pyramid's stages as in ``pyramid``; a shape then gets a last stage at full size
-    with the pixel loss (`POLISH_LOSS`), which fills the slivers between copies.
+    through the pyramid's stages as in ``pyramid``; a shape then gets a stage at full size
+    with the pixel loss (`POLISH_LOSS`), which fills the slivers between copies. With
+    ``end_on_attractor`` (the default) that stage is the attractor stage (`attractor_stage`, with the
+    pixel loss for a shape): it fills the slivers of the attractor itself.
     ``history["auto"]`` lists the candidates (maps, loss, steps, seconds) and the one chosen, and
     the fitted IFS's ``meta["pattern"]`` says so.
 ``plain``
@@ -53,8 +57,10 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
-from ..errors import IFSError
+from ..errors import IFSError, LeafBudgetError
+from ..geometry.attractor import ATTRACTOR, is_attractor
 from ..geometry.crossings import check_curve
+from ..raster.distance import attractor_leaves_for
 from ..geometry.ifs import IFS
 from .auto import candidates
 from .initialization import initialize, is_curve
@@ -90,6 +96,42 @@ POLISH_LOSS = "multiscale_pixel"
 
 #: Early stop of each pyramid stage (see `ifslib.fitting.run.converged`) when the fit sets none.
 PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
+
+#: ``pyramid`` and ``auto`` end with a stage that fits the attractor itself at the target's size (what
+#: the inverse problem asks for: a drawing at depth K can match the target while its attractor does
+#: not), of at most this many steps ...
+ATTRACTOR_STAGE_STEPS = 300
+#: ... with the certified cut (`ifslib.distance_field(..., depth="attractor")`) when it has at most this
+#: many leaves, else with sampled leaves of it (``method="sampled"``: overlapping copies of a shape).
+FIT_MAX_LEAVES = 300_000
+
+
+def attractor_method(ifs: IFS, size: int) -> str:
+    """``"fast"`` when the certified cut of ``ifs``'s attractor at ``size`` has at most `FIT_MAX_LEAVES` leaves, else ``"sampled"``."""
+    try:
+        attractor_leaves_for(ifs, size, max_leaves=FIT_MAX_LEAVES)
+    except LeafBudgetError:
+        return "sampled"
+    return "fast"
+
+
+def attractor_stage(ifs: IFS, target: Target, steps: int, seed: int, lr: float, kwargs: dict, label: str,
+                    loss: str | None = None) -> tuple[FitResult, dict]:
+    """Fit the attractor of ``ifs`` at the target's size (the last stage of ``pyramid`` and ``auto``).
+
+    Returns the run's result and its stage record (``size``, ``depth="attractor"``, ``method``,
+    ``loss``, ``steps``, ``stopped``, ``best_loss``).
+    """
+    method = attractor_method(ifs, target.size)
+    stage = {**kwargs, "depth": ATTRACTOR, "method": method}
+    if loss is not None:
+        stage["loss"] = loss
+    result = run(ifs, target, steps=min(steps, ATTRACTOR_STAGE_STEPS), seed=seed, lr=lr,
+                 desc=f"{label} · {target.size}² · attractor", **stage)
+    used = stage.get("loss", "multiscale_pixel")
+    return result, {"size": target.size, "depth": ATTRACTOR, "method": method, "loss": used if isinstance(used, str)
+                    else "custom", "steps": result.history["cost"], "stopped": result.history["stopped"],
+                    "best_loss": result.best_loss}
 
 
 def check_strategy(strategy: str) -> str:
@@ -163,7 +205,7 @@ def _climb(start: IFS, levels: dict, sizes: list[int], target_size: int, steps: 
 
 
 def _pyramid(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, n_starts: int, jitter: float,
-             success: float, coarsest: int, rng: np.random.Generator) -> FitResult:
+             success: float, coarsest: int, rng: np.random.Generator, end_on_attractor: bool) -> FitResult:
     """The ``pyramid`` strategy (see the module's docstring)."""
     lr = _pyramid_settings(kwargs)
     progress = kwargs.get("progress", True)
@@ -171,13 +213,19 @@ def _pyramid(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, n_st
     levels = {size: resize_target(target, size) for size in sizes}
     tried: list[tuple[FitResult, float]] = []
     stages, cost = [], 0
+    final = end_on_attractor and not is_attractor(kwargs.get("depth"))
     for k, start in enumerate(starts(ifs, target, n_starts, jitter, rng)):
-        result, climbed = _climb(start, levels, sizes, target.size, steps, seed, lr, kwargs, f"start {k + 1}/{n_starts}")
+        label = f"start {k + 1}/{n_starts}"
+        result, climbed = _climb(start, levels, sizes, target.size, steps, seed, lr, kwargs, label)
+        if final:
+            result, stage = attractor_stage(result.best, target, steps, seed, lr, kwargs, label)
+            climbed.append(stage)
         cost += sum(st["steps"] for st in climbed)
         stages += [{"start": k, **st} for st in climbed]
         # judged on the full-size target, after the last stage only: the finer stages do rescue fits
-        # (a Koch curve at 0.64 scale sat 2.9 px off after 64² in every start, and 0.14 px after 256²)
-        chamfer = evaluate(result.best, target)["chamfer"]
+        # (a Koch curve at 0.64 scale sat 2.9 px off after 64² in every start, and 0.14 px after 256²);
+        # what is judged is the attractor when the fit ends on it
+        chamfer = evaluate(result.best, target, depth=ATTRACTOR if final else None, attractor=False)["chamfer"]
         stages[-1]["chamfer"] = chamfer
         tried.append((result, chamfer))
         if chamfer <= success:
@@ -186,11 +234,12 @@ def _pyramid(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, n_st
             tqdm.write(f"start {k + 1}/{n_starts}: Chamfer {chamfer:.2f} px > {success:g} px, trying the next start")
     best, chamfer = min(tried, key=lambda rc: rc[1])  # Chamfer at the full size: comparable across stages
     best.history.update(cost=cost, stages=stages, starts_tried=len(tried), chamfer=chamfer,
-                        recovered=chamfer <= success)
+                        recovered=chamfer <= success, judged=ATTRACTOR if final else "depth")
     return best
 
 
-def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarsest: int) -> FitResult:
+def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarsest: int,
+          end_on_attractor: bool) -> FitResult:
     """The ``auto`` strategy (see the module's docstring)."""
     pattern = ifs.meta.get("pattern")
     if not (isinstance(pattern, dict) and pattern.get("name") == "auto"):
@@ -221,7 +270,7 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
     kwargs["depth"] = chosen["depth"]
     result, stages = _climb(winner.best, levels, sizes, target.size, steps, seed, lr, kwargs,
                             f"{chosen['maps']} maps")
-    if winner.best.meta["pattern"]["kind"] == "shape" and kwargs.get("loss") != POLISH_LOSS:
+    if winner.best.meta["pattern"]["kind"] == "shape" and kwargs.get("loss") != POLISH_LOSS and not end_on_attractor:
         # The distance loss brings the copies over the figure from afar, but it hardly sees the
         # one-pixel slivers left between them; the pixel loss counts each uncovered pixel fully.
         polish = {**kwargs, "loss": POLISH_LOSS}
@@ -229,6 +278,10 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
                      desc=f"{chosen['maps']} maps · {target.size}² · {POLISH_LOSS}", **polish)
         stages.append({"size": target.size, "loss": POLISH_LOSS, "steps": result.history["cost"],
                        "stopped": result.history["stopped"], "best_loss": result.best_loss})
+    if end_on_attractor:
+        result, stage = attractor_stage(result.best, target, steps, seed, lr, kwargs, f"{chosen['maps']} maps",
+                                        loss=POLISH_LOSS if winner.best.meta["pattern"]["kind"] == "shape" else None)
+        stages.append(stage)
     cost = sum(c["steps"] for _, c in tried) + sum(s["steps"] for s in stages)
     choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}
     choice.pop("choices", None)
@@ -240,7 +293,8 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
 
 def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, *,
                  n_starts: int = 8, keep: int = 2, probe: float = 0.15, jitter: float = 0.05,
-                 success: float = 1.0, budget: float = 3.0, coarsest: int = COARSEST) -> FitResult:
+                 success: float = 1.0, budget: float = 3.0, coarsest: int = COARSEST,
+                 end_on_attractor: bool = True) -> FitResult:
     """Run ``strategy`` with `ifslib.fitting.run.run` and its keyword arguments ``kwargs``.
 
     Parameters
@@ -254,6 +308,9 @@ def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int,
     n_starts, keep, probe, jitter, success, budget, coarsest
         The strategies' settings (see the module's docstring): ``success`` is the Chamfer
         distance in pixels at which ``pyramid`` and ``restart`` stop trying.
+    end_on_attractor : bool
+        ``pyramid`` and ``auto`` end each start with `attractor_stage` (and ``pyramid`` judges the
+        attractor); False keeps them on the drawing at depth K.
 
     Returns
     -------
@@ -272,10 +329,10 @@ def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int,
 
     if strategy == "auto":
         kwargs["depth"] = given_depth
-        result = _auto(ifs, target, steps, seed, kwargs, coarsest)
+        result = _auto(ifs, target, steps, seed, kwargs, coarsest, end_on_attractor)
     elif strategy == "pyramid":
         kwargs["depth"] = depth
-        result = _pyramid(ifs, target, steps, seed, kwargs, n_starts, jitter, success, coarsest, rng)
+        result = _pyramid(ifs, target, steps, seed, kwargs, n_starts, jitter, success, coarsest, rng, end_on_attractor)
     elif strategy == "plain":
         result = _combine([one(ifs, steps)], steps)
     elif strategy == "uncross":
@@ -306,7 +363,7 @@ def run_strategy(strategy: str, ifs: IFS, target: Target, steps: int, seed: int,
             results.append(one(current, n))
             spent += results[-1].history["cost"]
             best = min(results, key=lambda r: r.best_loss).best
-            if evaluate(best, target)["chamfer"] <= success:
+            if evaluate(best, target, attractor=False)["chamfer"] <= success:
                 break
             last = results[-1].history["loss"]
             improving = len(last) > 10 and min(last[-len(last) // 4:]) < 0.99 * min(last[:len(last) // 2])

@@ -45,7 +45,7 @@ from dataclasses import dataclass
 
 import torch
 
-from ..errors import IFSError
+from ..errors import IFSError, LeafBudgetError
 from .ifs import IFS, check_depth
 from .rules import rule_maps, singular_values
 
@@ -60,6 +60,13 @@ DEFAULT_MAX_LEAVES = int(os.environ.get("IFSLIB_MAX_LEAVES", 4_000_000))
 
 #: Depth of the words that tighten the invariant ball's radius (step 2 of the module docstring).
 BALL_WORDS = 4096
+
+#: `sample_attractor` chooses map ``i`` in proportion to ``max(|det L_i|, CHAOS_FLOOR * max_j |det L_j|)``,
+#: as the chaos game does (`ifslib.raster.chaos`).
+CHAOS_FLOOR = 0.02
+
+#: Leaves `sample_attractor` draws by default (``method="sampled"``).
+DEFAULT_SAMPLES = 65536
 
 
 def is_attractor(depth) -> bool:
@@ -263,7 +270,7 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
             # Every branch still open has error > ε, so it ends in at least m leaves: the count is known
             # to exceed the budget before the next level is allocated.
             if n_leaves + nodes.shape[0] * m > budget:
-                raise IFSError(
+                raise LeafBudgetError(
                     f"the attractor at a tolerance of {tolerance:.3g} plane units needs more than {budget:,} leaves "
                     f"(at word length {level + 1}, {nodes.shape[0]:,} branches of {m} maps are still coarser than "
                     f"it): raise max_leaves (or IFSLIB_MAX_LEAVES), the tolerance, or draw fewer pixels")
@@ -320,6 +327,98 @@ def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, flo
     return attractor_leaves(maps, tolerance, window, max_leaves)
 
 
+_UNIFORMS: dict = {}
+
+
+def _uniforms(seed: int, n: int, cols: int) -> torch.Tensor:
+    """``(n, cols)`` float64 uniforms, the same for the same ``(seed, n)`` (cached: a fit asks every step)."""
+    cached = _UNIFORMS.get((seed, n))
+    if cached is None or cached.shape[1] < cols:
+        generator = torch.Generator().manual_seed(seed)
+        cached = torch.rand(n, max(cols, 16), dtype=torch.float64, generator=generator)
+        if len(_UNIFORMS) > 8:
+            _UNIFORMS.clear()
+        _UNIFORMS[(seed, n)] = cached
+    return cached[:, :cols]
+
+
+def _compose_rows(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """Row by row ``a[i] o b[i]``: ``(N, 2, 3)`` maps after ``(N, 3, 3)`` maps, ``(N, 2, 3)`` (elementwise, no batched matmul)."""
+    a0, a1 = a[:, :, 0:1], a[:, :, 1:2]  # (N, 2, 1)
+    return a0 * b[:, None, 0, :] + a1 * b[:, None, 1, :] + torch.nn.functional.pad(a[:, :, 2:3], (2, 0))
+
+
+def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0) -> AttractorLeaves:
+    """``n`` leaves of the cut of `attractor_leaves`, drawn at random: a chaos game on the word tree.
+
+    Each of ``n`` walkers descends the word tree from the root, choosing map ``i`` with the chaos
+    game's probability (`ifslib.raster.chaos.chaos_probabilities`' rule: in proportion to
+    ``|det L_i|``, with a floor), and stops at the first word with ``||L_w|| R <= tolerance``: it
+    ends on a leaf of the certified cut. So every sampled leaf is within ``tolerance`` of the
+    attractor (the field from them is never below ``d(x, A) - tolerance``), and, where the
+    walkers have come, the attractor is within ``tolerance`` of them; unlike the full cut, the
+    number of leaves is ``n`` however much the copies overlap (24 overlapping maps of a silhouette
+    need millions of leaves for the certified cut at a pixel's tolerance, and 65,536 samples
+    cover it several times per pixel). This is how Tu et al. (AAAI 2023) and Djeacoumar et al.
+    (CGF 2025) fit attractors; here every leaf keeps its word, so the gradient is exact for the
+    sampled points.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(m, 3, 3)`` contracting maps, with or without autograd.
+    tolerance : float
+        ``ε`` in plane units.
+    n : int
+        Number of walkers (leaves; some may repeat).
+    seed : int
+        Seeds the walkers' choices: the same seed gives the same digits, so leaves move smoothly
+        with the maps from one fit step to the next.
+
+    Returns
+    -------
+    AttractorLeaves
+    """
+    if not (isinstance(tolerance, (int, float)) and tolerance > 0 and math.isfinite(tolerance)):
+        raise IFSError(f"tolerance must be a finite number > 0 (plane units), got {tolerance!r}")
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")
+    with torch.no_grad():
+        work = maps.detach()
+        m, dtype, device = work.shape[0], work.dtype, work.device
+        largest = check_contractive_maps(work)
+    centre_grad, radius = attractor_ball(maps)
+    with torch.no_grad():
+        centre = centre_grad.detach()
+        lin = work[:, :2, :2]
+        det = (lin[:, 0, 0] * lin[:, 1, 1] - lin[:, 0, 1] * lin[:, 1, 0]).abs().double()
+        weight = torch.maximum(det, CHAOS_FLOOR * det.max().clamp_min(1e-300))
+        # the deepest a walker can go: every step shrinks its error by at least the largest scale
+        longest = max(1, math.ceil(math.log(tolerance / radius) / math.log(float(largest.max())))) if radius > tolerance else 0
+        # inverse-CDF draws from fixed uniforms: the same seed gives the same words while the maps move
+        cdf = (weight / weight.sum()).cumsum(0).to(dtype=torch.float64)
+        digits = torch.searchsorted(cdf[:-1].contiguous(), _uniforms(int(seed), n, max(longest, 1)).contiguous()).to(device)
+        word_dtype = torch.uint8 if m < 255 else torch.int16
+        current = torch.eye(3, dtype=dtype, device=device)[None, :2].repeat(n, 1, 1)
+        length = torch.zeros(n, dtype=torch.long, device=device)
+        active = torch.full((n,), radius > tolerance, dtype=torch.bool, device=device)
+        error = torch.full((n,), radius, dtype=dtype, device=device)
+        for k in range(longest):
+            idx = active.nonzero().flatten()
+            if not idx.numel():
+                break
+            composed = _compose_rows(current[idx], work[digits[idx, k]])
+            current[idx] = composed
+            length[idx] = k + 1
+            error[idx] = singular_values(composed)[1] * radius
+            active[idx] = error[idx] > tolerance
+        depth = int(length.max())
+        steps = torch.arange(depth, device=device)
+        words = torch.where(steps[None] < length[:, None], digits[:, :depth], m).to(word_dtype)
+        points = _apply(current, centre)
+    return AttractorLeaves(points, error, words, maps, centre_grad, radius, float(tolerance))
+
+
 def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
     """The points ``T_w(c)`` of the leaves ``index`` (``(N,)`` ids), recomputed with autograd through the maps.
 
@@ -341,6 +440,6 @@ def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
     return _apply(composed, leaves.centre)
 
 
-__all__ = ["ATTRACTOR", "AttractorLeaves", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES", "attractor_ball",
-           "attractor_leaves", "check_contractive_maps", "check_depth_or_attractor", "check_tolerance",
-           "check_window", "expand_attractor", "is_attractor", "leaf_points"]
+__all__ = ["ATTRACTOR", "AttractorLeaves", "CHAOS_FLOOR", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
+           "attractor_ball", "attractor_leaves", "check_contractive_maps", "check_depth_or_attractor",
+           "check_tolerance", "check_window", "expand_attractor", "is_attractor", "leaf_points", "sample_attractor"]

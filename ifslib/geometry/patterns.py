@@ -227,17 +227,29 @@ def fern(depth: int = 3, maps=FERN_MAPS, name: str = "fern") -> IFS:
     return affine(torch.cat([a, shifted[:, :, None]], 2), depth=depth, name=name)
 
 
-PATTERNS = {"koch": koch, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper,
+def sierpinski_triangle(depth: int = 3, extent: float = 0.8, name: str = "sierpinski_triangle") -> IFS:
+    """The Sierpinski triangle: three maps of scale 1/2 towards the corners of a triangle of side ``extent``.
+
+    Built with `affine` rules (each map is a similarity, but its six numbers train freely).
+    """
+    h = extent * math.sqrt(3) / 2
+    corners = [(-extent / 2, -h / 2), (extent / 2, -h / 2), (0.0, h / 2)]
+    maps = [[[0.5, 0.0, cx / 2], [0.0, 0.5, cy / 2]] for cx, cy in corners]
+    return affine(maps, depth=depth, name=name)
+
+
+PATTERNS = {"koch": koch, "sierpinski_triangle": sierpinski_triangle, "triangle": sierpinski_triangle, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper,
             "fern": fern}
 
 
 def by_name(name: str, depth: int = 3) -> IFS:
     """A pattern by name: ``koch``, ``koch_paper`` (seed 0), ``carpet`` / ``sierpinski_carpet``, ``fern``,
+    ``triangle`` / ``sierpinski_triangle``,
     ``gridN`` (e.g. ``grid3``) or ``rosetteN`` (e.g. ``rosette6``)."""
     if name in PATTERNS:
         return PATTERNS[name](depth=depth)
     for prefix, build in (("grid", grid), ("rosette", rosette)):
         if name.startswith(prefix) and name[len(prefix):].isdigit():
             return build(int(name[len(prefix):]), depth=depth)
-    raise IFSError(f"unknown pattern {name!r}; known: koch, koch_paper, carpet, sierpinski_carpet, fern, "
+    raise IFSError(f"unknown pattern {name!r}; known: koch, koch_paper, carpet, sierpinski_carpet, fern, triangle, "
                    "gridN (e.g. grid3), rosetteN (e.g. rosette6)")

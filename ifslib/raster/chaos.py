@@ -18,7 +18,7 @@ import numpy as np
 import torch
 
 from ..errors import IFSError, check_int
-from ..geometry.attractor import check_contractive_maps
+from ..geometry.attractor import CHAOS_FLOOR, check_contractive_maps
 from ..geometry.ifs import IFS
 from .nearest import nearest_point, pixel_centres
 
@@ -26,7 +26,7 @@ from .nearest import nearest_point, pixel_centres
 CHAINS = 1024
 
 #: A map is chosen with probability in proportion to ``max(|det L_i|, FLOOR * max_j |det L_j|)``.
-FLOOR = 0.02
+FLOOR = CHAOS_FLOOR
 
 #: Points of the chaos game a picture uses by default.
 DEFAULT_POINTS = 1_000_000

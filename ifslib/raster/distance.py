@@ -26,8 +26,10 @@ import torch
 from torch.utils.checkpoint import checkpoint
 
 from ..errors import IFSError, check_int
-from ..geometry.attractor import (DEFAULT_TOLERANCE, AttractorLeaves, check_depth_or_attractor, check_tolerance,
-                                  check_window, expand_attractor, is_attractor, leaf_points)
+from ..geometry.attractor import (DEFAULT_SAMPLES, DEFAULT_TOLERANCE, AttractorLeaves, check_depth_or_attractor,
+                                  check_tolerance, check_window, expand_attractor, is_attractor, leaf_points,
+                                  sample_attractor)
+from ..geometry.rules import rule_maps
 from ..geometry.ifs import IFS
 from ..geometry.leaves import Leaves, check_budget, expand, expand_batch, sdf_dense, sdf_pairs
 from .nearest import nearest_leaf, nearest_point, pixel_centres
@@ -35,7 +37,7 @@ from .nearest import nearest_leaf, nearest_point, pixel_centres
 #: The frame of a picture: the image plane ``[-0.5, 0.5]^2`` as a window ``(x0, y0, x1, y1)``.
 FRAME = (-0.5, -0.5, 0.5, 0.5)
 
-METHODS = ("fast", "brute")
+METHODS = ("fast", "brute", "sampled")
 
 #: Working memory of one brute-force chunk, in bytes.
 BRUTE_CHUNK_BYTES = 64 * 2**20
@@ -97,9 +99,16 @@ def attractor_leaves_for(ifs: IFS, size: int, window=None, tolerance: float = DE
 
 
 def _attractor_field(ifs: IFS, size: int, method: str, window, tolerance: float, dev: torch.device, dtype: torch.dtype,
-                     gradient: str, max_leaves: int | None) -> torch.Tensor:
-    leaves = attractor_leaves_for(ifs, size, window, tolerance, device=dev, dtype=dtype, gradient=gradient,
-                                  max_leaves=max_leaves)
+                     gradient: str, max_leaves: int | None, samples: int) -> torch.Tensor:
+    if method == "sampled":
+        window_ = FRAME if window is None else check_window(window)
+        eps = check_tolerance(tolerance) * pixel_size(size, window_)
+        ifs.validate()
+        n = min(DEFAULT_SAMPLES, max(1 << 14, 2 * size * size)) if samples is None else samples
+        leaves = sample_attractor(rule_maps(ifs.points.to(device=dev, dtype=dtype), ifs.rules, gradient), eps, n)
+    else:
+        leaves = attractor_leaves_for(ifs, size, window, tolerance, device=dev, dtype=dtype, gradient=gradient,
+                                      max_leaves=max_leaves)
     x, y = pixel_centres(size, dev, dtype, window)
     if method == "brute":  # every leaf at every pixel: the reference for the KD-tree
         sq = torch.cat([torch.cdist(torch.stack([x[i:i + 4096], y[i:i + 4096]], 1), leaves.points)
@@ -115,7 +124,8 @@ def _attractor_field(ifs: IFS, size: int, method: str, window, tolerance: float,
 def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: str = "fast", *,
                    device: str | torch.device = "auto", dtype: torch.dtype | None = None,
                    gradient: str = "exact", memory_budget: int | None = None,
-                   tolerance: float = DEFAULT_TOLERANCE, window=None, max_leaves: int | None = None) -> torch.Tensor:
+                   tolerance: float = DEFAULT_TOLERANCE, window=None, max_leaves: int | None = None,
+                   samples: int | None = None) -> torch.Tensor:
     """Signed distance from every pixel centre to the union of the depth-K leaf shapes, or to the attractor.
 
     Parameters
@@ -128,9 +138,12 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
         Number of Hutchinson steps ``K`` (``ifs.depth`` when None), or ``"attractor"``: the
         unsigned distance to the attractor itself, within ``tolerance`` pixels (see the module
         docstring). A ``window`` implies ``"attractor"``.
-    method : {"fast", "brute"}
+    method : {"fast", "brute", "sampled"}
         ``"fast"`` (default): exact nearest-leaf search, then autograd through the winner only.
         ``"brute"``: every leaf at every pixel (the paper's algorithm), the reference.
+        ``"sampled"`` (attractor only): ``samples`` leaves of the certified cut drawn at random
+        (`ifslib.geometry.attractor.sample_attractor`), for attractors of many overlapping maps
+        whose certified cut has millions of leaves.
     device : {"auto", "cpu", "cuda"} or torch.device
         ``"auto"`` uses CUDA when present.
     dtype : torch.dtype, optional
@@ -147,6 +160,9 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
         the frame's pixels cannot.
     max_leaves : int, optional
         For the attractor: the leaf budget (`ifslib.geometry.attractor.DEFAULT_MAX_LEAVES`).
+    samples : int, optional
+        For ``method="sampled"``: how many leaves; two per pixel, between 16,384 and
+        `ifslib.geometry.attractor.DEFAULT_SAMPLES` (65,536), when None.
 
     Returns
     -------
@@ -171,7 +187,9 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
         raise IFSError(f"dtype must be torch.float32 or torch.float64, got {dtype}")
     if is_attractor(depth):
         return _attractor_field(ifs, size, method, window, tolerance, resolve_device(device), dtype, gradient,
-                                max_leaves).view(size, size)
+                                max_leaves, samples).view(size, size)
+    if method == "sampled":
+        raise IFSError(f"method 'sampled' draws the attractor: use depth='attractor' (not depth {depth})")
     if window is not None:
         raise IFSError(f"a window is drawn at full detail: use depth='attractor' (not depth {depth})")
     check_budget(ifs, depth, size * size, method, memory_budget)

@@ -103,7 +103,7 @@ def check_initialization(answer: IFS, target: Target, max_chamfer: float = 3.0) 
         print(f"initialization: not yet. Hint: give an ifslib.IFS, got {type(answer).__name__}.")
         return False
     try:
-        chamfer = evaluate(answer, target)["chamfer"]
+        chamfer = evaluate(answer, target, attractor=False)["chamfer"]
     except ValueError as exc:
         print(f"initialization: not yet. Hint: the IFS cannot be drawn ({exc}).")
         return False
@@ -121,7 +121,7 @@ def check_fit(answer: IFS, target: Target, max_chamfer: float = 1.0) -> bool:
     if not isinstance(answer, IFS):
         print(f"fit: not yet. Hint: give the fitted ifslib.IFS (result.best), got {type(answer).__name__}.")
         return False
-    chamfer = evaluate(answer, target)["chamfer"]
+    chamfer = evaluate(answer, target, attractor=False)["chamfer"]
     crossings = self_crossings(answer) if is_curve(answer) else 0
     return _report(chamfer <= max_chamfer and crossings == 0,
                    f"fit (Chamfer {chamfer:.2f} px, {crossings} self-crossings)",
