@@ -84,7 +84,7 @@ def test_a_fit_redirected_to_a_log_writes_one_line_per_stage(tmp_path):
     assert main(["render", "koch", "--size", "128", "--depth", "3", "-o", str(png)]) == 0
     env = {**os.environ, "IFSLIB_THREADS": os.environ.get("IFSLIB_THREADS", "2")}
     with open(tmp_path / "err.log", "w+") as log:
-        proc = subprocess.run([sys.executable, "-m", "ifslib", "fit", str(png), "--size", "128", "--steps", "60",
+        proc = subprocess.run([sys.executable, "-m", "ifslib", "fit", str(png), "--size", "128", "--steps", "30",
                                "-o", str(out)], stdout=subprocess.PIPE, stderr=log, text=True, env=env, timeout=300)
         log.seek(0)
         err = log.read()
