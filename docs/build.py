@@ -71,6 +71,21 @@ def assemble() -> None:
     listed = {line.strip() for line in lines if "/" in line and "*" not in line and not line.startswith(("`", ":"))}
     kept = [line for line in lines if not _empty_glob(line.strip(), listed)]
     (SRC / "index.md").write_text("\n".join(kept) + "\n", encoding="utf-8")
+    _complete_api(SRC / "docs" / "api" / "index.md")
+
+
+def _complete_api(page: Path) -> None:
+    """Append to the API page an entry for each public name it does not list yet (a name exported since)."""
+    import ifslib
+
+    text = page.read_text(encoding="utf-8")
+    listed = set(re.findall(r"^   (\w+)$", text, flags=re.M))
+    missing = [name for name in ifslib.__all__ if name not in listed]
+    if missing:
+        entries = "\n".join(f"   {name}" for name in missing)
+        text += ("\n## Other public names\n\n```{eval-rst}\n.. currentmodule:: ifslib\n\n.. autosummary::\n"
+                 f"   :toctree: generated\n   :nosignatures:\n\n{entries}\n```\n")
+        page.write_text(text, encoding="utf-8")
 
 
 def sphinx() -> int:
