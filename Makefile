@@ -9,14 +9,15 @@ export IFSLIB_DATA
 
 .PHONY: setup test figures book setup-browser test-browser bench clean
 
-$(VENV)/.installed: pyproject.toml
+# pyproject.toml declares ranges; constraints.txt pins the versions the tests ran with (torch==2.13.0:
+# this machine's local CPU wheel, never a multi-GB CUDA build from the index).
+$(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet torch==2.13.0
-	$(PY) -m pip install --quiet -e '.[dev,sweep,docs,browser]'
+	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,docs,browser]'
 	touch $@
 
-setup: $(VENV)/.installed  ## create .venv and install ifslib (editable) with its dev extras
+setup: $(VENV)/.installed  ## create .venv and install ifslib (editable) with its extras, at the tested versions (constraints.txt)
 
 test: $(VENV)/.installed  ## run the whole test suite
 	$(PY) -m pytest -q

@@ -1,8 +1,11 @@
 """The static HTML book (``make book`` -> ``build/book/html``) opened in Chromium over HTTP.
 
-The front page says "ifslib" and links to the notebook pages; a notebook page shows its figures (at
-least one image, none broken) and no traceback. Without the built book the tests FAIL: run
-``make book`` first. ``IFSLIB_BOOK_HTML`` points them at another built tree.
+The front page says "ifslib" and links to the notebook pages, the results pages and the API
+reference; a notebook page shows its figures (at least one image, none broken) and no traceback;
+the API reference and a results page load with no console error, the API page of `ifslib.fit`
+shows its signature, parameters and returns, and the results page the command that regenerates
+it. Without the built book the tests FAIL: run ``make book`` first. ``IFSLIB_BOOK_HTML`` points
+them at another built tree.
 """
 from __future__ import annotations
 
@@ -17,6 +20,9 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 BOOK = Path(os.environ.get("IFSLIB_BOOK_HTML", ROOT / "build" / "book" / "html"))
 NOTEBOOK_PAGE = "notebooks/00_explore.html"
+API_PAGE = "docs/api/index.html"
+FIT_PAGE = "docs/api/generated/ifslib.fit.html"
+RESULTS_PAGE = "docs/results/strategies.html"
 
 # Every <img>: its address and whether it loaded (naturalWidth is 0 for a broken image).
 _IMAGES = """() => [...document.images].map(i => ({src: i.currentSrc || i.src, ok: i.complete && i.naturalWidth > 0,
@@ -62,8 +68,8 @@ def test_front_page(page, book, shots):
     assert "ifslib" in page.title(), f"the front page's title is {page.title()!r}"
     assert "ifslib" in page.locator("h1").first.inner_text(), "the front page's heading does not say ifslib"
     links = page.eval_on_selector_all("a[href]", "els => els.map(a => a.getAttribute('href'))")
-    assert any(h.split("#")[0].endswith(NOTEBOOK_PAGE) for h in links), \
-        f"the front page does not link to {NOTEBOOK_PAGE}"
+    for target in (NOTEBOOK_PAGE, API_PAGE, RESULTS_PAGE):
+        assert any(h.split("#")[0].endswith(target) for h in links), f"the front page does not link to {target}"
     assert not failed, f"the front page's own resources failed: {failed}"
     page.screenshot(path=shots / "book_index.png")
 
@@ -85,3 +91,36 @@ def test_notebook_page_shows_its_figures(page, book, shots):
     page.evaluate("src => [...document.images].find(i => (i.currentSrc || i.src) === src).scrollIntoView()",
                   shown[0]["src"])
     page.screenshot(path=shots / "book_notebook.png")
+
+
+def _open_cleanly(page, book: str, path: str) -> None:
+    """Open ``path`` and require: it answers, its own resources load, and the console shows no error."""
+    _require(path)
+    failed = _failed_local_requests(page, book)
+    response = page.goto(f"{book}/{path}", wait_until="load")
+    assert response is not None and response.ok, f"{path} answered {response and response.status}"
+    assert "ifslib" in page.title(), f"{path}'s title is {page.title()!r}"
+    assert "Traceback" not in page.locator("body").inner_text(), f"{path} shows a traceback"
+    assert not failed, f"{path}'s own resources failed: {failed}"
+    assert not page.console_errors, f"{path}: console errors {page.console_errors}"
+
+
+def test_api_reference_lists_every_public_name_and_documents_fit(page, book, shots):
+    import ifslib
+
+    _open_cleanly(page, book, API_PAGE)
+    links = page.eval_on_selector_all("a[href]", "els => els.map(a => a.getAttribute('href'))")
+    missing = [n for n in ifslib.__all__ if not any(h.split("#")[0].endswith(f"ifslib.{n}.html") for h in links)]
+    assert not missing, f"{API_PAGE} does not link to {missing}"
+    page.screenshot(path=shots / "book_api.png")
+    _open_cleanly(page, book, FIT_PAGE)
+    entry = page.locator('dl.py.function:has(dt[id="ifslib.fit"])').inner_text()
+    assert "fit(" in entry and "steps" in entry and "Parameters" in entry and "Returns" in entry, entry[:500]
+
+
+def test_results_page_opens_with_its_command(page, book, shots):
+    _open_cleanly(page, book, RESULTS_PAGE)
+    first_code = page.locator("pre").first.inner_text()
+    assert "benchmarks/convergence.py" in first_code, f"{RESULTS_PAGE}'s first code block: {first_code[:200]!r}"
+    assert page.locator("table").count() >= 2, f"{RESULTS_PAGE} lost its tables"
+    page.screenshot(path=shots / "book_results.png")

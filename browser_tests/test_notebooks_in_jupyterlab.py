@@ -7,7 +7,7 @@
   error checks here can see one).
 
 Screenshots go to ``build/browser/``. ``IFSLIB_README_FIGURE=1`` also writes the explorer's crop to
-``figures/explorer_in_jupyterlab.png`` (the README's picture).
+``figures/explorer_in_jupyterlab.png`` (the picture in the book's teaching guide).
 """
 from __future__ import annotations
 

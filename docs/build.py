@@ -1,12 +1,15 @@
 """Build the static HTML book of the notebook series: ``python docs/build.py``.
 
 1. Assemble the Sphinx source tree in ``build/book/src`` (fresh each time; nothing is copied into
-   the repository): ``docs/index.md`` (README.md included + the toctree), README.md, ``figures/``
-   and every ``notebooks/[0-9][0-9]_*.ipynb``.
+   the repository): ``docs/index.md`` (README.md included + the toctrees), README.md, ``figures/``,
+   every ``notebooks/[0-9][0-9]_*.ipynb`` and the pages under ``docs/`` (results, guides, the API
+   reference, whose per-name pages autosummary generates there).
 2. Run ``sphinx-build -W --keep-going -n -E`` with ``docs/conf.py`` into ``build/book/html``
-   (MyST-NB, stored outputs only, no execution, no network).
-3. Check the result: index.html shows the README's title and each notebook page exists and holds
-   at least one ``<img`` (its stored figure outputs).
+   (MyST-NB, stored outputs only, no execution, no network; autodoc imports ``ifslib``).
+3. Check the result: index.html shows the README's title; each notebook page exists and holds
+   at least one ``<img`` (its stored figure outputs); each results page (``docs/results/*.md``)
+   exists and opens with a ``bash`` block, the command that regenerates it; and every name of
+   ``ifslib.__all__`` has an entry in the API reference.
 
 Options: ``--no-check`` skips step 3; ``--check-only`` runs only step 3.
 Exit status is non-zero on any warning, error or failed check.
@@ -37,15 +40,52 @@ def notebooks() -> list[Path]:
     return found
 
 
+def _not_pages(folder: str, names: list[str]) -> set[str]:
+    """What of docs/ is not a page of the book: the build's own files and the front page (copied to the root)."""
+    skip = {n for n in names if n.endswith(".py") or n in ("__pycache__", "_templates")}
+    return skip | ({"index.md"} if Path(folder) == DOCS else set())
+
+
+def _empty_glob(entry: str, listed: set[str]) -> bool:
+    """A toctree glob entry of index.md (``docs/*``) that matches no page of the assembled tree but those ``listed``."""
+    if "*" not in entry or entry.startswith((":", "`")):
+        return False
+    found = {str(p.relative_to(SRC).with_suffix("")) for ext in (".md", ".ipynb", ".rst") for p in SRC.glob(entry + ext)}
+    return not (found - listed)
+
+
 def assemble() -> None:
     """Recreate build/book/src from the repository (copies into build/ only)."""
     shutil.rmtree(SRC, ignore_errors=True)
     (SRC / "notebooks").mkdir(parents=True)
-    shutil.copy2(DOCS / "index.md", SRC / "index.md")
     shutil.copy2(ROOT / "README.md", SRC / "README.md")
     shutil.copytree(ROOT / "figures", SRC / "figures")
+    # The book's own pages keep their place (docs/results/x.md -> src/docs/results/x.md), so a link
+    # in README.md or between pages resolves the same on GitHub and in the book.
+    shutil.copytree(DOCS, SRC / "docs", ignore=_not_pages)
     for nb in notebooks():
         shutil.copy2(nb, SRC / "notebooks" / nb.name)
+    # index.md's toctrees glob docs/results/* and docs/* so that a page added there joins the book
+    # without an edit here; a glob that matches no page yet is dropped (Sphinx would warn, and -W fail)
+    lines = (DOCS / "index.md").read_text(encoding="utf-8").splitlines()
+    listed = {line.strip() for line in lines if "/" in line and "*" not in line and not line.startswith(("`", ":"))}
+    kept = [line for line in lines if not _empty_glob(line.strip(), listed)]
+    (SRC / "index.md").write_text("\n".join(kept) + "\n", encoding="utf-8")
+    _complete_api(SRC / "docs" / "api" / "index.md")
+
+
+def _complete_api(page: Path) -> None:
+    """Append to the API page an entry for each public name it does not list yet (a name exported since)."""
+    import ifslib
+
+    text = page.read_text(encoding="utf-8")
+    listed = set(re.findall(r"^   (\w+)$", text, flags=re.M))
+    missing = [name for name in ifslib.__all__ if name not in listed]
+    if missing:
+        entries = "\n".join(f"   {name}" for name in missing)
+        text += ("\n## Other public names\n\n```{eval-rst}\n.. currentmodule:: ifslib\n\n.. autosummary::\n"
+                 f"   :toctree: generated\n   :nosignatures:\n\n{entries}\n```\n")
+        page.write_text(text, encoding="utf-8")
 
 
 def sphinx() -> int:
@@ -87,6 +127,33 @@ def check() -> list[str]:
             problems.append(f"{page.relative_to(ROOT)}: no <img> (stored figure outputs missing)")
         if f'href="notebooks/{nb.stem}.html"' not in text:
             problems.append(f"index.html: no toctree link to notebooks/{nb.stem}.html")
+    problems += check_results() + check_api()
+    return problems
+
+
+def check_results() -> list[str]:
+    """Each results page (docs/results/*.md) is built and opens with the command that regenerates it."""
+    problems = []
+    for md in sorted((DOCS / "results").glob("*.md")):
+        body = md.read_text(encoding="utf-8").split("\n## ")[0]
+        if "```bash" not in body:
+            problems.append(f"{md.relative_to(ROOT)}: no ```bash block (the command that regenerates it) before its first section")
+        if not (HTML / "docs" / "results" / f"{md.stem}.html").is_file():
+            problems.append(f"missing docs/results/{md.stem}.html")
+    return problems
+
+
+def check_api() -> list[str]:
+    """Every public name of ifslib (``ifslib.__all__``) has an entry in the API reference."""
+    import ifslib
+
+    pages = HTML / "docs" / "api" / "generated"
+    problems = []
+    for name in ifslib.__all__:
+        page = pages / f"ifslib.{name}.html"
+        anchors = (f'id="ifslib.{name}"', f'id="module-ifslib.{name}"')
+        if not page.is_file() or not any(a in page.read_text(encoding="utf-8") for a in anchors):
+            problems.append(f"API reference: no entry for ifslib.{name} (add it to docs/api/index.md)")
     return problems
 
 
@@ -110,7 +177,10 @@ def main() -> int:
             print(f"check failed: {p}", file=sys.stderr)
         if problems:
             return 1
-        print(f"checks passed: index.html + {len(notebooks())} notebook pages with figures")
+        import ifslib
+
+        print(f"checks passed: index.html, {len(notebooks())} notebook pages with figures, "
+              f"{len(list((DOCS / 'results').glob('*.md')))} results pages, {len(ifslib.__all__)} API entries")
     return 0
 
 

@@ -1,18 +1,34 @@
-"""Command line: ``python -m ifslib render | fit | info``.
+"""Command line: ``python -m ifslib render | fit | info`` (also installed as ``ifslib``).
 
 Examples::
 
     python -m ifslib render koch --size 512 --depth 6 -o koch.png
     python -m ifslib fit target.png --pattern koch --steps 1500 -o fitted.json
     python -m ifslib info fitted.json
+    python -m ifslib --version
+
+A command's result goes to standard output; progress goes to standard error, as live bars on a
+terminal and as one line per stage in a log (`ifslib.progress`). Exit codes: see `EXIT_CODES`.
 """
 from __future__ import annotations
 
 import argparse
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
+
+
+#: What ``python -m ifslib`` exits with (printed by ``--help``).
+EXIT_CODES = {
+    0: "success",
+    1: "a file could not be read or written (one line on standard error), or an unexpected error "
+       "(a traceback: please report it)",
+    2: "bad arguments or bad input: an unknown option, a missing file, an invalid IFS or image "
+       "(one line on standard error)",
+    130: "interrupted (Ctrl-C)",
+}
 
 
 def _spec(value: str):
@@ -143,8 +159,17 @@ def cmd_info(args: argparse.Namespace) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m ifslib", description="Differentiable iterated function systems: "
-                                     "render an IFS, fit one to an image, or describe one.")
+    from . import __version__
+
+    codes = "\n".join(textwrap.fill(text, 96, initial_indent=f"  {code:<4} ", subsequent_indent=" " * 7)
+                      for code, text in EXIT_CODES.items())
+    parser = argparse.ArgumentParser(
+        prog="python -m ifslib", formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Differentiable iterated function systems: render an IFS, fit one to an image, or describe one.",
+        epilog="progress: live bars on standard error when it is a terminal; otherwise one line per stage.\n"
+               f"exit codes:\n{codes}\n\n`python -m ifslib COMMAND --help` describes a command's options.")
+    parser.add_argument("--version", action="version", version=f"ifslib {__version__} (torch {_torch_version()}, "
+                        f"Python {sys.version.split()[0]})")
     sub = parser.add_subparsers(dest="command", required=True, metavar="{render,fit,info}")
     r = sub.add_parser("render", help="render an IFS (JSON file or pattern name) to a PNG")
     r.add_argument("spec", help="an ifslib/1 JSON file, or a pattern: koch, koch_paper, carpet, fern, gridN, rosetteN")
@@ -186,7 +211,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="pyramid (the default: coarse to fine in pixels, starts tried until one recovers the "
                         "target; a single run with --checkpoint/--resume; auto for --pattern auto), plain (one run, the paper's), multistart, "
                         "coarse_to_fine, restart, anneal or uncross")
-    f.add_argument("--quiet", action="store_true", help="no progress bar")
+    f.add_argument("--quiet", action="store_true",
+                   help="no progress output (by default: live bars on a terminal, one line per stage in a log)")
     f.add_argument("-o", "--output", required=True, help="JSON file for the fitted IFS")
     f.set_defaults(run=cmd_fit)
     i = sub.add_parser("info", help="print an IFS's maps, contraction factors and leaf count")
@@ -196,8 +222,25 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _torch_version() -> str:
+    import torch
+
+    return torch.__version__
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status (2 and one line on stderr for bad input)."""
+    """Run the command line; returns the exit status (`EXIT_CODES`: 0 done, 1 a file, 2 bad input, 130 Ctrl-C).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program's name (``sys.argv[1:]`` when None).
+
+    Returns
+    -------
+    int
+        The exit status. Bad arguments exit through argparse with status 2 as well.
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     from .errors import IFSError
@@ -207,6 +250,12 @@ def main(argv: list[str] | None = None) -> int:
     except IFSError as exc:
         print(f"ifslib {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:
+        print(f"ifslib {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"ifslib {args.command}: interrupted", file=sys.stderr)
+        return 130
     return 0
 
 

@@ -25,6 +25,7 @@ from tqdm.auto import tqdm
 from ..geometry.crossings import check_curve, crossing_penalty
 from ..raster.distance import distance_field
 from ..errors import IFSError, check_int
+from ..progress import draw_bars, note
 from ..threads import refresh as refresh_threads
 from ..geometry.attractor import check_depth_or_attractor
 from ..geometry.ifs import IFS
@@ -144,8 +145,9 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
     resume : path, optional
         A checkpoint to continue from: the result equals that of an uninterrupted run.
     progress : bool
-        Show a tqdm progress bar labelled ``desc``, with the current loss; a run that stops early
-        says so in one line.
+        Show a tqdm progress bar labelled ``desc``, with the current loss, when standard error is a
+        terminal (or in Jupyter), and say in one line when a run stops early; elsewhere (a log
+        file, a pipe) only one line when the run ends (`ifslib.progress`).
     sigma, levels
         Passed to the loss.
     method, device, gradient
@@ -214,7 +216,9 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         save_ifs(snap, checkpoint)
 
     desc = f"fit · {target.size}²" if desc is None else desc
-    bar = tqdm(total=steps, initial=start, disable=not progress, desc=desc, unit="step")
+    # a live bar on a terminal (or in Jupyter); in a log, one line when the run ends (see ifslib.progress)
+    live = progress and draw_bars()
+    bar = tqdm(total=steps, initial=start, disable=not live, desc=desc, unit="step")
     stopped = "steps"
     for step in range(start, steps):
         t0 = time.perf_counter()
@@ -272,8 +276,10 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
             stopped = "converged"
             break
     bar.close()
-    if stopped == "converged" and progress:
-        tqdm.write(f"{desc}: converged at step {step + 1} of {steps} (best loss {best_loss:.4g} at step {best_step})")
+    if progress and (stopped != "steps" or not live):
+        how = {"converged": f"converged at step {step + 1} of {steps}", "steps": f"ran its {steps} steps",
+               "rollbacks": f"stopped at step {step + 1} of {steps} (rolled-back steps)"}[stopped]
+        note(f"{desc}: {how} (best loss {best_loss:.4g} at step {best_step})")
     if keep_every is not None:
         history["snapshots"]["step"].append(history["step"][-1] + 1 if history["step"] else start)
         history["snapshots"]["points"].append(work.points.detach().tolist())

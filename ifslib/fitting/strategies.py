@@ -55,13 +55,13 @@ import time
 
 import numpy as np
 import torch
-from tqdm.auto import tqdm
 
 from ..errors import IFSError, LeafBudgetError
 from ..geometry.attractor import ATTRACTOR, is_attractor
 from ..geometry.crossings import check_curve
 from ..raster.distance import attractor_leaves_for
 from ..geometry.ifs import IFS
+from ..progress import note
 from .auto import candidates
 from .initialization import initialize, is_curve
 from .metrics import evaluate, self_crossings
@@ -231,7 +231,7 @@ def _pyramid(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, n_st
         if chamfer <= success:
             break
         if progress:
-            tqdm.write(f"start {k + 1}/{n_starts}: Chamfer {chamfer:.2f} px > {success:g} px, trying the next start")
+            note(f"start {k + 1}/{n_starts}: Chamfer {chamfer:.2f} px > {success:g} px, trying the next start")
     best, chamfer = min(tried, key=lambda rc: rc[1])  # Chamfer at the full size: comparable across stages
     best.history.update(cost=cost, stages=stages, starts_tried=len(tried), chamfer=chamfer,
                         recovered=chamfer <= success, judged=ATTRACTOR if final else "depth")
