@@ -13,11 +13,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import resource
-import statistics
 import subprocess
 import sys
-import time
+
+from stepping import timed_steps
 
 CONFIGS = [("koch", "fast", 256), ("triangle", "fast", 256), ("carpet", "fast", 256), ("fern", "fast", 256),
            ("fern", "sampled", 256), ("koch", "fast", 512), ("triangle", "fast", 512), ("carpet", "fast", 512),
@@ -45,20 +44,8 @@ def one(name: str, method: str, size: int, repeat: int, device: str) -> dict:
         if d.is_cuda:
             torch.cuda.synchronize()
 
-    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-    if device != "cpu" and torch.cuda.is_available():
-        torch.cuda.reset_peak_memory_stats()
-    step()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        step()
-        times.append(time.perf_counter() - t0)
-    if device != "cpu" and torch.cuda.is_available():
-        peak = torch.cuda.max_memory_allocated()
-    else:
-        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 - base
-    return {"seconds": statistics.median(times), "peak_bytes": peak, "leaves": leaves}
+    seconds, peak = timed_steps(step, repeat, device)
+    return {"seconds": seconds, "peak_bytes": peak, "leaves": leaves}
 
 
 def main() -> None:

@@ -11,11 +11,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import resource
-import statistics
 import subprocess
 import sys
-import time
+
+from stepping import timed_steps
 
 CONFIGS = [("fast", 256, 3), ("brute", 256, 3), ("fast", 512, 6), ("brute", 512, 6), ("fast", 1024, 7)]
 # bytes per (pixel, leaf) pair that an unchunked autograd brute force keeps (about 10 float32 tensors)
@@ -39,22 +38,10 @@ def one(method: str, size: int, depth: int, repeat: int, device: str) -> dict:
         if d.is_cuda:
             torch.cuda.synchronize()
 
-    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-    if device != "cpu" and torch.cuda.is_available():
-        torch.cuda.reset_peak_memory_stats()
-    step()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        step()
-        times.append(time.perf_counter() - t0)
-    if device != "cpu" and torch.cuda.is_available():
-        peak = torch.cuda.max_memory_allocated()
-    else:
-        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 - base
+    seconds, peak = timed_steps(step, repeat, device)
     leaves = ifslib.expand(ifs, depth)
     pairs = ifslib.nearest_leaf(leaves, size).pairs if method == "fast" else size * size * len(leaves)
-    return {"seconds": statistics.median(times), "peak_bytes": peak, "pairs": pairs}
+    return {"seconds": seconds, "peak_bytes": peak, "pairs": pairs}
 
 
 def main() -> None:

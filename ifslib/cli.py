@@ -114,18 +114,22 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
     t0 = time.perf_counter()
     target = load_target(args.target, args.size, invert=args.invert)
+    attractor = args.depth == "attractor"  # fit the attractor at every stage, not only the last
     if args.pattern == "auto":
+        if attractor:
+            raise IFSError("--depth attractor goes with a pattern: an automatic start compares depths of its own "
+                           "and its fit ends on the attractor anyway")
         start = initialize("auto", target, jitter=args.jitter, seed=args.seed, maps=args.maps, depth=args.depth)
     else:
         if args.maps is not None:
             raise IFSError("--maps goes with --pattern auto")
         ifs = _spec(args.pattern)
-        if args.depth is not None:
+        if args.depth is not None and not attractor:
             ifs.depth = args.depth
         start = initialize(ifs, target, jitter=args.jitter, seed=args.seed)
     result = fit(start, target, steps=args.steps, lr=args.lr, loss=args.loss, seed=args.seed,
                  checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet, strategy=args.strategy,
-                 tol=args.tol)
+                 tol=args.tol, depth="attractor" if attractor else None)
     m = evaluate(result.best, target)
     result.best.meta["scores"] = {
         "depth": {"depth": result.best.depth, **{k: m[k] for k in ("iou", "f1", "chamfer")}},
@@ -192,7 +196,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "gridN, rosetteN, or an ifslib/1 JSON file (default koch)")
     f.add_argument("--maps", type=int, help="with --pattern auto: this many maps instead of comparing candidates")
     f.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
-    f.add_argument("--depth", type=int, help="render depth (default: the pattern's, 3)")
+    f.add_argument("--depth", type=_depth, help="render depth (default: the pattern's, 3), or 'attractor' to fit the "
+                   "attractor at every stage (the default fits end on it anyway)")
     f.add_argument("--steps", type=int, default=1500,
                    help="step budget of each run (default 1500, the paper's run); the default strategy stops each "
                         "stage once its loss has converged")

@@ -16,5 +16,19 @@ def check_int(value, name: str, minimum: int, hint: str = "") -> int:
     return value
 
 
+def check_positive(value, name: str, unit: str = "") -> float:
+    """Return ``value`` as a float if it is a finite real number > 0 (not a bool), else raise `IFSError`.
+
+    The message reads ``{name} must be a finite number{unit} > 0, got {value!r}``.
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = float("nan")
+    if isinstance(value, bool) or not (number > 0 and number != float("inf")):
+        raise IFSError(f"{name} must be a finite number{unit} > 0, got {value!r}")
+    return number
+
+
 class LeafBudgetError(IFSError):
     """More leaves than the leaf budget allows (the message says how many, and what to change)."""

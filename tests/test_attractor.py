@@ -197,3 +197,24 @@ def test_cli_draws_the_attractor_and_a_zoom(tmp_path, capsys):
     assert ifslib.cli.main(["render", "fern", "--size", "32", "--chaos", "20000", "-o", str(out)]) == 0
     assert "chaos game (20,000 points, seed 0)" in capsys.readouterr().out
     assert math.isfinite(out.stat().st_size)
+
+
+def test_cli_reports_a_leaf_budget_exceeded(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(ifslib.geometry.attractor, "DEFAULT_MAX_LEAVES", 1000)
+    code = ifslib.cli.main(["render", "carpet", "--size", "64", "--depth", "attractor", "-o", str(tmp_path / "c.png")])
+    assert code == 2
+    assert "needs more than 1,000 leaves" in capsys.readouterr().err
+
+
+def test_cli_fit_of_the_attractor_at_every_stage(tmp_path, capsys):
+    target = tmp_path / "koch.png"
+    assert ifslib.cli.main(["render", "koch", "--size", "48", "--depth", "attractor", "-o", str(target)]) == 0
+    out = tmp_path / "fit.json"
+    assert ifslib.cli.main(["fit", str(target), "--size", "48", "--depth", "attractor", "--steps", "20", "--quiet",
+                            "--strategy", "plain", "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "attractor: IoU" in printed and "drawn at depth 3" in printed
+    scores = ifslib.load_ifs(out).meta["scores"]
+    assert set(scores) == {"depth", "attractor"} and scores["attractor"]["chamfer"] < 3
+    assert ifslib.cli.main(["fit", str(target), "--pattern", "auto", "--depth", "attractor", "-o", str(out)]) == 2
+    assert "--depth attractor goes with a pattern" in capsys.readouterr().err

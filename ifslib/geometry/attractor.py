@@ -45,7 +45,7 @@ from dataclasses import dataclass
 
 import torch
 
-from ..errors import IFSError, LeafBudgetError
+from ..errors import IFSError, LeafBudgetError, check_positive
 from .ifs import IFS, check_depth
 from .rules import rule_maps, singular_values
 
@@ -85,13 +85,12 @@ def check_depth_or_attractor(depth) -> int | str:
 
 def check_tolerance(tolerance) -> float:
     """Return ``tolerance`` (pixels) as a float if it is finite and > 0, else raise `IFSError`."""
-    try:
-        value = float(tolerance)
-    except (TypeError, ValueError):
-        raise IFSError(f"tolerance must be a number of pixels > 0, got {tolerance!r}") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise IFSError(f"tolerance must be a finite number of pixels > 0, got {tolerance!r}")
-    return value
+    return check_positive(tolerance, "tolerance", " of pixels")
+
+
+def _plane_tolerance(tolerance) -> float:
+    """``tolerance`` (plane units) as a float, if it is a finite real number > 0; else `IFSError`."""
+    return check_positive(tolerance, "tolerance", " (plane units)")
 
 
 def check_window(window) -> tuple[float, float, float, float]:
@@ -236,8 +235,7 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     -------
     AttractorLeaves
     """
-    if not (isinstance(tolerance, (int, float)) and tolerance > 0 and math.isfinite(tolerance)):
-        raise IFSError(f"tolerance must be a finite number > 0 (plane units), got {tolerance!r}")
+    tolerance = _plane_tolerance(tolerance)
     budget = DEFAULT_MAX_LEAVES if max_leaves is None else int(max_leaves)
     if budget < 1:
         raise IFSError(f"max_leaves must be >= 1, got {max_leaves!r}")
@@ -379,8 +377,7 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
     -------
     AttractorLeaves
     """
-    if not (isinstance(tolerance, (int, float)) and tolerance > 0 and math.isfinite(tolerance)):
-        raise IFSError(f"tolerance must be a finite number > 0 (plane units), got {tolerance!r}")
+    tolerance = _plane_tolerance(tolerance)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")
     with torch.no_grad():

@@ -6,12 +6,11 @@ leaf tensor that requires grad: fitting moves them. `IFS.maps` builds the rules'
 from __future__ import annotations
 
 import copy
-import math
 from typing import Any, Iterable, Sequence
 
 import torch
 
-from ..errors import IFSError, check_int
+from ..errors import IFSError, check_int, check_positive
 from .primitives import Primitive
 from .rules import MIN_SINGULAR, Rule, check_gradient_mode, check_rule_lengths, rule_maps, singular_values
 
@@ -183,13 +182,7 @@ def check_depth(depth: Any) -> int:
 
 def check_sigma(sigma: Any) -> float:
     """Return ``sigma`` as a float if it is finite and > 0, else raise `IFSError`."""
-    try:
-        value = float(sigma)
-    except (TypeError, ValueError):
-        raise IFSError(f"sigma must be a number > 0, got {sigma!r}") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise IFSError(f"sigma must be a finite number > 0, got {sigma!r}")
-    return value
+    return check_positive(sigma, "sigma")
 
 
 __all__ = ["IFS", "Rule", "Primitive", "check_depth", "check_gradient_mode", "check_rule_lengths"]

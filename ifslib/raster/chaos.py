@@ -17,7 +17,7 @@ import math
 import numpy as np
 import torch
 
-from ..errors import IFSError, check_int
+from ..errors import check_int
 from ..geometry.attractor import CHAOS_FLOOR, check_contractive_maps
 from ..geometry.ifs import IFS
 from .nearest import nearest_point, pixel_centres

@@ -75,7 +75,7 @@ def _brute(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
 
 def pixel_size(size: int, window: tuple[float, float, float, float] | None = None) -> float:
     """A pixel's side in plane units (the smaller side, for a window that is not square)."""
-    x0, y0, x1, y1 = FRAME if window is None else window
+    x0, y0, x1, y1 = FRAME if window is None else check_window(window)
     return min(x1 - x0, y1 - y0) / size
 
 

@@ -102,7 +102,8 @@ def nearest_point(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tup
 
     tree = cKDTree(points.detach().cpu().double().numpy(), balanced_tree=False, compact_nodes=False)
     query = torch.stack([x.detach(), y.detach()], 1).cpu().double().numpy()
-    dist, index = tree.query(query)
+    # the queries are independent: as many workers as torch has threads (`ifslib.threads`)
+    dist, index = tree.query(query, workers=max(1, torch.get_num_threads()))
     return (torch.from_numpy(index).to(points.device), torch.from_numpy(dist).to(device=x.device, dtype=x.dtype))
 
 

@@ -170,10 +170,10 @@ def quiver_panels(xs: np.ndarray, ys: np.ndarray, fields: Sequence[np.ndarray], 
     return fig
 
 
-def rendered(ifs: IFS, size: int, depth: int | None = None) -> np.ndarray:
-    """A no-grad render as a numpy array, for showing."""
+def rendered(ifs: IFS, size: int, depth: int | str | None = None, **kwargs) -> np.ndarray:
+    """A no-grad render as a numpy array, for showing (``depth="attractor"``, ``window``, ``method``: see `ifslib.render`)."""
     with torch.no_grad():
-        return render(ifs, size, depth).cpu().numpy()
+        return render(ifs, size, depth, **kwargs).cpu().numpy()
 
 
 def save_figure(fig: plt.Figure, name: str, folder: str | os.PathLike | None, dpi: int = 100) -> Path | None:
