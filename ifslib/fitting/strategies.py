@@ -101,7 +101,7 @@ PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
 #: the inverse problem asks for: a drawing at depth K can match the target while its attractor does
 #: not), of at most this many steps ...
 ATTRACTOR_STAGE_STEPS = 300
-#: ... with the certified cut (`ifslib.distance_field(..., depth="attractor")`) when it has at most this
+#: ... with the certified cut (`ifslib.distance_field` with ``depth="attractor"``) when it has at most this
 #: many leaves, else with sampled leaves of it (``method="sampled"``: overlapping copies of a shape).
 FIT_MAX_LEAVES = 300_000
 
