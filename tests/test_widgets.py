@@ -115,3 +115,21 @@ def test_affine_maps_in_the_explorer(explorer, tmp_path):
     p4 = explorer.current().points[4].tolist()
     flat = explorer.set_point(6, (p4[0] + 0.1) / 2, (p4[1] - 0.45) / 2)  # the first map's target points in a row
     assert "degenerate" in flat["warning"] and "degenerate" in explorer.warning.value
+
+
+def test_the_explorer_draws_the_attractor_and_zooms_into_it(explorer):
+    drawn = explorer.last["image"]
+    explorer.attractor.value = True
+    limit = explorer.last
+    assert limit["attractor"] and limit["window"] is None and limit["warning"] is None
+    expected = ifslib.render(explorer.current(), 48, "attractor").detach().numpy()
+    np.testing.assert_allclose(limit["image"], expected, atol=1e-6)
+    assert not np.array_equal(limit["image"], drawn)
+    peak = explorer.current().points.detach().numpy()[2]
+    explorer.zoom_x.value, explorer.zoom_y.value = float(peak[0]), float(peak[1]) - 0.004
+    explorer.zoom.value = 16.0
+    zoomed = explorer.last
+    half = 0.5 / 16
+    assert zoomed["window"] == pytest.approx((peak[0] - half, peak[1] - 0.004 - half, peak[0] + half, peak[1] - 0.004 + half))
+    assert 0.02 < (zoomed["image"] >= 0.5).mean() < 0.6  # the curve crosses the window, a pixel or two wide
+    assert explorer.figure() is not None

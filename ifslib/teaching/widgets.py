@@ -3,7 +3,9 @@
 ``Explorer()`` shows, for a pattern (Koch, the paper's Koch start, the carpet, a grid, a rosette or an
 ``ifslib/1`` JSON file): the render, the outlines of the copies that make it up, every map's matrix
 with its contraction factor and, when a target is chosen, the loss and IoU, all redrawn when a
-slider moves. An invalid state (a zero-length segment, a map that does not contract) shows a
+slider moves. The ``attractor`` box draws the attractor itself instead of the drawing at the depth,
+and ``zoom`` (with its centre, ``zoom x`` and ``zoom y``) magnifies it up to 64 times, its leaves
+refined for the window's own pixels (`ifslib.render`'s ``window``). An invalid state (a zero-length segment, a map that does not contract) shows a
 readable warning instead of a traceback. Without a frontend (papermill, nbval) nothing waits for
 input: `Explorer.figure` draws the current state as a static matplotlib figure.
 
@@ -79,6 +81,10 @@ class Explorer:
         self.sigma = w.FloatSlider(value=1.0, min=0.25, max=8.0, step=0.25, description="σ (pixels)")
         self.target = w.Dropdown(options=TARGETS, value=target, description="target")
         self.show_outlines = w.Checkbox(value=True, description="copy outlines")
+        self.attractor = w.Checkbox(value=False, description="attractor")
+        self.zoom = w.FloatLogSlider(value=1.0, base=2, min=0, max=6, step=0.5, description="zoom")
+        self.zoom_x = w.FloatSlider(value=0.0, min=-0.5, max=0.5, step=0.005, description="zoom x")
+        self.zoom_y = w.FloatSlider(value=0.0, min=-0.5, max=0.5, step=0.005, description="zoom y")
         self.image = w.Image(format="png", width=size, height=size)
         self.info = w.HTML()
         self.warning = w.HTML()
@@ -88,7 +94,8 @@ class Explorer:
         self._quiet = False
         self.ifs = self._load_pattern()
         self._build_sliders()
-        for control in (self.depth, self.sigma, self.target, self.show_outlines):
+        for control in (self.depth, self.sigma, self.target, self.show_outlines, self.attractor, self.zoom, self.zoom_x,
+                        self.zoom_y):
             control.observe(self.update, names="value")
         self.pattern.observe(self._pattern_changed, names="value")
         self.json_path.observe(self._pattern_changed, names="value")
@@ -147,6 +154,13 @@ class Explorer:
             self._targets[name] = load_target(name, self.size)
         return self._targets[name]
 
+    def window(self) -> tuple[float, float, float, float] | None:
+        """The box of the plane drawn: None for the frame, else ``zoom``'s square around (``zoom x``, ``zoom y``)."""
+        if self.zoom.value <= 1:
+            return None
+        half = 0.5 / self.zoom.value
+        return (self.zoom_x.value - half, self.zoom_y.value - half, self.zoom_x.value + half, self.zoom_y.value + half)
+
     # -- drawing -----------------------------------------------------------------------------------
     def _warn(self, message: str) -> None:
         self.warning.value = (f"<div style='background:#fff3cd;color:#664d03;padding:4px'>⚠ "
@@ -177,14 +191,20 @@ class Explorer:
             return self.last
         started = time.perf_counter()
         ifs = self.current()
+        window = self.window()
+        limit = self.attractor.value or window is not None  # the attractor itself, possibly zoomed
         try:
             with torch.no_grad():
-                dist = distance_field(ifs, self.size)
-                image = shade(dist, self.sigma.value / self.size).numpy()
+                if limit:
+                    dist = distance_field(ifs, self.size, "attractor", window=window)
+                else:
+                    dist = distance_field(ifs, self.size)
+                image = shade(dist, self.sigma.value / self.size * (1 if window is None else 1 / self.zoom.value)).numpy()
                 outlines = (figures.copy_outlines(ifs, ifs.depth, self.size)
-                            if self.show_outlines.value and ifs.depth > 0 else None)
-                target = self._target()
-                state = {"image": image, "scales": ifs.scales().numpy(), "warning": None}
+                            if self.show_outlines.value and ifs.depth > 0 and window is None else None)
+                target = None if window is not None else self._target()
+                state = {"image": image, "scales": ifs.scales().numpy(), "warning": None, "window": window,
+                         "attractor": limit}
                 text = _maps_table(ifs)
                 if target is not None:
                     state["loss"] = float(loss_fn(dist, target, "multiscale_distance"))
@@ -207,7 +227,10 @@ class Explorer:
         ifs = self.current()
         fig, ax = plt.subplots(figsize=(4, 4))
         if self.last.get("image") is not None:
-            figures.show_image(ax, self.last["image"], f"{self.pattern.value}, depth {ifs.depth}")
+            what = "the attractor" if self.last.get("attractor") else f"depth {ifs.depth}"
+            figures.show_image(ax, self.last["image"], f"{self.pattern.value}, {what}")
+            if self.last.get("window") is not None:
+                return fig  # a zoomed window: the outlines and points are of the whole frame
             if self.show_outlines.value and ifs.depth > 0:
                 figures.draw_outlines(ax, figures.copy_outlines(ifs, ifs.depth, self.size))
             figures.draw_points(ax, ifs)
@@ -219,7 +242,8 @@ class Explorer:
     @property
     def widget(self) -> w.Widget:
         """The whole explorer as one widget."""
-        controls = w.VBox([self.pattern, self.json_path, self.depth, self.sigma, self.target, self.show_outlines])
+        controls = w.VBox([self.pattern, self.json_path, self.depth, self.sigma, self.target, self.show_outlines,
+                           self.attractor, self.zoom, self.zoom_x, self.zoom_y])
         return w.VBox([w.HBox([controls, self.image]), self.warning, w.HBox([self.points, self.info])])
 
     def _ipython_display_(self) -> None:
