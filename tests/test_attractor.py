@@ -225,3 +225,14 @@ def test_cli_fit_of_the_attractor_at_every_stage(tmp_path, capsys):
     assert set(scores) == {"depth", "attractor"} and scores["attractor"]["chamfer"] < 3
     assert ifslib.cli.main(["fit", str(target), "--pattern", "auto", "--depth", "attractor", "-o", str(out)]) == 2
     assert "--depth attractor goes with a pattern" in capsys.readouterr().err
+
+
+def test_a_fit_over_the_leaf_budget_stops_with_the_advice_not_with_rollbacks(monkeypatch):
+    monkeypatch.setattr(ifslib.geometry.attractor, "DEFAULT_MAX_LEAVES", 500)
+    target = ifslib.load_target(ifslib.render(ifslib.patterns.sierpinski_carpet(), 32).detach().numpy() >= 0.5, 32)
+    with pytest.raises(ifslib.IFSError, match="method='sampled'"):
+        ifslib.fit(ifslib.patterns.sierpinski_carpet(), target, steps=5, depth="attractor", strategy="plain",
+                   progress=False)
+    result = ifslib.fit(ifslib.patterns.sierpinski_carpet(), target, steps=5, depth="attractor", method="sampled",
+                        strategy="plain", progress=False)
+    assert result.history["cost"] == 5 and not result.history["rollbacks"]

@@ -24,7 +24,7 @@ from tqdm.auto import tqdm
 
 from ..geometry.crossings import check_curve, crossing_penalty
 from ..raster.distance import distance_field
-from ..errors import IFSError, check_int
+from ..errors import IFSError, LeafBudgetError, check_int
 from ..progress import draw_bars, note
 from ..threads import refresh as refresh_threads
 from ..geometry.attractor import check_depth_or_attractor
@@ -235,6 +235,8 @@ def run(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
                 value.backward()
                 if not torch.isfinite(work.points.grad).all():
                     reason = "gradient is not finite"
+        except LeafBudgetError:
+            raise  # not a bad step: the attractor's cut is too fine for the budget at any points near these
         except IFSError as exc:  # a rule became degenerate or non-contractive
             reason = str(exc)
         if reason is not None:

@@ -271,7 +271,8 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
                 raise LeafBudgetError(
                     f"the attractor at a tolerance of {tolerance:.3g} plane units needs more than {budget:,} leaves "
                     f"(at word length {level + 1}, {nodes.shape[0]:,} branches of {m} maps are still coarser than "
-                    f"it): raise max_leaves (or IFSLIB_MAX_LEAVES), the tolerance, or draw fewer pixels")
+                    f"it): raise max_leaves (or IFSLIB_MAX_LEAVES) or the tolerance, draw fewer pixels, or draw "
+                    f"sampled leaves of the cut (method='sampled'), as fits of overlapping copies do")
             level += 1
             children = _compose(nodes, work)
             words = torch.cat([words.repeat_interleave(m, 0), digits.repeat(nodes.shape[0])[:, None]], 1)
