@@ -194,3 +194,30 @@ def test_a_dotted_thin_line_is_still_a_curve():
     assert auto.classify(dotted) == "curve"
     start = auto.curve_start(dotted, 4)
     assert ifslib.evaluate(start, curve_target(96))["chamfer"] < 3.0
+
+
+@pytest.mark.parametrize("picture, argv, message", [
+    ("one", [], "the figure has 1 pixel(s): too few"),
+    ("empty", [], "the target image is uniform"),
+    ("full", [], "the target image is uniform"),
+    ("square", ["--maps", "0"], "number of maps must be an integer >= 1, got 0"),
+    ("square", ["--maps", "1000"], "number of maps must be at most 64, got 1000"),
+])
+def test_cli_refuses_what_no_automatic_start_can_fit(tmp_path, capsys, picture, argv, message):
+    from PIL import Image
+
+    import ifslib.cli
+
+    image = np.zeros((32, 32), np.uint8)
+    if picture == "one":
+        image[10, 12] = 255
+    elif picture == "full":
+        image[:] = 255
+    elif picture == "square":
+        image[8:24, 8:24] = 255
+    path = tmp_path / f"{picture}.png"
+    Image.fromarray(image).save(path)
+    code = ifslib.cli.main(["fit", str(path), "--pattern", "auto", "--size", "32", "--quiet", "-o",
+                            str(tmp_path / "fit.json")] + argv)
+    assert code == 2
+    assert message in capsys.readouterr().err

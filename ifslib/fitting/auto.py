@@ -51,6 +51,11 @@ SINGULAR_RANGE = (0.05, 0.85)
 PRIMITIVES = ("box", "disk")
 
 
+#: An automatic start has at most this many maps (each brings three control points and a copy of the figure).
+MAX_MAPS = 64
+#: A figure of fewer pixels than this is too small to read a curve or a shape from.
+MIN_PIXELS = 4
+
 #: At most this many one-pixel dilations join a dotted figure before its skeleton is taken.
 MAX_JOIN = 4
 
@@ -83,6 +88,10 @@ def thickness(target: Target, skeleton: np.ndarray | None = None) -> float:
 def classify(target: Target) -> str:
     """``"curve"`` for a thin figure (`thickness` below `CURVE_WIDTH`) whose skeleton is one path
     (its longest path holds `CURVE_PATH_SHARE` of it), else ``"shape"``."""
+    pixels = int(target.mask.sum())
+    if pixels < MIN_PIXELS:
+        raise IFSError(f"the figure has {pixels} pixel(s): too few to read a curve or a shape from (at least "
+                       f"{MIN_PIXELS})")
     skeleton = _skeleton(target)
     if thickness(target, skeleton) >= CURVE_WIDTH:
         return "shape"
@@ -196,6 +205,8 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None) -> lis
         check_depth(depth)
     if maps is not None:
         check_int(maps, "number of maps", 1 if kind == "shape" else 2)
+        if maps > MAX_MAPS:
+            raise IFSError(f"number of maps must be at most {MAX_MAPS}, got {maps}")
         return [(maps, DEFAULT_DEPTH if depth is None else depth)]
     if kind == "shape" and depth is None:
         return list(SHAPE_CHOICES)
