@@ -215,7 +215,7 @@ def _to_window(points: torch.Tensor, window: tuple[float, float, float, float]) 
 
 
 def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, float, float, float] | None = None,
-                     max_leaves: int | None = None) -> AttractorLeaves:
+                     max_leaves: int | None = None, rules=None) -> AttractorLeaves:
     """Cut the word tree of ``maps`` per branch where ``||L_w|| R <= tolerance`` (steps 3-4 of the module docstring).
 
     Parameters
@@ -230,6 +230,8 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     max_leaves : int, optional
         The leaf budget (`DEFAULT_MAX_LEAVES` when None): the expansion stops with an `IFSError`
         as soon as it knows it would exceed it, before allocating the next level.
+    rules : sequence of Rule, optional
+        The rules the maps come from, named in the message of a map that does not contract.
 
     Returns
     -------
@@ -244,7 +246,7 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     with torch.no_grad():
         work = maps.detach()
         m, dtype = work.shape[0], work.dtype
-        check_contractive_maps(work)
+        check_contractive_maps(work, rules)
     centre_grad, radius = attractor_ball(maps)
     with torch.no_grad():
         centre = centre_grad.detach()
@@ -299,7 +301,8 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
 
 def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, float, float] | None = None, *,
                      max_leaves: int | None = None, device: torch.device | str = "cpu",
-                     dtype: torch.dtype | None = None, gradient: str = "exact") -> AttractorLeaves:
+                     dtype: torch.dtype | None = None, gradient: str = "exact",
+                     samples: int | None = None) -> AttractorLeaves:
     """The attractor's point leaves of an IFS (see `attractor_leaves`), differentiable through `leaf_points`.
 
     Parameters
@@ -314,6 +317,9 @@ def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, flo
         Leaf budget; `DEFAULT_MAX_LEAVES` when None.
     device, dtype, gradient
         As in `ifslib.geometry.leaves.expand`.
+    samples : int, optional
+        Draw this many leaves of the cut at random (`sample_attractor`) instead of the whole cut
+        (then ``window`` and ``max_leaves`` play no part).
 
     Returns
     -------
@@ -322,8 +328,9 @@ def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, flo
     ifs.validate()
     points = ifs.points.to(device=device, dtype=dtype or ifs.points.dtype)
     maps = rule_maps(points, ifs.rules, gradient)
-    check_contractive_maps(maps, ifs.rules)
-    return attractor_leaves(maps, tolerance, window, max_leaves)
+    if samples is not None:
+        return sample_attractor(maps, tolerance, samples, rules=ifs.rules)
+    return attractor_leaves(maps, tolerance, window, max_leaves, ifs.rules)
 
 
 _UNIFORMS: dict = {}
@@ -347,7 +354,7 @@ def _compose_rows(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
     return a0 * b[:, None, 0, :] + a1 * b[:, None, 1, :] + torch.nn.functional.pad(a[:, :, 2:3], (2, 0))
 
 
-def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0) -> AttractorLeaves:
+def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0, rules=None) -> AttractorLeaves:
     """``n`` leaves of the cut of `attractor_leaves`, drawn at random: a chaos game on the word tree.
 
     Each of ``n`` walkers descends the word tree from the root, choosing map ``i`` with the chaos
@@ -373,6 +380,8 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
     seed : int
         Seeds the walkers' choices: the same seed gives the same digits, so leaves move smoothly
         with the maps from one fit step to the next.
+    rules : sequence of Rule, optional
+        The rules the maps come from, named in the message of a map that does not contract.
 
     Returns
     -------
@@ -384,7 +393,7 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
     with torch.no_grad():
         work = maps.detach()
         m, dtype, device = work.shape[0], work.dtype, work.device
-        largest = check_contractive_maps(work)
+        largest = check_contractive_maps(work, rules)
     centre_grad, radius = attractor_ball(maps)
     with torch.no_grad():
         centre = centre_grad.detach()

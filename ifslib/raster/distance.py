@@ -27,9 +27,7 @@ from torch.utils.checkpoint import checkpoint
 
 from ..errors import IFSError, check_int
 from ..geometry.attractor import (DEFAULT_SAMPLES, DEFAULT_TOLERANCE, AttractorLeaves, check_depth_or_attractor,
-                                  check_tolerance, check_window, expand_attractor, is_attractor, leaf_points,
-                                  sample_attractor)
-from ..geometry.rules import rule_maps
+                                  check_tolerance, check_window, expand_attractor, is_attractor, leaf_points)
 from ..geometry.ifs import IFS
 from ..geometry.leaves import Leaves, check_budget, expand, expand_batch, sdf_dense, sdf_pairs
 from .nearest import nearest_leaf, nearest_point, pixel_centres
@@ -90,25 +88,26 @@ def point_distance(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> to
 
 def attractor_leaves_for(ifs: IFS, size: int, window=None, tolerance: float = DEFAULT_TOLERANCE, *,
                          device: str | torch.device = "cpu", dtype: torch.dtype | None = None,
-                         gradient: str = "exact", max_leaves: int | None = None) -> AttractorLeaves:
-    """The attractor's leaves for a ``size x size`` picture of ``window``: ``tolerance`` pixels of it, in plane units."""
+                         gradient: str = "exact", max_leaves: int | None = None,
+                         sampled: bool = False, samples: int | None = None) -> AttractorLeaves:
+    """The attractor's leaves for a ``size x size`` picture of ``window``: ``tolerance`` pixels of it, in plane units.
+
+    ``sampled``: ``samples`` random leaves of the cut (two per pixel, between 16,384 and
+    `ifslib.geometry.attractor.DEFAULT_SAMPLES`, when None) instead of the whole cut.
+    """
     size = check_size(size)
     window = FRAME if window is None else check_window(window)
     eps = check_tolerance(tolerance) * pixel_size(size, window)
-    return expand_attractor(ifs, eps, window, max_leaves=max_leaves, device=device, dtype=dtype, gradient=gradient)
+    if sampled and samples is None:
+        samples = min(DEFAULT_SAMPLES, max(1 << 14, 2 * size * size))
+    return expand_attractor(ifs, eps, window, max_leaves=max_leaves, device=device, dtype=dtype, gradient=gradient,
+                            samples=samples if sampled else None)
 
 
 def _attractor_field(ifs: IFS, size: int, method: str, window, tolerance: float, dev: torch.device, dtype: torch.dtype,
-                     gradient: str, max_leaves: int | None, samples: int) -> torch.Tensor:
-    if method == "sampled":
-        window_ = FRAME if window is None else check_window(window)
-        eps = check_tolerance(tolerance) * pixel_size(size, window_)
-        ifs.validate()
-        n = min(DEFAULT_SAMPLES, max(1 << 14, 2 * size * size)) if samples is None else samples
-        leaves = sample_attractor(rule_maps(ifs.points.to(device=dev, dtype=dtype), ifs.rules, gradient), eps, n)
-    else:
-        leaves = attractor_leaves_for(ifs, size, window, tolerance, device=dev, dtype=dtype, gradient=gradient,
-                                      max_leaves=max_leaves)
+                     gradient: str, max_leaves: int | None, samples: int | None) -> torch.Tensor:
+    leaves = attractor_leaves_for(ifs, size, window, tolerance, device=dev, dtype=dtype, gradient=gradient,
+                                  max_leaves=max_leaves, sampled=method == "sampled", samples=samples)
     x, y = pixel_centres(size, dev, dtype, window)
     if method == "brute":  # every leaf at every pixel: the reference for the KD-tree
         sq = torch.cat([torch.cdist(torch.stack([x[i:i + 4096], y[i:i + 4096]], 1), leaves.points)
