@@ -61,8 +61,8 @@ DEFAULT_MAX_LEAVES = int(os.environ.get("IFSLIB_MAX_LEAVES", 4_000_000))
 #: Depth of the words that tighten the invariant ball's radius (step 2 of the module docstring).
 BALL_WORDS = 4096
 
-#: `sample_attractor` chooses map ``i`` in proportion to ``max(|det L_i|, CHAOS_FLOOR * max_j |det L_j|)``,
-#: as the chaos game does (`ifslib.raster.chaos`).
+#: The chaos game (`ifslib.raster.chaos`) and `sample_attractor` choose map ``i`` in proportion to
+#: ``max(|det L_i|, CHAOS_FLOOR * max_j |det L_j|)`` (`chaos_probabilities`).
 CHAOS_FLOOR = 0.02
 
 #: Leaves `sample_attractor` draws by default (``method="sampled"``).
@@ -129,6 +129,28 @@ def _compose(nodes: torch.Tensor, maps: torch.Tensor) -> torch.Tensor:
 def _apply(maps: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
     """``(N, 2, 3)`` maps applied to one point ``(2,)``: ``(N, 2)``."""
     return maps[..., :2] @ point + maps[..., 2]
+
+
+def chaos_probabilities(maps: torch.Tensor) -> torch.Tensor:
+    """The chaos game's choice of maps: ``(m,)`` float64 probabilities for ``(m, 3, 3)`` (or ``(m, 2, 3)``) maps.
+
+    In proportion to the area each map keeps, ``|det L_i|``, with a floor of `CHAOS_FLOOR` times the
+    largest, so that a map that flattens the figure (a fern's stem) is still chosen.
+    """
+    lin = maps.detach()[:, :2, :2]
+    det = (lin[:, 0, 0] * lin[:, 1, 1] - lin[:, 0, 1] * lin[:, 1, 0]).abs().double()
+    weight = torch.maximum(det, CHAOS_FLOOR * det.max().clamp_min(1e-300))
+    return weight / weight.sum()
+
+
+def _prepare(maps: torch.Tensor, rules=None) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, float]:
+    """What both cuts start from: the maps without autograd (checked to contract, naming ``rules``), their
+    largest singular values ``(m,)``, and the ball of `attractor_ball` (its centre with autograd)."""
+    with torch.no_grad():
+        work = maps.detach()
+        largest = check_contractive_maps(work, rules)
+    centre, radius = attractor_ball(maps)
+    return work, largest, centre, radius
 
 
 def attractor_ball(maps: torch.Tensor) -> tuple[torch.Tensor, float]:
@@ -243,11 +265,8 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
         raise IFSError(f"max_leaves must be >= 1, got {max_leaves!r}")
     if window is not None:
         window = check_window(window)
-    with torch.no_grad():
-        work = maps.detach()
-        m, dtype = work.shape[0], work.dtype
-        check_contractive_maps(work, rules)
-    centre_grad, radius = attractor_ball(maps)
+    work, _, centre_grad, radius = _prepare(maps, rules)
+    m, dtype = work.shape[0], work.dtype
     with torch.no_grad():
         centre = centre_grad.detach()
         word_dtype = torch.uint8 if m < 255 else torch.int16
@@ -358,7 +377,7 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
     """``n`` leaves of the cut of `attractor_leaves`, drawn at random: a chaos game on the word tree.
 
     Each of ``n`` walkers descends the word tree from the root, choosing map ``i`` with the chaos
-    game's probability (`ifslib.raster.chaos.chaos_probabilities`' rule: in proportion to
+    game's probability (`chaos_probabilities`: in proportion to
     ``|det L_i|``, with a floor), and stops at the first word with ``||L_w|| R <= tolerance``: it
     ends on a leaf of the certified cut. So every sampled leaf is within ``tolerance`` of the
     attractor (the field from them is never below ``d(x, A) - tolerance``), and, where the
@@ -390,20 +409,14 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
     tolerance = _plane_tolerance(tolerance)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")
-    with torch.no_grad():
-        work = maps.detach()
-        m, dtype, device = work.shape[0], work.dtype, work.device
-        largest = check_contractive_maps(work, rules)
-    centre_grad, radius = attractor_ball(maps)
+    work, largest, centre_grad, radius = _prepare(maps, rules)
+    m, dtype, device = work.shape[0], work.dtype, work.device
     with torch.no_grad():
         centre = centre_grad.detach()
-        lin = work[:, :2, :2]
-        det = (lin[:, 0, 0] * lin[:, 1, 1] - lin[:, 0, 1] * lin[:, 1, 0]).abs().double()
-        weight = torch.maximum(det, CHAOS_FLOOR * det.max().clamp_min(1e-300))
         # the deepest a walker can go: every step shrinks its error by at least the largest scale
         longest = max(1, math.ceil(math.log(tolerance / radius) / math.log(float(largest.max())))) if radius > tolerance else 0
         # inverse-CDF draws from fixed uniforms: the same seed gives the same words while the maps move
-        cdf = (weight / weight.sum()).cumsum(0).to(dtype=torch.float64)
+        cdf = chaos_probabilities(work).cumsum(0)
         digits = torch.searchsorted(cdf[:-1].contiguous(), _uniforms(int(seed), n, max(longest, 1)).contiguous()).to(device)
         word_dtype = torch.uint8 if m < 255 else torch.int16
         current = torch.eye(3, dtype=dtype, device=device)[None, :2].repeat(n, 1, 1)
@@ -447,6 +460,6 @@ def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
     return _apply(composed, leaves.centre)
 
 
-__all__ = ["ATTRACTOR", "AttractorLeaves", "CHAOS_FLOOR", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
+__all__ = ["ATTRACTOR", "AttractorLeaves", "CHAOS_FLOOR", "chaos_probabilities", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
            "attractor_ball", "attractor_leaves", "check_contractive_maps", "check_depth_or_attractor",
            "check_tolerance", "check_window", "expand_attractor", "is_attractor", "leaf_points", "sample_attractor"]

@@ -18,25 +18,15 @@ import numpy as np
 import torch
 
 from ..errors import check_int
-from ..geometry.attractor import CHAOS_FLOOR, check_contractive_maps
+from ..geometry.attractor import chaos_probabilities, check_contractive_maps
 from ..geometry.ifs import IFS
 from .nearest import nearest_point, pixel_centres
 
 #: Chains run side by side (each a vectorised row).
 CHAINS = 1024
 
-#: A map is chosen with probability in proportion to ``max(|det L_i|, FLOOR * max_j |det L_j|)``.
-FLOOR = CHAOS_FLOOR
-
 #: Points of the chaos game a picture uses by default.
 DEFAULT_POINTS = 1_000_000
-
-
-def chaos_probabilities(maps: np.ndarray) -> np.ndarray:
-    """The chaos game's choice probabilities ``(m,)`` for ``(m, 3, 3)`` (or ``(m, 2, 3)``) float maps."""
-    det = np.abs(maps[:, 0, 0] * maps[:, 1, 1] - maps[:, 0, 1] * maps[:, 1, 0])
-    weight = np.maximum(det, FLOOR * max(det.max(), 1e-300))
-    return weight / weight.sum()
 
 
 def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
@@ -73,7 +63,7 @@ def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
     rng = np.random.default_rng(seed)
     chains = min(CHAINS, n)
     steps = math.ceil(n / chains)
-    p = chaos_probabilities(maps)
+    p = chaos_probabilities(maps_t).numpy()
     current = fixed[rng.choice(m, size=chains, p=p)]
     out = np.empty((steps, chains, 2))
     for k in range(steps):
@@ -103,4 +93,4 @@ def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, win
     return nearest_point(points, x, y)[1].view(size, size)
 
 
-__all__ = ["CHAINS", "DEFAULT_POINTS", "FLOOR", "chaos_field", "chaos_game", "chaos_probabilities"]
+__all__ = ["CHAINS", "DEFAULT_POINTS", "chaos_field", "chaos_game", "chaos_probabilities"]

@@ -27,7 +27,7 @@ except ImportError as exc:  # pragma: no cover - depends on the environment
     raise ImportError("ifslib.widgets needs ipywidgets: pip install ipywidgets (or pip install -e '.[dev]')") from exc
 
 from . import figures
-from ..raster.distance import distance_field
+from ..raster.distance import distance_field, pixel_size
 from ..errors import IFSError
 from ..geometry.ifs import IFS
 from ..geometry.io import load_ifs
@@ -199,7 +199,7 @@ class Explorer:
                     dist = distance_field(ifs, self.size, "attractor", window=window)
                 else:
                     dist = distance_field(ifs, self.size)
-                image = shade(dist, self.sigma.value / self.size * (1 if window is None else 1 / self.zoom.value)).numpy()
+                image = shade(dist, self.sigma.value * pixel_size(self.size, window)).numpy()
                 outlines = (figures.copy_outlines(ifs, ifs.depth, self.size)
                             if self.show_outlines.value and ifs.depth > 0 and window is None else None)
                 target = None if window is not None else self._target()
