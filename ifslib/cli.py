@@ -91,6 +91,12 @@ def _stage_text(stage: dict) -> str:
 def _stages_text(history: dict) -> str:
     """One line on how a strategy spent its steps (the pyramid's starts and stages, the automatic pattern's choice)."""
     stages = history.get("stages")
+    if "auto" in history and history["auto"].get("kind") == "fractal":
+        auto = history["auto"]
+        tried = ", ".join(f"{c['maps']} maps {c['chamfer_px']:.2f} px" for c in auto["candidates"])
+        return (f"{history['cost']} steps spent (auto: a fractal, {auto['chosen']} maps chosen by the search's rule, "
+                f"attractor Chamfer distance plus a cost per map ({tried}); then "
+                f"{', '.join(_stage_text(s) for s in stages)} steps)")
     if "auto" in history:
         auto = history["auto"]
         tried = ", ".join(f"{c['maps']} maps {c['loss']:.3g}" for c in auto["candidates"])

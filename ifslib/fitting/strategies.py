@@ -25,7 +25,10 @@ strategies compare per step spent:
     ``end_on_attractor`` (the default) that stage is the attractor stage (`attractor_stage`, with the
     pixel loss for a shape): it fills the slivers of the attractor itself.
     ``history["auto"]`` lists the candidates (maps, loss, steps, seconds) and the one chosen, and
-    the fitted IFS's ``meta["pattern"]`` says so.
+    the fitted IFS's ``meta["pattern"]`` says so. A fractal's start (``kind="fractal"``: its maps
+    and their number were chosen by `ifslib.fitting.fractal.search`) goes straight to the attractor
+    stage, of at most `FRACTAL_STAGE_STEPS` steps; ``history["auto"]["candidates"]`` is then the
+    search's table (per number of maps: cover, collage and attractor Chamfer distances, score).
 ``plain``
     One run: the paper's procedure (every step spent unless ``tol`` is given).
 ``coarse_to_fine``
@@ -96,6 +99,10 @@ POLISH_LOSS = "multiscale_pixel"
 
 #: Early stop of each pyramid stage (see `ifslib.fitting.run.converged`) when the fit sets none.
 PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
+
+#: A fractal's start (maps found by `ifslib.fitting.fractal.search`) gets one attractor stage of at
+#: most this many steps: the search has placed its maps within a fraction of a pixel.
+FRACTAL_STAGE_STEPS = 100
 
 #: ``pyramid`` and ``auto`` end with a stage that fits the attractor itself at the target's size (what
 #: the inverse problem asks for: a drawing at depth K can match the target while its attractor does
@@ -256,6 +263,8 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
     options = [ifs if c == own else candidates(target, [c], pattern.get("primitive", "box"), seed,
                                                kind=pattern.get("kind"))[0]
                for c in choices + [own] * (own not in choices)]
+    if pattern.get("kind") == "fractal":
+        return _auto_fractal(ifs, target, steps, seed, lr, kwargs, end_on_attractor)
     coarse, probe = sizes[0], min(steps, AUTO_PROBE_STEPS)
     tried = []
     for o in options:
@@ -286,6 +295,29 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
     choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}
     choice.pop("choices", None)
     result.history.update(cost=cost, stages=[{"maps": chosen["maps"], **st} for st in stages], auto=choice)
+    for ifs_ in (result.best, result.final):
+        ifs_.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
+    return result
+
+
+def _auto_fractal(ifs: IFS, target: Target, steps: int, seed: int, lr: float, kwargs: dict,
+                  end_on_attractor: bool) -> FitResult:
+    """``auto`` for a fractal's start: its maps were found by the search (`ifslib.fitting.fractal`), so
+    only the attractor stage is left (at most `FRACTAL_STAGE_STEPS` steps), or, without
+    ``end_on_attractor``, a run of the drawing at its depth."""
+    pattern = ifs.meta["pattern"]
+    label = f"{pattern['maps']} maps"
+    if end_on_attractor:
+        result, stage = attractor_stage(ifs, target, min(steps, FRACTAL_STAGE_STEPS), seed, lr, kwargs, label)
+    else:
+        kwargs = {**kwargs, "depth": ifs.depth}
+        result = run(ifs, target, steps=min(steps, FRACTAL_STAGE_STEPS), seed=seed, lr=lr,
+                     desc=f"{label} · {target.size}²", **kwargs)
+        stage = {"size": target.size, "steps": result.history["cost"], "stopped": result.history["stopped"],
+                 "best_loss": result.best_loss}
+    choice = {**pattern, "candidates": pattern.get("search", []), "chosen": pattern["maps"]}
+    choice.pop("search", None)
+    result.history.update(cost=stage["steps"], stages=[{"maps": pattern["maps"], **stage}], auto=choice)
     for ifs_ in (result.best, result.final):
         ifs_.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
     return result

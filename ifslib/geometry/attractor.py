@@ -353,6 +353,9 @@ def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, flo
 
 
 _UNIFORMS: dict = {}
+#: `sample_attractor` refuses maps whose walkers would need longer words than this (a scale near 1:
+#: ``n`` walkers keep ``n`` uniforms per letter).
+MAX_WORD_LENGTH = 512
 
 
 def _uniforms(seed: int, n: int, cols: int) -> torch.Tensor:
@@ -415,6 +418,9 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
         centre = centre_grad.detach()
         # the deepest a walker can go: every step shrinks its error by at least the largest scale
         longest = max(1, math.ceil(math.log(tolerance / radius) / math.log(float(largest.max())))) if radius > tolerance else 0
+        if longest > MAX_WORD_LENGTH:
+            raise IFSError(f"a map contracts too slowly (largest scale {float(largest.max()):.6f}): sampled leaves would "
+                           f"need words of {longest} maps, more than {MAX_WORD_LENGTH}")
         # inverse-CDF draws from fixed uniforms: the same seed gives the same words while the maps move
         cdf = chaos_probabilities(work).cumsum(0)
         digits = torch.searchsorted(cdf[:-1].contiguous(), _uniforms(int(seed), n, max(longest, 1)).contiguous()).to(device)

@@ -1,0 +1,487 @@
+"""Self-similar copies: the maps of a fractal read from its image (the inverse IFS problem).
+
+A fractal ``A`` drawn by ``k`` affine maps is the union of ``k`` shrunken copies of itself,
+``A = T_1(A) ∪ ... ∪ T_k(A)``, and by the collage theorem (Barnsley) maps whose copies of the
+target nearly rebuild the target have an attractor near it. `search` looks for such maps in three
+steps, all on the target alone (no rendering, no depth):
+
+1. **Copies that fit inside** (`copy_candidates`). For each linear part ``L`` of a grid
+   (`linear_grid`: rotations, two singular values, reflections, about 19k of them), the figure's
+   pixels mapped by ``L`` are matched against the figure at every translation at once, by one
+   FFT correlation (`torch.fft.rfft2`): a placement counts when at least `INSIDE` of the copy's
+   pixels land on the figure (grown by one pixel). Each ``L`` keeps its placements that cover most.
+2. **Copies that cover** (`greedy_covers`). From each of the `FIRSTS` largest copies, the copy
+   that covers most of what is still uncovered is added, again and again (greedy set cover,
+   one matrix product per step); the first ``k`` copies of each run are a start with ``k`` maps.
+   Random placements (`random_starts`) join them, as Tu et al. start from random maps.
+3. **The collage, refined** (`refine`). All starts of ``k`` maps go through Adam together, on
+   the collage distance in pixels: the copies' distance to the figure (``outside``) and each
+   figure pixel's distance to the nearest copy (``cover``, through the maps' inverses: ``d(q,
+   T_i(A)) <= s_i d(T_i^-1 q, A)``), read from the target's distance transform
+   (`torch.nn.functional.grid_sample`); every map's singular values are kept in
+   [`MIN_SCALE`, `MAX_SCALE`] after each step. The best starts go on at `REFINE_SIZE`.
+
+**How many maps** (minimum description length): for each ``k`` of ``maps`` the refined maps'
+attractor is drawn by the chaos game at `REFINE_SIZE` and scored by its symmetric Chamfer
+distance to the target in pixels; the number chosen is the ``k`` with the least
+``chamfer + MAP_COST * k`` (a map must buy `MAP_COST` pixels of Chamfer distance to be kept).
+`SearchResult.table` lists every ``k``'s numbers, and the automatic pattern records them.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import torch
+from scipy import ndimage
+
+from ..errors import IFSError, check_int
+from ..geometry import patterns
+from ..geometry.attractor import ATTRACTOR
+from ..geometry.ifs import IFS
+from tqdm.auto import tqdm
+
+from ..progress import draw_bars, note
+from ..raster.render import figure_mask
+from .metrics import chamfer
+from .targets import Target, foreground_points, resize_target
+
+#: The numbers of maps `search` compares when none is given ...
+FRACTAL_MAPS = tuple(range(2, 9))
+#: ... and the most it takes when one is.
+MAX_MAPS = 16
+#: The copies are matched at this size, and refined at it ...
+SEARCH_SIZE = 64
+#: ... then at this one, where the numbers of maps are compared.
+REFINE_SIZE = 128
+#: Every map's singular values stay in this range (a map of scale 0.9 or more makes a blob; 0.02 is flat).
+MIN_SCALE, MAX_SCALE = 0.02, 0.9
+#: A placement of a copy counts when this share of its pixels lies on the figure grown by one pixel.
+INSIDE = 0.9
+#: Greedy covers start from each of this many of the largest copies ...
+FIRSTS = 16
+#: ... and the beam search for covers keeps this many sets of copies at each size, and charges a pixel covered twice this much ...
+BEAM, OVERLAP = 32, 0.5
+#: ... beside this many random starts for each number of maps.
+RANDOM_STARTS = 16
+#: Adam steps of the collage at `SEARCH_SIZE` and at `REFINE_SIZE`, and how many starts go on to the latter.
+SEARCH_STEPS, REFINE_STEPS, KEEP = 150, 150, 4
+#: `reorient` turns each map by this many rotations (and as many reflections) of the figure's ellipse ...
+TURNS = 12
+#: ... and refines the variants whose collage starts best, this many of them.
+SCREEN = 12
+#: The numbers of maps whose best start is reoriented before the final comparison.
+REORIENT = 3
+#: The cost of a map, in pixels of the attractor's Chamfer distance at `REFINE_SIZE`.
+MAP_COST = 0.1
+#: At most this many figure pixels are used for the collage distance at each size.
+COLLAGE_POINTS = (600, 2000)
+#: The chaos game's points when the attractors of each number of maps are compared.
+COMPARE_POINTS = 200_000
+
+
+def linear_grid(turns: int = 36, phases: int = 8, scales=(0.25, 0.35, 0.45, 0.55, 0.65, 0.75, 0.85),
+                ratios=(0.2, 0.4, 0.6, 0.8, 1.0)) -> np.ndarray:
+    """Linear parts ``R(theta) diag(s, ±r s) R(phi)`` to try: ``(G, 2, 2)``.
+
+    ``theta`` takes ``turns`` angles of the whole turn, ``phi`` ``phases`` angles of the half turn
+    (one when ``r = 1``: a similarity has no second angle), ``s`` the ``scales``, ``r`` the
+    ``ratios`` of the smaller singular value to the larger, and both signs (a reflection or not).
+    """
+    def rotation(a: float) -> np.ndarray:
+        return np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+
+    out = []
+    for s in scales:
+        for r in ratios:
+            for phi in ([0.0] if r == 1.0 else np.arange(phases) * math.pi / phases):
+                for theta in np.arange(turns) * 2 * math.pi / turns:
+                    for sign in (1.0, -1.0):
+                        out.append(rotation(theta) @ np.diag([s, sign * r * s]) @ rotation(phi))
+    return np.array(out)
+
+
+def _pixels(mask: np.ndarray) -> np.ndarray:
+    """Figure pixels as ``(x, y) = (col, -row)``: pixel units, y up like the plane."""
+    rows, cols = np.nonzero(mask)
+    return np.stack([cols, -rows], 1).astype(np.float64)
+
+
+def copy_candidates(mask: np.ndarray, grid: np.ndarray, inside: float = INSIDE, per_map: int = 2,
+                    chunk: int = 512) -> np.ndarray:
+    """Placements of the figure's copies ``L(A)`` that lie inside the figure, for every ``L`` of ``grid``.
+
+    Parameters
+    ----------
+    mask : numpy.ndarray
+        ``(n, n)`` bool, the figure.
+    grid : numpy.ndarray
+        ``(G, 2, 2)`` linear parts in pixel units (``x`` right, ``y`` up), from `linear_grid`.
+    inside : float
+        Share of a copy's pixels that must land on the figure grown by one pixel.
+    per_map : int
+        Placements kept for each ``L`` (those covering most).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(C, 4)`` rows ``(pixels covered, index into grid, row, col)``, most pixels first; the
+        copy's centroid (the image of the figure's centroid) sits at pixel ``(row, col)``.
+    """
+    n = mask.shape[0]
+    size = 2 * n  # zero padding: a copy that leaves the frame loses the pixels outside
+    u = torch.as_tensor(_pixels(mask) - _pixels(mask).mean(0))
+    grown = torch.zeros(size, size)
+    grown[:n, :n] = torch.as_tensor(ndimage.binary_dilation(mask), dtype=torch.float32)
+    spectrum = torch.fft.rfft2(grown)
+    rows = []
+    for start in range(0, len(grid), chunk):
+        linear = torch.as_tensor(grid[start:start + chunk])
+        v = torch.einsum("gij,pj->gpi", linear, u)
+        flat = (torch.round(-v[..., 1]).long() % size) * size + torch.round(v[..., 0]).long() % size
+        copies = torch.zeros(len(linear), size * size).scatter_(1, flat, 1.0).view(-1, size, size)
+        pixels = copies.sum((1, 2))
+        hits = torch.fft.irfft2(torch.conj(torch.fft.rfft2(copies)) * spectrum, s=(size, size))[:, :n, :n]
+        hits = torch.where(hits >= inside * pixels[:, None, None] - 0.5, hits, torch.zeros_like(hits))
+        top = hits.reshape(len(linear), -1).topk(per_map, dim=1)
+        for g in range(len(linear)):
+            for value, index in zip(top.values[g].tolist(), top.indices[g].tolist()):
+                if value >= 1:
+                    rows.append((round(value), start + g, index // n, index % n))
+    out = np.array(rows, dtype=np.int64).reshape(-1, 4)
+    return out[np.argsort(-out[:, 0], kind="stable")]
+
+
+def footprints(mask: np.ndarray, grid: np.ndarray, cands: np.ndarray, chunk: int = 2048) -> torch.Tensor:
+    """``(C, n * n)`` float 0/1: the figure pixels each candidate copy covers (its pixels grown by one)."""
+    n = mask.shape[0]
+    u = torch.as_tensor(_pixels(mask) - _pixels(mask).mean(0))
+    figure = torch.as_tensor(mask.reshape(-1))
+    out = []
+    for start in range(0, len(cands), chunk):
+        c = torch.as_tensor(cands[start:start + chunk])
+        v = torch.einsum("gij,pj->gpi", torch.as_tensor(grid[c[:, 1].numpy()]), u)
+        col = torch.round(v[..., 0]).long() + c[:, 3, None]
+        row = torch.round(-v[..., 1]).long() + c[:, 2, None]
+        flat = torch.where((row >= 0) & (row < n) & (col >= 0) & (col < n), row * n + col, n * n)
+        drawn = torch.zeros(len(c), n * n + 1).scatter_(1, flat, 1.0)[:, :-1].view(-1, 1, n, n)
+        grown = torch.nn.functional.max_pool2d(drawn, 3, 1, 1).view(len(c), -1) > 0
+        out.append((grown & figure).float())
+    return torch.cat(out)
+
+
+def greedy_covers(feet: torch.Tensor, firsts: int, most: int) -> list[list[int]]:
+    """Greedy set covers: from each of the first ``firsts`` candidates, ``most - 1`` times the one covering most
+    pixels not yet covered (one matrix product a step). The first ``k`` entries of each are a start of ``k`` maps."""
+    covers = []
+    for first in range(min(firsts, len(feet))):
+        covered, chosen = feet[first].clone(), [first]
+        for _ in range(most - 1):
+            j = int(torch.argmax(feet @ (1 - covered)))
+            chosen.append(j)
+            covered = torch.maximum(covered, feet[j])
+        covers.append(chosen)
+    return covers
+
+
+def beam_covers(feet: torch.Tensor, most: int, width: int = BEAM, overlap: float = OVERLAP) -> dict[int, list[list[int]]]:
+    """Sets of candidate copies that cover the figure with little overlap, by beam search: ``{k: covers of k copies}``.
+
+    A set of copies scores the figure pixels it covers minus ``overlap`` times those it covers
+    twice or more (the copies of a fractal's maps barely overlap, where the copies of a wrong set
+    crowd each other). The ``width`` largest copies start; each step adds to every kept set each
+    candidate in turn and keeps the ``width`` best distinct sets.
+    """
+    sizes = feet.sum(1)
+    beams = [[i] for i in range(min(width, len(feet)))]
+    covered, total = feet[:len(beams)].clone(), sizes[:len(beams)].clone()
+    out = {1: [list(b) for b in beams]}
+    for k in range(2, most + 1):
+        union = covered.sum(1)[:, None] + (1 - covered) @ feet.T            # (B, C)
+        score = union - overlap * (total[:, None] + sizes[None] - union)
+        for b, beam in enumerate(beams):
+            score[b, beam] = -math.inf
+        order = torch.argsort(score.reshape(-1), descending=True)
+        kept, seen = [], set()
+        for flat in order.tolist():
+            b, c = divmod(flat, len(feet))
+            key = tuple(sorted(beams[b] + [c]))
+            if key in seen:
+                continue
+            seen.add(key)
+            kept.append((b, c))
+            if len(kept) == width:
+                break
+        beams = [beams[b] + [c] for b, c in kept]
+        covered = torch.stack([torch.maximum(covered[b], feet[c]) for b, c in kept])
+        total = torch.stack([total[b] + sizes[c] for b, c in kept])
+        out[k] = [list(b) for b in beams]
+    return out
+
+
+def plane_maps(grid: np.ndarray, cands: np.ndarray, centroid: np.ndarray, n: int) -> np.ndarray:
+    """``(C, 2, 3)`` maps ``[A | t]`` in plane units of the candidates (pixel-unit ``L``, centroid sent to pixel ``(row, col)``)."""
+    linear = grid[cands[:, 1]]
+    # pixel (x, y) = (col, -row) and plane P = p / n + o, with o = (0.5/n - 0.5, 0.5 - 0.5/n)
+    o = np.array([0.5 / n - 0.5, 0.5 - 0.5 / n])
+    shift = np.stack([cands[:, 3], -cands[:, 2]], 1) - linear @ centroid
+    t = shift / n + o - linear @ o
+    return np.concatenate([linear, t[:, :, None]], 2)
+
+
+def random_starts(count: int, k: int, target: Target, rng: np.random.Generator) -> np.ndarray:
+    """``(count, k, 2, 3)`` random maps: singular values in [0.25, 0.65], any rotation (reflected one time in three),
+    each taking the figure's centroid onto a random figure pixel."""
+    fg = foreground_points(target)
+    angle = rng.uniform(-math.pi, math.pi, (count, k, 2))
+    scale = rng.uniform(0.25, 0.65, (count, k, 2))
+    scale[..., 1] *= np.where(rng.random((count, k)) < 1 / 3, -1.0, 1.0)
+    c, s = np.cos(angle), np.sin(angle)
+    rot = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)  # (count, k, 2, 2, 2): [..., which, i, j]
+    linear = rot[..., 0, :, :] * scale[..., None, :] @ rot[..., 1, :, :]
+    t = fg[rng.integers(0, len(fg), (count, k))] - linear @ fg.mean(0)
+    return np.concatenate([linear, t[..., None]], -1)
+
+
+def _lookup(distance: torch.Tensor, points: torch.Tensor) -> torch.Tensor:
+    """The target's distance (plane units) at ``points`` (..., 2), bilinear, plus the distance to the frame outside it."""
+    n = distance.shape[-1]
+    flat = points.reshape(1, 1, -1, 2)
+    grid = torch.stack([flat[..., 0] * 2, -flat[..., 1] * 2], -1)
+    inside = torch.nn.functional.grid_sample(distance.view(1, 1, n, n), grid, mode="bilinear", padding_mode="border",
+                                             align_corners=False).view(points.shape[:-1])
+    beyond = (points.abs() - (0.5 - 0.5 / n)).clamp(min=0)
+    return inside + beyond.square().sum(-1).add(1e-30).sqrt()
+
+
+def collage_terms(maps: torch.Tensor, points: torch.Tensor, distance: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """Mean squared ``outside`` and ``cover`` distances (plane units) of a batch of IFSs: ``maps`` ``(S, k, 2, 3)``.
+
+    ``outside``: the copies ``T_i(p)`` of the figure pixels ``points`` ``(P, 2)``, to the figure;
+    ``cover``: each figure pixel to its nearest copy, ``min_i s_i d(T_i^-1 q, figure)`` with ``s_i``
+    the largest singular value (the module docstring). Each ``(S,)``.
+    """
+    a, t = maps[..., :2], maps[..., 2]
+    copies = torch.einsum("skij,pj->skpi", a, points) + t[:, :, None]
+    outside = _lookup(distance, copies).square().mean((1, 2))
+    det = a[..., 0, 0] * a[..., 1, 1] - a[..., 0, 1] * a[..., 1, 0]
+    inverse = torch.stack([torch.stack([a[..., 1, 1], -a[..., 0, 1]], -1),
+                           torch.stack([-a[..., 1, 0], a[..., 0, 0]], -1)], -2) / det[..., None, None]
+    back = torch.einsum("skij,skpj->skpi", inverse, points[None, None] - t[:, :, None])
+    scale = torch.linalg.matrix_norm(a, ord=2)
+    cover = (_lookup(distance, back) * scale[..., None]).min(1).values.square().mean(-1)
+    return outside, cover
+
+
+def _clip_scales(maps: torch.Tensor) -> None:
+    """Keep every map's singular values in [`MIN_SCALE`, `MAX_SCALE`], in place."""
+    u, s, vh = torch.linalg.svd(maps[..., :2])
+    maps[..., :2] = u @ torch.diag_embed(s.clamp(MIN_SCALE, MAX_SCALE)) @ vh
+
+
+def refine(maps: np.ndarray | torch.Tensor, target: Target, steps: int, lr: float, points: int,
+           seed: int = 0) -> tuple[torch.Tensor, torch.Tensor]:
+    """Adam on a batch of IFSs' maps ``(S, k, 2, 3)`` (plane units), minimizing their collage distance to ``target``.
+
+    Returns the maps after ``steps`` steps and each IFS's collage distance, the root of
+    ``outside + cover`` in pixels of the target.
+    """
+    fg = foreground_points(target)
+    if len(fg) > points:
+        fg = fg[np.random.default_rng(seed).choice(len(fg), points, replace=False)]
+    p = torch.as_tensor(fg, dtype=torch.float32)
+    distance = target.distance.float()
+    work = torch.as_tensor(maps, dtype=torch.float32).clone()
+    with torch.no_grad():
+        _clip_scales(work)
+    work.requires_grad_(True)
+    opt = torch.optim.Adam([work], lr=lr)
+    pixel2 = float(target.size) ** 2
+    for _ in range(steps):
+        outside, cover = collage_terms(work, p, distance)
+        opt.zero_grad(set_to_none=True)
+        ((outside + cover) * pixel2).sum().backward()
+        opt.step()
+        with torch.no_grad():
+            _clip_scales(work)
+    with torch.no_grad():
+        outside, cover = collage_terms(work, p, distance)
+    return work.detach().double(), ((outside + cover) * pixel2).sqrt().double()
+
+
+def _sqrtm(c: np.ndarray) -> np.ndarray:
+    w, v = np.linalg.eigh(c)
+    return v @ np.diag(np.sqrt(np.maximum(w, 1e-12))) @ v.T
+
+
+def turns(target: Target, count: int = TURNS) -> np.ndarray:
+    """``(2 * count - 1, 2, 3)`` maps that keep the figure's mean and covariance: its likely near-symmetries.
+
+    ``S = mu + C^1/2 R C^-1/2 (x - mu)`` for ``R`` each of ``count`` rotations, with and without a
+    reflection, the identity left out. A copy ``T_i(A)`` is nearly the same set as ``T_i(S(A))``,
+    so at a coarse size a map can lock onto the copy turned the wrong way; `reorient` tries them.
+    """
+    fg = foreground_points(target)
+    mu, root = fg.mean(0), _sqrtm(np.cov(fg.T))
+    inverse = np.linalg.inv(root)
+    out = []
+    for angle in np.arange(count) * 2 * math.pi / count:
+        rotation = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
+        for sign in (1.0, -1.0):
+            linear = root @ rotation @ np.diag([1.0, sign]) @ inverse
+            out.append(np.concatenate([linear, (mu - linear @ mu)[:, None]], 1))
+    return np.array(out[1:])
+
+
+def reorient(maps: np.ndarray, target: Target, rounds: int = 3, seed: int = 0) -> tuple[np.ndarray, float]:
+    """Try each map turned by each of `turns` (``T_i o S``), keep the collage's best, and repeat.
+
+    Every variant (one map turned, the others kept) is scored by its collage distance at once;
+    the `SCREEN` best and the maps as given are refined together (`refine`), and the best of them
+    is kept. Stops after ``rounds`` rounds or when the maps as given stay best.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(k, 2, 3)`` the maps.
+    float
+        Their collage distance in pixels of ``target``.
+    """
+    symmetric = turns(target)
+    maps = np.asarray(maps, dtype=np.float64)
+    error = math.inf
+    for _ in range(rounds):
+        batch = [maps]
+        for i in range(len(maps)):
+            for s in symmetric:
+                turned = maps.copy()
+                turned[i, :, :2] = maps[i, :, :2] @ s[:, :2]
+                turned[i, :, 2] = maps[i, :, :2] @ s[:, 2] + maps[i, :, 2]
+                batch.append(turned)
+        _, first = refine(np.array(batch), target, 0, 0.0, COLLAGE_POINTS[1], seed)
+        keep = torch.cat([torch.tensor([0]), 1 + torch.argsort(first[1:])[:SCREEN]])
+        work, err = refine(np.array(batch)[keep.numpy()], target, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
+        best = int(torch.argmin(err))
+        maps, error = work[best].numpy(), float(err[best])
+        if best == 0:
+            break
+    return maps, error
+
+
+def as_ifs(maps: np.ndarray | torch.Tensor, depth: int = 3) -> IFS:
+    """An `ifslib.patterns.affine` IFS of ``maps`` ``(k, 2, 3)``."""
+    return patterns.affine(torch.as_tensor(maps).detach().double().numpy(), depth=depth, name="auto")
+
+
+def attractor_chamfer(maps: np.ndarray | torch.Tensor, target: Target, points: int = COMPARE_POINTS) -> float:
+    """Symmetric Chamfer distance (pixels of ``target``) of the maps' attractor, drawn by the chaos game, to the target."""
+    drawn = figure_mask(as_ifs(maps), target.size, ATTRACTOR, method="chaos", points=points)
+    return chamfer(drawn, target.mask)
+
+
+@dataclass
+class SearchResult:
+    """What `search` found.
+
+    Attributes
+    ----------
+    maps : numpy.ndarray
+        ``(k, 2, 3)`` the chosen maps ``[A | t]``, plane units.
+    table : list of dict
+        One row per number of maps tried: ``maps``, ``cover`` (share of the figure the greedy
+        copies covered at `SEARCH_SIZE`), ``collage_px`` (at `REFINE_SIZE`), ``chamfer_px`` (the
+        attractor's, at `REFINE_SIZE`), ``score`` (``chamfer_px + MAP_COST * maps``), ``seconds``.
+    rule : str
+        How the number of maps was chosen, in words.
+    """
+
+    maps: np.ndarray
+    table: list[dict] = field(default_factory=list)
+    rule: str = ""
+
+    @property
+    def chosen(self) -> dict:
+        """The table's row of the chosen number of maps."""
+        return next(row for row in self.table if row["maps"] == len(self.maps))
+
+
+def check_maps(maps) -> tuple[int, ...]:
+    """The numbers of maps to compare: `FRACTAL_MAPS`, or the one given (1 to `MAX_MAPS`)."""
+    if maps is None:
+        return FRACTAL_MAPS
+    check_int(maps, "number of maps", 1)
+    if maps > MAX_MAPS:
+        raise IFSError(f"a fractal search takes at most {MAX_MAPS} maps, got {maps}")
+    return (maps,)
+
+
+def search(target: Target, maps: int | None = None, seed: int = 0, progress: bool = True) -> SearchResult:
+    """Find the affine maps of a fractal from its image (see the module docstring).
+
+    Parameters
+    ----------
+    target : Target
+        The fractal's image; it is matched at `SEARCH_SIZE` and refined at `REFINE_SIZE` (or at its
+        own size when smaller).
+    maps : int, optional
+        Fix the number of maps; by default each of `FRACTAL_MAPS` is tried and the rule chooses.
+    seed : int
+        Seeds the random starts and the pixel samples.
+    progress : bool
+        A progress bar over the numbers of maps.
+
+    Returns
+    -------
+    SearchResult
+    """
+    ks = check_maps(maps)
+    rng = np.random.default_rng(seed)
+    coarse = resize_target(target, min(SEARCH_SIZE, target.size))
+    fine = resize_target(target, min(REFINE_SIZE, target.size))
+    grid = linear_grid()
+    cands = copy_candidates(coarse.mask, grid)
+    if len(cands) == 0:
+        raise IFSError("no copy of the figure fits inside it: the figure is too small to search for a fractal")
+    # keep the copies of each scale that cover most, so that small copies are not crowded out by near-twins of large ones
+    scale = np.linalg.svd(grid)[1][:, 0].round(3)[cands[:, 1]]
+    keep = np.concatenate([np.nonzero(scale == s)[0][:800] for s in np.unique(scale)])
+    cands = cands[np.sort(keep)]
+    starts = plane_maps(grid, cands, _pixels(coarse.mask).mean(0), coarse.size)
+    feet = footprints(coarse.mask, grid, cands)
+    covers = beam_covers(feet, max(ks))
+    for cover in greedy_covers(feet, FIRSTS, max(ks)):
+        for k in ks:
+            covers[k].append(cover[:k])
+    feet_total = float(coarse.mask.sum())
+    table, found = [], {}
+    for k in tqdm(ks, desc=f"fractal search · {fine.size}² · maps", disable=not (progress and draw_bars())):
+        t0 = time.perf_counter()
+        covered = max(float(feet[c].amax(0).sum()) / feet_total for c in covers[k])
+        batch = np.concatenate([starts[np.array(covers[k])], random_starts(RANDOM_STARTS, k, coarse, rng)])
+        work, err = refine(batch, coarse, SEARCH_STEPS, 0.005, COLLAGE_POINTS[0], seed)
+        best = torch.argsort(err)[:KEEP]
+        work, err = refine(work[best], fine, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
+        j = int(torch.argmin(err))
+        found[k] = work[j].numpy()
+        chamfer_px = attractor_chamfer(found[k], fine)
+        table.append({"maps": k, "cover": round(covered, 4), "collage_px": round(float(err[j]), 4),
+                      "chamfer_px": round(chamfer_px, 4), "score": round(chamfer_px + MAP_COST * k, 4),
+                      "seconds": round(time.perf_counter() - t0, 2)})
+    # the best few numbers of maps, each with its maps turned where that helps (`reorient`), then compared again
+    for row in sorted(table, key=lambda r: (r["score"], r["maps"]))[:REORIENT]:
+        t0 = time.perf_counter()
+        found[row["maps"]], error = reorient(found[row["maps"]], fine, seed=seed)
+        row["reoriented"] = True
+        row["collage_px"] = round(error, 4)
+        row["chamfer_px"] = round(attractor_chamfer(found[row["maps"]], fine), 4)
+        row["score"] = round(row["chamfer_px"] + MAP_COST * row["maps"], 4)
+        row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
+    if progress and not draw_bars():
+        note("fractal search: " + ", ".join(f"{r['maps']} maps {r['chamfer_px']:.2f} px" for r in table))
+    chosen = min((r for r in table if r.get("reoriented")), key=lambda r: (r["score"], r["maps"]))
+    rule = (f"fewest maps for the fit: least attractor Chamfer distance at {fine.size}² plus {MAP_COST} px a map "
+            f"(minimum description length), among the {REORIENT} best before reorienting; {chosen['maps']} maps scored "
+            f"{chosen['score']:.3f}")
+    return SearchResult(found[chosen["maps"]], table, rule)

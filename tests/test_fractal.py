@@ -1,0 +1,104 @@
+"""The fractal search: copies that fit inside (against brute force), maps in plane units, the collage,
+reorienting, the whole search on a small random fractal, the automatic start, bad input."""
+import numpy as np
+import pytest
+import torch
+
+import ifslib
+from ifslib.errors import IFSError
+from ifslib.fitting import auto, fractal
+from ifslib.fitting.targets import foreground_points, resize_target, target_from_mask
+
+
+def fractal_target(maps=2, seed=4, size=64):
+    """A random fractal (`ifslib.patterns.random_ifs`) drawn by the float64 chaos game at 256², as the benchmark
+    draws them, then made ``size`` pixels wide as a fit does (`resize_target`)."""
+    truth = ifslib.patterns.random_ifs(maps, seed)
+    mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=seed).numpy() >= 0.5
+    return truth, resize_target(target_from_mask(mask, f"random{maps}_{seed}"), size)
+
+
+def test_copy_candidates_count_the_copy_pixels_on_the_grown_figure_as_brute_force_does():
+    from scipy import ndimage
+
+    _, target = fractal_target(size=32)
+    grid = fractal.linear_grid(turns=4, phases=2, scales=(0.45, 0.75), ratios=(0.5, 1.0))
+    cands = fractal.copy_candidates(target.mask, grid, inside=0.0, per_map=3)
+    grown = ndimage.binary_dilation(target.mask)
+    pts = fractal._pixels(target.mask)
+    u = pts - pts.mean(0)
+    assert len(cands) > 0
+    for hits, g, row, col in cands[:40]:
+        v = np.round(u @ grid[g].T).astype(int)
+        drawn = {(row - y, col + x) for x, y in v}  # pixel (x, y) = (col, -row)
+        on = sum(0 <= r < 32 and 0 <= c < 32 and grown[r, c] for r, c in drawn)
+        assert on == hits
+
+
+def test_plane_maps_send_the_figure_centroid_to_the_candidate_pixel():
+    _, target = fractal_target(size=32)
+    grid = fractal.linear_grid(turns=4, phases=2, scales=(0.5,), ratios=(0.5, 1.0))
+    cands = fractal.copy_candidates(target.mask, grid, inside=0.0)[:10]
+    centroid = fractal._pixels(target.mask).mean(0)
+    maps = fractal.plane_maps(grid, cands, centroid, 32)
+    mu = foreground_points(target).mean(0)  # the same centroid, in plane units
+    for m, (_, g, row, col) in zip(maps, cands):
+        np.testing.assert_allclose(m[:, :2], grid[g])
+        np.testing.assert_allclose(m[:, :2] @ mu + m[:, 2], [(col + 0.5) / 32 - 0.5, 0.5 - (row + 0.5) / 32], atol=1e-12)
+
+
+def test_collage_is_least_for_the_true_maps_and_refine_keeps_scales_in_range():
+    truth, target = fractal_target(size=64)
+    true_maps = truth.maps().detach().double()[:, :2].numpy()
+    shifted = true_maps.copy()
+    shifted[0, :, 2] += 0.03
+    _, error = fractal.refine(np.stack([true_maps, shifted]), target, 0, 0.0, 2000)
+    assert error[0] < 0.6 and error[1] > 1.5 * error[0]  # pixels
+    wild = true_maps.copy()
+    wild[0, :, :2] *= 1.5  # scale > 1: clipped back into range
+    work, _ = fractal.refine(wild[None], target, 5, 0.002, 500)
+    s = torch.linalg.svdvals(work[0, :, :, :2])
+    assert float(s.max()) <= fractal.MAX_SCALE + 1e-5 and float(s.min()) >= fractal.MIN_SCALE - 1e-6
+
+
+def test_turns_keep_the_figure_mean_and_covariance_and_reorient_undoes_a_turned_map():
+    truth, target = fractal_target(size=64)
+    fg = foreground_points(target)
+    for s in fractal.turns(target):
+        moved = fg @ s[:, :2].T + s[:, 2]
+        np.testing.assert_allclose(moved.mean(0), fg.mean(0), atol=1e-9)
+        np.testing.assert_allclose(np.cov(moved.T), np.cov(fg.T), atol=1e-9)
+    true_maps = truth.maps().detach().double()[:, :2].numpy()
+    _, truth_error = fractal.refine(true_maps[None], target, 0, 0.0, 2000)
+    turned = true_maps.copy()
+    s = fractal.turns(target)[11]  # a half turn
+    turned[1, :, :2] = true_maps[1, :, :2] @ s[:, :2]
+    turned[1, :, 2] = true_maps[1, :, :2] @ s[:, 2] + true_maps[1, :, 2]
+    _, turned_error = fractal.refine(turned[None], target, 0, 0.0, 2000)
+    maps, error = fractal.reorient(turned, target)
+    assert float(turned_error[0]) > 1.5 * float(truth_error[0])
+    assert error <= 1.1 * float(truth_error[0])
+
+
+def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_stays_a_shape():
+    _, target = fractal_target(maps=2, seed=4, size=128)
+    assert auto.interior_share(target) < auto.POROUS_SHARE
+    start = ifslib.initialize("auto", target, maps=2)  # the search, with its number of maps fixed
+    pattern = start.meta["pattern"]
+    assert pattern["kind"] == "fractal" and len(start.rules) == 2
+    assert [row["maps"] for row in pattern["search"]] == [2] and "minimum description length" in pattern["rule"]
+    m = ifslib.evaluate(start, target, depth="attractor")
+    assert m["iou"] >= 0.85 and m["chamfer"] <= 1.0
+    disk = np.hypot(*np.mgrid[-1:1:64j, -1:1:64j]) < 0.7
+    assert auto.interior_share(target_from_mask(disk)) > auto.POROUS_SHARE
+
+
+def test_fractal_search_refuses_bad_numbers_of_maps_and_figures_with_no_copy():
+    _, target = fractal_target(size=32)
+    for bad in (0, fractal.MAX_MAPS + 1, 2.5):
+        with pytest.raises(IFSError, match="maps"):
+            fractal.search(target, maps=bad, progress=False)
+    speck = np.zeros((32, 32), bool)
+    speck[10, 10:12] = True
+    with pytest.raises(IFSError):
+        fractal.search(target_from_mask(speck), maps=2, progress=False)
