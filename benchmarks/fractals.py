@@ -7,7 +7,7 @@ written as a PNG; each is fitted by one command with every default,
 time includes start-up). A fractal is **recovered** when the fitted IFS's attractor has IoU >= 0.85
 and symmetric Chamfer distance <= 1 px against the target mask (`ifslib.evaluate`'s attractor
 scores). Prints one row per fractal (maps true and found, attractor IoU and Chamfer, seconds,
-and, for a fractal not recovered, why), then the summary against the goals, and writes a picture of
+and, for a fractal not recovered, why: read as a shape, too many maps, IoU or Chamfer short), then the summary against the goals, and writes a picture of
 the targets beside the attractors found.
 
     python benchmarks/fractals.py                  # 50 fractals at 256²
@@ -28,11 +28,12 @@ from PIL import Image
 
 import ifslib
 from ifslib.paths import repo_root
+from ifslib.teaching.figures import box_outlines, draw_outlines, gallery, save_figure
 
 
 def why(row: dict) -> str:
     """Why a fractal was not recovered, from what the fit reports."""
-    reasons = []
+    reasons = [] if row["kind"] == "fractal" else [f"the search gave up: fitted as a {row['kind']}"]
     if row["found"] > row["maps"] + 1:
         reasons.append(f"{row['found']} maps for {row['maps']}")
     if row["iou"] < 0.85:
@@ -74,14 +75,14 @@ def main() -> None:
         fitted = ifslib.load_ifs(fit_json)
         m = ifslib.evaluate(fitted, target, attractor=True)
         row = {"fractal": i, "maps": maps, "found": len(fitted.rules), "iou": m["attractor_iou"],
-               "chamfer": m["attractor_chamfer"], "seconds": seconds}
+               "chamfer": m["attractor_chamfer"], "seconds": seconds, "kind": fitted.meta.get("pattern", {}).get("kind")}
         row["recovered"] = row["iou"] >= 0.85 and row["chamfer"] <= 1
         rows.append(row)
         print(f"| {i} | {maps} | {row['found']} | {row['iou']:.3f} | {row['chamfer']:.2f} | {seconds:.1f} | "
               f"{'yes' if row['recovered'] else 'no'} | {'' if row['recovered'] else why(row)} |", flush=True)
         panels.append((f"#{i}: {maps} maps", target.mask.astype(float),
                        ifslib.render(fitted, args.size, method="chaos", points=1_000_000).numpy(),
-                       f"{row['found']} maps, IoU {row['iou']:.2f}"))
+                       f"{row['found']} maps, IoU {row['iou']:.2f}", box_outlines(fitted, target.mask)))
     if not rows:
         return
     n = len(rows)
@@ -91,11 +92,11 @@ def main() -> None:
           f"median {statistics.median(r['seconds'] for r in rows):.1f} s a fit (goal <= 60 s), maps found <= true + 1 "
           f"in {few} of {n} ({100 * few / n:.0f} %; goal >= 80 %); attractor IoU median "
           f"{statistics.median(r['iou'] for r in rows):.3f}")
-    from ifslib.teaching.figures import gallery, save_figure
-
-    names, targets, found, captions = zip(*panels[:12])
-    fig = gallery([targets, found], col_titles=names, row_titles=["target", "attractor found"],
+    names, targets, found, captions, outlines = zip(*panels[:12])
+    fig = gallery([targets, found], col_titles=names, row_titles=["target, copies found", "attractor found"],
                   captions=[[""] * len(names), list(captions)], cell=1.6)
+    for ax, quads in zip(fig.axes[:len(names)], outlines):
+        draw_outlines(ax, quads)
     picture = repo_root() / args.picture
     print(f"picture: {save_figure(fig, picture.stem, picture.parent)}")
 

@@ -65,7 +65,15 @@ def copy_outlines(ifs: IFS, depth: int, size: int = 256) -> np.ndarray:
     numpy.ndarray
         ``(m, 5, 2)``: a closed quadrilateral per rule.
     """
-    mask = figure_mask(ifs, size, depth - 1)
+    return box_outlines(ifs, figure_mask(ifs, size, depth - 1))
+
+
+def box_outlines(ifs: IFS, mask: np.ndarray) -> np.ndarray:
+    """The bounding box of ``mask``'s pixels (a figure, a target) carried by each of ``ifs``'s maps: ``(m, 5, 2)``.
+
+    On a fractal's target these are the outlines of its copies ``T_i(A)``: where each map puts the whole.
+    """
+    size = mask.shape[0]
     x, y = pixel_centres(size, dtype=torch.float64)
     xs, ys = x.numpy()[mask.ravel()], y.numpy()[mask.ravel()]
     half = 0.5 / size
