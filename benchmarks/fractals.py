@@ -37,7 +37,7 @@ def why(row: dict) -> str:
     if row["found"] > row["maps"] + 1:
         reasons.append(f"{row['found']} maps for {row['maps']}")
     if row["iou"] < 0.85:
-        reasons.append(f"IoU {row['iou']:.2f} < 0.85")
+        reasons.append(f"IoU {row['iou']:.3f} < 0.85")
     if row["chamfer"] > 1:
         reasons.append(f"Chamfer {row['chamfer']:.2f} px > 1")
     if row["seconds"] > 60:

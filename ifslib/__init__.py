@@ -33,7 +33,7 @@ from .raster.distance import distance_field  # noqa: E402
 from .raster.nearest import nearest_leaf, pixel_centres  # noqa: E402
 from .raster.render import default_sigma, render  # noqa: E402
 from . import data  # noqa: E402
-from .fitting import auto, initialization, losses, metrics, strategies, sweep  # noqa: E402
+from .fitting import auto, fractal, initialization, losses, metrics, strategies, sweep  # noqa: E402
 from .fitting.batch import fit_many  # noqa: E402
 from .fitting.fit import FitResult, fit  # noqa: E402
 from .fitting.initialization import best_fit_line, initialize  # noqa: E402
@@ -58,7 +58,7 @@ def __getattr__(name: str):
 
 __version__ = "0.1.0"
 
-__all__ = ["FitResult", "IFS", "IFSError", "LOSSES", "Primitive", "Rule", "Target", "animate", "auto", "best_fit_line",
+__all__ = ["FitResult", "IFS", "IFSError", "LOSSES", "Primitive", "Rule", "Target", "animate", "auto", "best_fit_line", "fractal",
            "chamfer", "chaos_game", "configure_threads", "crossings", "data", "default_sigma", "distance_field", "evaluate",
            "exercises", "expand", "f1", "figures", "fit", "fit_many", "initialization", "initialize", "iou",
            "landscape", "load_ifs", "load_target", "loss", "losses", "metrics", "nearest_leaf", "patterns",

@@ -198,7 +198,7 @@ def build_parser() -> argparse.ArgumentParser:
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
     f.add_argument("target", help="target image (white figure on black), or koch/sierpinski/apple/flower")
     f.add_argument("--pattern", default="koch",
-                   help="auto (any image: curve or shape, the number of maps compared), koch, koch_paper, carpet, "
+                   help="auto (any image: a fractal's maps searched for, a curve or a shape; the number of maps compared), koch, koch_paper, carpet, "
                         "gridN, rosetteN, or an ifslib/1 JSON file (default koch)")
     f.add_argument("--maps", type=int, help="with --pattern auto: this many maps instead of comparing candidates")
     f.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")

@@ -102,3 +102,18 @@ def test_fractal_search_refuses_bad_numbers_of_maps_and_figures_with_no_copy():
     speck[10, 10:12] = True
     with pytest.raises(IFSError):
         fractal.search(target_from_mask(speck), maps=2, progress=False)
+
+
+def test_search_compares_the_numbers_of_maps_given_and_sampled_leaves_refuse_a_map_near_scale_one():
+    assert fractal.check_maps(None) == fractal.FRACTAL_MAPS
+    assert fractal.check_maps([3, 2, 3]) == (2, 3)
+    with pytest.raises(IFSError, match="at least one"):
+        fractal.check_maps([])
+    from ifslib.geometry.attractor import MAX_WORD_LENGTH, sample_attractor
+
+    slow = torch.eye(3, dtype=torch.float64).repeat(2, 1, 1)
+    slow[0, :2, :2] *= 0.99999
+    slow[1, :2, :2] *= 0.5
+    slow[1, :2, 2] = 0.2
+    with pytest.raises(IFSError, match=f"more than {MAX_WORD_LENGTH}"):
+        sample_attractor(slow, 1e-3, 64)

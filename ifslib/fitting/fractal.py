@@ -408,16 +408,20 @@ class SearchResult:
 
 
 def check_maps(maps) -> tuple[int, ...]:
-    """The numbers of maps to compare: `FRACTAL_MAPS`, or the one given (1 to `MAX_MAPS`)."""
+    """The numbers of maps to compare: `FRACTAL_MAPS` for None, else those given (an int or a sequence, each 1 to `MAX_MAPS`)."""
     if maps is None:
         return FRACTAL_MAPS
-    check_int(maps, "number of maps", 1)
-    if maps > MAX_MAPS:
-        raise IFSError(f"a fractal search takes at most {MAX_MAPS} maps, got {maps}")
-    return (maps,)
+    ks = tuple(maps) if isinstance(maps, (list, tuple, range)) else (maps,)
+    if not ks:
+        raise IFSError("give at least one number of maps to compare")
+    for k in ks:
+        check_int(k, "number of maps", 1)
+        if k > MAX_MAPS:
+            raise IFSError(f"a fractal search takes at most {MAX_MAPS} maps, got {k}")
+    return tuple(sorted(set(ks)))
 
 
-def search(target: Target, maps: int | None = None, seed: int = 0, progress: bool = True) -> SearchResult:
+def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> SearchResult:
     """Find the affine maps of a fractal from its image (see the module docstring).
 
     Parameters
@@ -425,8 +429,8 @@ def search(target: Target, maps: int | None = None, seed: int = 0, progress: boo
     target : Target
         The fractal's image; it is matched at `SEARCH_SIZE` and refined at `REFINE_SIZE` (or at its
         own size when smaller).
-    maps : int, optional
-        Fix the number of maps; by default each of `FRACTAL_MAPS` is tried and the rule chooses.
+    maps : int or sequence of int, optional
+        The numbers of maps to compare (one: fix it); by default each of `FRACTAL_MAPS`.
     seed : int
         Seeds the random starts and the pixel samples.
     progress : bool
