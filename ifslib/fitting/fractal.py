@@ -466,7 +466,10 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         batch = np.concatenate([starts[np.array(covers[k])], random_starts(RANDOM_STARTS, k, coarse, rng)])
         work, err = refine(batch, coarse, SEARCH_STEPS, 0.005, COLLAGE_POINTS[0], seed)
         best = torch.argsort(err)[:KEEP]
-        work, err = refine(work[best], fine, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
+        if fine.size > coarse.size:  # a target no larger than the search size is refined once
+            work, err = refine(work[best], fine, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
+        else:
+            work, err = work[best], err[best]
         j = int(torch.argmin(err))
         found[k] = work[j].numpy()
         chamfer_px = attractor_chamfer(found[k], fine)
