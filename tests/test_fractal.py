@@ -89,6 +89,12 @@ def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_s
     assert [row["maps"] for row in pattern["search"]] == [2] and "minimum description length" in pattern["rule"]
     m = ifslib.evaluate(start, target, depth="attractor")
     assert m["iou"] >= 0.85 and m["chamfer"] <= 1.0
+    # the auto strategy sends it straight to the attractor stage and records the search's table
+    fitted = ifslib.fit(start, target, strategy="auto", steps=5, progress=False)
+    assert fitted.history["auto"]["kind"] == "fractal" and fitted.history["auto"]["chosen"] == 2
+    assert fitted.history["auto"]["candidates"] == pattern["search"]
+    assert [st["depth"] for st in fitted.history["stages"]] == ["attractor"] and fitted.history["cost"] <= 5
+    assert fitted.best.meta["pattern"]["rule"] == pattern["rule"]
     disk = np.hypot(*np.mgrid[-1:1:64j, -1:1:64j]) < 0.7
     assert auto.interior_share(target_from_mask(disk)) > auto.POROUS_SHARE
 
