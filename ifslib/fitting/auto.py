@@ -160,11 +160,6 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_
     return ifs, record
 
 
-def _sqrtm(c: np.ndarray) -> np.ndarray:
-    w, v = np.linalg.eigh(c)
-    return v @ np.diag(np.sqrt(np.maximum(w, 1e-12))) @ v.T
-
-
 def shape_maps(target: Target, k: int, seed: int = 0) -> np.ndarray:
     """``(k, 2, 3)`` affine maps, each taking the figure's mean and covariance onto one of its ``k`` k-means parts.
 
@@ -175,14 +170,14 @@ def shape_maps(target: Target, k: int, seed: int = 0) -> np.ndarray:
     fg = foreground_points(target)
     if len(fg) < 3 * k:
         raise IFSError(f"the target has {len(fg)} foreground pixels: too few for {k} maps")
-    mu, inv_root = fg.mean(0), np.linalg.inv(_sqrtm(np.cov(fg.T)))
+    mu, inv_root = fg.mean(0), np.linalg.inv(fractal.sqrtm_psd(np.cov(fg.T)))
     _, label = kmeans2(fg, k, seed=seed, minit="++")
     maps = []
     for i in range(k):
         part = fg[label == i]
         if len(part) < 3:  # an empty or tiny cluster: a small copy at a random foreground pixel
             part = fg[np.random.default_rng(seed + i).choice(len(fg), 3, replace=False)]
-        a = _sqrtm(np.cov(part.T)) @ inv_root
+        a = fractal.sqrtm_psd(np.cov(part.T)) @ inv_root
         u, s, vt = np.linalg.svd(a)
         a = u @ np.diag(np.clip(s, *SINGULAR_RANGE)) @ vt
         maps.append(np.concatenate([a, (part.mean(0) - a @ mu)[:, None]], 1))

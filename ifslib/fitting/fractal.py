@@ -82,6 +82,12 @@ COLLAGE_POINTS = (600, 2000)
 COMPARE_POINTS = 200_000
 
 
+def _rotation(angle):
+    """``(..., 2, 2)`` rotation matrices by ``angle`` (radians; a number or an array)."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
+
+
 def linear_grid(turns: int = 36, phases: int = 8, scales=(0.25, 0.35, 0.45, 0.55, 0.65, 0.75, 0.85),
                 ratios=(0.2, 0.4, 0.6, 0.8, 1.0)) -> np.ndarray:
     """Linear parts ``R(theta) diag(s, ±r s) R(phi)`` to try: ``(G, 2, 2)``.
@@ -90,16 +96,13 @@ def linear_grid(turns: int = 36, phases: int = 8, scales=(0.25, 0.35, 0.45, 0.55
     (one when ``r = 1``: a similarity has no second angle), ``s`` the ``scales``, ``r`` the
     ``ratios`` of the smaller singular value to the larger, and both signs (a reflection or not).
     """
-    def rotation(a: float) -> np.ndarray:
-        return np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
-
     out = []
     for s in scales:
         for r in ratios:
             for phi in ([0.0] if r == 1.0 else np.arange(phases) * math.pi / phases):
                 for theta in np.arange(turns) * 2 * math.pi / turns:
                     for sign in (1.0, -1.0):
-                        out.append(rotation(theta) @ np.diag([s, sign * r * s]) @ rotation(phi))
+                        out.append(_rotation(theta) @ np.diag([s, sign * r * s]) @ _rotation(phi))
     return np.array(out)
 
 
@@ -107,6 +110,12 @@ def _pixels(mask: np.ndarray) -> np.ndarray:
     """Figure pixels as ``(x, y) = (col, -row)``: pixel units, y up like the plane."""
     rows, cols = np.nonzero(mask)
     return np.stack([cols, -rows], 1).astype(np.float64)
+
+
+def _centred_pixels(mask: np.ndarray) -> torch.Tensor:
+    """`_pixels` less their centroid (the origin a linear part of `linear_grid` turns about)."""
+    pixels = _pixels(mask)
+    return torch.as_tensor(pixels - pixels.mean(0))
 
 
 def copy_candidates(mask: np.ndarray, grid: np.ndarray, inside: float = INSIDE, per_map: int = 2,
@@ -132,7 +141,7 @@ def copy_candidates(mask: np.ndarray, grid: np.ndarray, inside: float = INSIDE, 
     """
     n = mask.shape[0]
     size = 2 * n  # zero padding: a copy that leaves the frame loses the pixels outside
-    u = torch.as_tensor(_pixels(mask) - _pixels(mask).mean(0))
+    u = _centred_pixels(mask)
     grown = torch.zeros(size, size)
     grown[:n, :n] = torch.as_tensor(ndimage.binary_dilation(mask), dtype=torch.float32)
     spectrum = torch.fft.rfft2(grown)
@@ -157,7 +166,7 @@ def copy_candidates(mask: np.ndarray, grid: np.ndarray, inside: float = INSIDE, 
 def footprints(mask: np.ndarray, grid: np.ndarray, cands: np.ndarray, chunk: int = 2048) -> torch.Tensor:
     """``(C, n * n)`` float 0/1: the figure pixels each candidate copy covers (its pixels grown by one)."""
     n = mask.shape[0]
-    u = torch.as_tensor(_pixels(mask) - _pixels(mask).mean(0))
+    u = _centred_pixels(mask)
     figure = torch.as_tensor(mask.reshape(-1))
     out = []
     for start in range(0, len(cands), chunk):
@@ -238,8 +247,7 @@ def random_starts(count: int, k: int, target: Target, rng: np.random.Generator) 
     angle = rng.uniform(-math.pi, math.pi, (count, k, 2))
     scale = rng.uniform(0.25, 0.65, (count, k, 2))
     scale[..., 1] *= np.where(rng.random((count, k)) < 1 / 3, -1.0, 1.0)
-    c, s = np.cos(angle), np.sin(angle)
-    rot = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)  # (count, k, 2, 2, 2): [..., which, i, j]
+    rot = _rotation(angle)  # (count, k, 2, 2, 2): [..., which, i, j]
     linear = rot[..., 0, :, :] * scale[..., None, :] @ rot[..., 1, :, :]
     t = fg[rng.integers(0, len(fg), (count, k))] - linear @ fg.mean(0)
     return np.concatenate([linear, t[..., None]], -1)
@@ -311,7 +319,8 @@ def refine(maps: np.ndarray | torch.Tensor, target: Target, steps: int, lr: floa
     return work.detach().double(), ((outside + cover) * pixel2).sqrt().double()
 
 
-def _sqrtm(c: np.ndarray) -> np.ndarray:
+def sqrtm_psd(c: np.ndarray) -> np.ndarray:
+    """The symmetric square root of a covariance matrix (eigenvalues floored at 1e-12)."""
     w, v = np.linalg.eigh(c)
     return v @ np.diag(np.sqrt(np.maximum(w, 1e-12))) @ v.T
 
@@ -324,13 +333,12 @@ def turns(target: Target, count: int = TURNS) -> np.ndarray:
     so at a coarse size a map can lock onto the copy turned the wrong way; `reorient` tries them.
     """
     fg = foreground_points(target)
-    mu, root = fg.mean(0), _sqrtm(np.cov(fg.T))
+    mu, root = fg.mean(0), sqrtm_psd(np.cov(fg.T))
     inverse = np.linalg.inv(root)
     out = []
     for angle in np.arange(count) * 2 * math.pi / count:
-        rotation = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
         for sign in (1.0, -1.0):
-            linear = root @ rotation @ np.diag([1.0, sign]) @ inverse
+            linear = root @ _rotation(angle) @ np.diag([1.0, sign]) @ inverse
             out.append(np.concatenate([linear, (mu - linear @ mu)[:, None]], 1))
     return np.array(out[1:])
 
@@ -360,9 +368,10 @@ def reorient(maps: np.ndarray, target: Target, rounds: int = 3, seed: int = 0) -
                 turned[i, :, :2] = maps[i, :, :2] @ s[:, :2]
                 turned[i, :, 2] = maps[i, :, :2] @ s[:, 2] + maps[i, :, 2]
                 batch.append(turned)
-        _, first = refine(np.array(batch), target, 0, 0.0, COLLAGE_POINTS[1], seed)
+        batch = np.array(batch)
+        _, first = refine(batch, target, 0, 0.0, COLLAGE_POINTS[1], seed)
         keep = torch.cat([torch.tensor([0]), 1 + torch.argsort(first[1:])[:SCREEN]])
-        work, err = refine(np.array(batch)[keep.numpy()], target, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
+        work, err = refine(batch[keep.numpy()], target, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
         best = int(torch.argmin(err))
         maps, error = work[best].numpy(), float(err[best])
         if best == 0:
