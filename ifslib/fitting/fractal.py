@@ -2,30 +2,36 @@
 
 A fractal ``A`` drawn by ``k`` affine maps is the union of ``k`` shrunken copies of itself,
 ``A = T_1(A) ∪ ... ∪ T_k(A)``, and by the collage theorem (Barnsley) maps whose copies of the
-target nearly rebuild the target have an attractor near it. `search` looks for such maps in three
-steps, all on the target alone (no rendering, no depth):
+target nearly rebuild the target have an attractor near it. `search` looks for such maps on the
+target alone (no depth), then judges them by their attractor:
 
 1. **Copies that fit inside** (`copy_candidates`). For each linear part ``L`` of a grid
-   (`linear_grid`: rotations, two singular values, reflections, about 19k of them), the figure's
-   pixels mapped by ``L`` are matched against the figure at every translation at once, by one
-   FFT correlation (`torch.fft.rfft2`): a placement counts when at least `INSIDE` of the copy's
-   pixels land on the figure (grown by one pixel). Each ``L`` keeps its placements that cover most.
-2. **Copies that cover** (`greedy_covers`). From each of the `FIRSTS` largest copies, the copy
-   that covers most of what is still uncovered is added, again and again (greedy set cover,
-   one matrix product per step); the first ``k`` copies of each run are a start with ``k`` maps.
-   Random placements (`random_starts`) join them, as Tu et al. start from random maps.
+   (`linear_grid`: rotations, two singular values down to thin copies, reflections, about 25k of
+   them), the figure's pixels mapped by ``L`` are matched against the figure at every translation
+   at once, by one FFT correlation (`torch.fft.rfft2`): a placement counts when at least `INSIDE`
+   of the copy's pixels land on the figure (grown by one pixel).
+2. **Sets of copies** (starts of ``k`` maps). `collage_sets`: the sets with the least collage
+   distance, by greedy selection and swaps (a facility-location local search on each copy's
+   distances, computed once); `beam_covers` and `greedy_covers`: sets that cover the figure with
+   little overlap; `random_starts`: random maps, as Tu et al. start.
 3. **The collage, refined** (`refine`). All starts of ``k`` maps go through Adam together, on
    the collage distance in pixels: the copies' distance to the figure (``outside``) and each
    figure pixel's distance to the nearest copy (``cover``, through the maps' inverses: ``d(q,
    T_i(A)) <= s_i d(T_i^-1 q, A)``), read from the target's distance transform
    (`torch.nn.functional.grid_sample`); every map's singular values are kept in
-   [`MIN_SCALE`, `MAX_SCALE`] after each step. The best starts go on at `REFINE_SIZE`.
+   [`MIN_SCALE`, `MAX_SCALE`] after each step.
+4. **Judged by the attractor.** A small collage distance does not make a close attractor (a map
+   of scale 0.8 multiplies a collage error by five), so the `SHORTLIST` starts with the least
+   collage have their attractors drawn (chaos game at `REFINE_SIZE`), the `KEEP` closest go on at
+   `REFINE_SIZE`, and the maps whose attractor is closest are kept; `reorient` turns maps the
+   same way.
 
-**How many maps** (minimum description length): for each ``k`` of ``maps`` the refined maps'
-attractor is drawn by the chaos game at `REFINE_SIZE` and scored by its symmetric Chamfer
-distance to the target in pixels; the number chosen is the ``k`` with the least
-``chamfer + MAP_COST * k`` (a map must buy `MAP_COST` pixels of Chamfer distance to be kept).
-`SearchResult.table` lists every ``k``'s numbers, and the automatic pattern records them.
+**How many maps** (minimum description length): for ``k`` = 2, 3, ... the kept maps' attractor
+is scored by its symmetric Chamfer distance to the target in pixels at `REFINE_SIZE`; the number
+chosen is the ``k`` with the least ``chamfer + MAP_COST * k`` (a map must buy `MAP_COST` pixels of
+Chamfer distance to be kept). Since a Chamfer distance is never negative, ``k`` maps cannot beat a
+score of ``MAP_COST * k`` or less, and those numbers are not tried. `SearchResult.table` lists
+every ``k`` tried, and the automatic pattern records it.
 """
 from __future__ import annotations
 
@@ -64,10 +70,14 @@ INSIDE = 0.9
 FIRSTS = 16
 #: ... and the beam search for covers keeps this many sets of copies at each size, and charges a pixel covered twice this much ...
 BEAM, OVERLAP = 32, 0.5
-#: ... beside this many random starts for each number of maps.
+#: ... beside this many random starts for each number of maps ...
 RANDOM_STARTS = 16
+#: ... and the sets of `collage_sets`, from this many first copies.
+RESTARTS = 16
 #: Adam steps of the collage at `SEARCH_SIZE` and at `REFINE_SIZE`, and how many starts go on to the latter.
 SEARCH_STEPS, REFINE_STEPS, KEEP = 150, 150, 4
+#: The starts with the least collage distance whose attractors are drawn to choose the `KEEP` (chaos game, `SCREEN_POINTS` points).
+SHORTLIST, SCREEN_POINTS = 16, 50_000
 #: `reorient` turns each map by this many rotations (and as many reflections) of the figure's ellipse ...
 TURNS = 12
 #: ... and refines the variants whose collage starts best, this many of them.
@@ -89,7 +99,7 @@ def _rotation(angle):
 
 
 def linear_grid(turns: int = 36, phases: int = 8, scales=(0.25, 0.35, 0.45, 0.55, 0.65, 0.75, 0.85),
-                ratios=(0.2, 0.4, 0.6, 0.8, 1.0)) -> np.ndarray:
+                ratios=(0.05, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0)) -> np.ndarray:
     """Linear parts ``R(theta) diag(s, ±r s) R(phi)`` to try: ``(G, 2, 2)``.
 
     ``theta`` takes ``turns`` angles of the whole turn, ``phi`` ``phases`` angles of the half turn
@@ -264,23 +274,95 @@ def _lookup(distance: torch.Tensor, points: torch.Tensor) -> torch.Tensor:
     return inside + beyond.square().sum(-1).add(1e-30).sqrt()
 
 
-def collage_terms(maps: torch.Tensor, points: torch.Tensor, distance: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """Mean squared ``outside`` and ``cover`` distances (plane units) of a batch of IFSs: ``maps`` ``(S, k, 2, 3)``.
+def copy_terms(maps: torch.Tensor, points: torch.Tensor, distance: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """Each copy's ``outside`` and ``cover`` distances (plane units), for maps ``(..., 2, 3)``: each ``(..., P)``.
 
-    ``outside``: the copies ``T_i(p)`` of the figure pixels ``points`` ``(P, 2)``, to the figure;
-    ``cover``: each figure pixel to its nearest copy, ``min_i s_i d(T_i^-1 q, figure)`` with ``s_i``
-    the largest singular value (the module docstring). Each ``(S,)``.
+    ``outside``: the copy ``T(p)`` of each figure pixel of ``points`` ``(P, 2)``, to the figure;
+    ``cover``: each figure pixel ``q`` to the copy ``T(A)``, bounded by ``s d(T^-1 q, A)`` with ``s``
+    the map's largest singular value (the module docstring).
     """
     a, t = maps[..., :2], maps[..., 2]
-    copies = torch.einsum("skij,pj->skpi", a, points) + t[:, :, None]
-    outside = _lookup(distance, copies).square().mean((1, 2))
+    copies = torch.einsum("...ij,pj->...pi", a, points) + t[..., None, :]
+    outside = _lookup(distance, copies)
     det = a[..., 0, 0] * a[..., 1, 1] - a[..., 0, 1] * a[..., 1, 0]
     inverse = torch.stack([torch.stack([a[..., 1, 1], -a[..., 0, 1]], -1),
                            torch.stack([-a[..., 1, 0], a[..., 0, 0]], -1)], -2) / det[..., None, None]
-    back = torch.einsum("skij,skpj->skpi", inverse, points[None, None] - t[:, :, None])
+    back = torch.einsum("...ij,...pj->...pi", inverse, points - t[..., None, :])
     scale = torch.linalg.matrix_norm(a, ord=2)
-    cover = (_lookup(distance, back) * scale[..., None]).min(1).values.square().mean(-1)
-    return outside, cover
+    return outside, _lookup(distance, back) * scale[..., None]
+
+
+def collage_terms(maps: torch.Tensor, points: torch.Tensor, distance: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """Mean squared ``outside`` and ``cover`` distances (plane units) of a batch of IFSs: ``maps`` ``(S, k, 2, 3)``.
+
+    ``outside`` is averaged over the copies of every map, ``cover`` takes each figure pixel's
+    nearest copy (`copy_terms`). Each ``(S,)``.
+    """
+    outside, cover = copy_terms(maps, points, distance)
+    return outside.square().mean((1, 2)), cover.min(1).values.square().mean(-1)
+
+
+def collage_sets(maps: np.ndarray, target: Target, ks, restarts: int = RESTARTS, points: int = COLLAGE_POINTS[0],
+                 sweeps: int = 4, seed: int = 0) -> dict[int, list[list[int]]]:
+    """Sets of ``k`` of the candidate copies ``maps`` ``(C, 2, 3)`` with the least collage distance: ``{k: sets}``.
+
+    Choosing ``k`` copies so that every figure pixel is near one of them, at the least cost of
+    copies outside the figure, is a facility-location problem: each copy's ``outside`` and
+    ``cover`` distances are computed once (`copy_terms`), then from each of ``restarts`` first
+    copies (the best single copies and random ones) the copy that lowers the collage most is
+    added until there are ``k`` (greedy), and each map in turn is swapped for the candidate that
+    lowers it most, for up to ``sweeps`` sweeps (local search). Distinct sets, best first.
+    """
+    fg = foreground_points(target)
+    rng = np.random.default_rng(seed)
+    if len(fg) > points:
+        fg = fg[rng.choice(len(fg), points, replace=False)]
+    with torch.no_grad():
+        outside, cover = copy_terms(torch.as_tensor(maps, dtype=torch.float32), torch.as_tensor(fg, dtype=torch.float32),
+                                    target.distance.float())
+    out, far = outside.square().mean(1), cover.square()                      # (C,), (C, P)
+    single = out + far.mean(1)
+    half = restarts // 2
+    firsts = torch.cat([torch.argsort(single)[:half],
+                        torch.as_tensor(rng.choice(len(maps), restarts - half, replace=False))])
+
+    def best(nearest, fixed, k, taken):
+        """For each restart, the candidate whose addition to ``nearest`` (R, P) costs least, and that cost."""
+        cost = torch.cat([torch.minimum(nearest[:, None], far[None, c:c + 512]).mean(-1) for c in range(0, len(far), 512)], 1)
+        cost = cost + (fixed[:, None] + out[None]) / k
+        cost.scatter_(1, taken, math.inf)
+        value, index = cost.min(1)
+        return index, value
+
+    found = {}
+    for k in ks:
+        chosen = firsts[:, None].clone()
+        for _ in range(k - 1):
+            nearest = far[chosen].min(1).values
+            index, _ = best(nearest, out[chosen].sum(1), k, chosen)
+            chosen = torch.cat([chosen, index[:, None]], 1)
+        for _ in range(sweeps):
+            changed = False
+            for i in range(k):
+                others = torch.cat([chosen[:, :i], chosen[:, i + 1:]], 1)
+                nearest = far[others].min(1).values if k > 1 else torch.full_like(far[:len(chosen)], math.inf)
+                index, value = best(nearest, out[others].sum(1), k, chosen)
+                now = (torch.minimum(nearest, far[chosen[:, i]]).mean(-1) + (out[others].sum(1) + out[chosen[:, i]]) / k)
+                better = value < now - 1e-12
+                if bool(better.any()):
+                    changed = True
+                    chosen[better, i] = index[better]
+            if not changed:
+                break
+        total = far[chosen].min(1).values.mean(-1) + out[chosen].sum(1) / k
+        sets, seen = [], set()
+        for r in torch.argsort(total).tolist():
+            key = tuple(sorted(chosen[r].tolist()))
+            if key not in seen:
+                seen.add(key)
+                sets.append(list(key))
+        found[k] = sets
+    return found
 
 
 def _clip_scales(maps: torch.Tensor) -> None:
@@ -347,8 +429,9 @@ def reorient(maps: np.ndarray, target: Target, rounds: int = 3, seed: int = 0) -
     """Try each map turned by each of `turns` (``T_i o S``), keep the collage's best, and repeat.
 
     Every variant (one map turned, the others kept) is scored by its collage distance at once;
-    the `SCREEN` best and the maps as given are refined together (`refine`), and the best of them
-    is kept. Stops after ``rounds`` rounds or when the maps as given stay best.
+    the `SCREEN` best and the maps as given are refined together (`refine`), and the one whose
+    attractor is closest to the target (`attractor_chamfer`, `SCREEN_POINTS` points) is kept. Stops
+    after ``rounds`` rounds or when the maps as given stay best.
 
     Returns
     -------
@@ -372,7 +455,8 @@ def reorient(maps: np.ndarray, target: Target, rounds: int = 3, seed: int = 0) -
         _, first = refine(batch, target, 0, 0.0, COLLAGE_POINTS[1], seed)
         keep = torch.cat([torch.tensor([0]), 1 + torch.argsort(first[1:])[:SCREEN]])
         work, err = refine(batch[keep.numpy()], target, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
-        best = int(torch.argmin(err))
+        scores = [attractor_chamfer(m, target, SCREEN_POINTS) for m in work.numpy()]
+        best = int(np.argmin(scores))
         maps, error = work[best].numpy(), float(err[best])
         if best == 0:
             break
@@ -468,18 +552,24 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         for k in ks:
             covers[k].append(cover[:k])
     feet_total = float(coarse.mask.sum())
-    table, found = [], {}
+    table, found, skipped = [], {}, []
     for k in tqdm(ks, desc=f"fractal search · {fine.size}² · maps", disable=not (progress and draw_bars())):
+        if table and min(r["score"] for r in table) <= MAP_COST * k:
+            skipped.append(k)  # k maps score at least MAP_COST * k: they cannot win
+            continue
         t0 = time.perf_counter()
+        covers[k] = collage_sets(starts, coarse, [k], seed=seed)[k] + covers[k]
         covered = max(float(feet[c].amax(0).sum()) / feet_total for c in covers[k])
         batch = np.concatenate([starts[np.array(covers[k])], random_starts(RANDOM_STARTS, k, coarse, rng)])
         work, err = refine(batch, coarse, SEARCH_STEPS, 0.005, COLLAGE_POINTS[0], seed)
-        best = torch.argsort(err)[:KEEP]
+        best = torch.argsort(err)[:SHORTLIST]
+        drawn = np.array([attractor_chamfer(m, fine, SCREEN_POINTS) for m in work[best].numpy()])
+        best = best[np.argsort(drawn, kind="stable")[:KEEP]]
         if fine.size > coarse.size:  # a target no larger than the search size is refined once
             work, err = refine(work[best], fine, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
         else:
             work, err = work[best], err[best]
-        j = int(torch.argmin(err))
+        j = int(np.argmin([attractor_chamfer(m, fine, SCREEN_POINTS) for m in work.numpy()]))
         found[k] = work[j].numpy()
         chamfer_px = attractor_chamfer(found[k], fine)
         table.append({"maps": k, "cover": round(covered, 4), "collage_px": round(float(err[j]), 4),
@@ -500,4 +590,7 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     rule = (f"fewest maps for the fit: least attractor Chamfer distance at {fine.size}² plus {MAP_COST} px a map "
             f"(minimum description length), among the {REORIENT} best before reorienting; {chosen['maps']} maps scored "
             f"{chosen['score']:.3f}")
+    if skipped:
+        rule += (f"; {', '.join(map(str, skipped))} maps not tried: with {MAP_COST} px a map they score at least "
+                 f"{MAP_COST * skipped[0]:.1f}, no less than the best already found")
     return SearchResult(found[chosen["maps"]], table, rule)

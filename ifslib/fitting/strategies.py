@@ -27,7 +27,8 @@ strategies compare per step spent:
     ``history["auto"]`` lists the candidates (maps, loss, steps, seconds) and the one chosen, and
     the fitted IFS's ``meta["pattern"]`` says so. A fractal's start (``kind="fractal"``: its maps
     and their number were chosen by `ifslib.fitting.fractal.search`) goes straight to the attractor
-    stage, of at most `FRACTAL_STAGE_STEPS` steps; ``history["auto"]["candidates"]`` is then the
+    stage, of at most `FRACTAL_STAGE_STEPS` steps with the pixel loss (`POLISH_LOSS`: the distance loss
+    trades the attractor's thin detail for its outline); ``history["auto"]["candidates"]`` is then the
     search's table (per number of maps: cover, collage and attractor Chamfer distances, score).
 ``plain``
     One run: the paper's procedure (every step spent unless ``tol`` is given).
@@ -308,7 +309,8 @@ def _auto_fractal(ifs: IFS, target: Target, steps: int, seed: int, lr: float, kw
     pattern = ifs.meta["pattern"]
     label = f"{pattern['maps']} maps"
     if end_on_attractor:
-        result, stage = attractor_stage(ifs, target, min(steps, FRACTAL_STAGE_STEPS), seed, lr, kwargs, label)
+        result, stage = attractor_stage(ifs, target, min(steps, FRACTAL_STAGE_STEPS), seed, lr, kwargs, label,
+                                        loss=POLISH_LOSS)
     else:
         kwargs = {**kwargs, "depth": ifs.depth}
         result = run(ifs, target, steps=min(steps, FRACTAL_STAGE_STEPS), seed=seed, lr=lr,
