@@ -15,10 +15,8 @@ different order, and with ``save_to`` set so the figure notebooks write their PN
 """
 import configparser
 import json
-import multiprocessing
 import os
 import re
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -75,29 +73,18 @@ def checked_cells(book):
             if c["cell_type"] == "code" and "".join(c["source"]).startswith(CHECK)}
 
 
-def execute(path: Path, out: Path) -> None:
-    """One notebook through papermill, into ``out`` (its figure saved there too)."""
-    import papermill
-    parameters = {"save_to": str(out)} if path.stem in FIGURES else {}
-    papermill.execute_notebook(str(path), str(out / path.name), cwd=str(path.parent), kernel_name="python3",
-                               parameters=parameters, progress_bar=False)
-
-
 @pytest.fixture(scope="session")
 def runs(tmp_path_factory):
-    """Every notebook executed by papermill at the other thread count; figures saved beside them.
-
-    At one thread a notebook keeps one core busy, so two run at a time (each in its own process
-    and kernel); at two threads they run one after another.
-    """
-    pytest.importorskip("papermill")
+    """Every notebook executed by papermill at the other thread count; figures saved beside them."""
+    papermill = pytest.importorskip("papermill")
     out = tmp_path_factory.mktemp("runs")
     saved = os.environ.get("IFSLIB_THREADS")
     os.environ["IFSLIB_THREADS"] = other_thread_count()  # the kernels inherit the environment
     try:
-        workers = 2 if other_thread_count() == "1" else 1
-        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-            list(pool.map(execute, NOTEBOOKS, [out] * len(NOTEBOOKS)))
+        for path in NOTEBOOKS:
+            parameters = {"save_to": str(out)} if path.stem in FIGURES else {}
+            papermill.execute_notebook(str(path), str(out / path.name), cwd=str(path.parent), kernel_name="python3",
+                                       parameters=parameters, progress_bar=False)
     finally:
         if saved is None:
             del os.environ["IFSLIB_THREADS"]

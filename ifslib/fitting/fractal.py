@@ -30,8 +30,9 @@ target alone (no depth), then judges them by their attractor:
 is scored by its symmetric Chamfer distance to the target in pixels at `REFINE_SIZE`; the number
 chosen is the ``k`` with the least ``chamfer + MAP_COST * k`` (a map must buy `MAP_COST` pixels of
 Chamfer distance to be kept). Since a Chamfer distance is never negative, ``k`` maps cannot beat a
-score of ``MAP_COST * k`` or less, and those numbers are not tried. `SearchResult.table` lists
-every ``k`` tried, and the automatic pattern records it.
+score of ``MAP_COST * k`` or less, and those numbers are not tried; nor are more than
+`GIVE_UP_MAPS` when no attractor came within `GIVE_UP_PX` (the figure is not a fractal of a few
+maps). `SearchResult.table` lists every ``k`` tried, and the automatic pattern records it.
 """
 from __future__ import annotations
 
@@ -86,6 +87,10 @@ SCREEN = 12
 REORIENT = 3
 #: The cost of a map, in pixels of the attractor's Chamfer distance at `REFINE_SIZE`.
 MAP_COST = 0.1
+#: More than `GIVE_UP_MAPS` maps are not tried when no attractor of that many maps or fewer came within `GIVE_UP_PX`
+#: pixels: not a fractal of a few maps (49 of the 50 random fractals of the benchmark: at most 2.2 px by 4 maps; the
+#: paper's flower silhouette: 3.8 px).
+GIVE_UP_MAPS, GIVE_UP_PX = 4, 2.5
 #: At most this many figure pixels are used for the collage distance at each size.
 COLLAGE_POINTS = (600, 2000)
 #: The chaos game's points when the attractors of each number of maps are compared.
@@ -552,10 +557,13 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         for k in ks:
             covers[k].append(cover[:k])
     feet_total = float(coarse.mask.sum())
-    table, found, skipped = [], {}, []
+    table, found, skipped, hopeless = [], {}, [], []
     for k in tqdm(ks, desc=f"fractal search · {fine.size}² · maps", disable=not (progress and draw_bars())):
         if table and min(r["score"] for r in table) <= MAP_COST * k:
             skipped.append(k)  # k maps score at least MAP_COST * k: they cannot win
+            continue
+        if k > GIVE_UP_MAPS and table and min(r["chamfer_px"] for r in table) > GIVE_UP_PX:
+            hopeless.append(k)
             continue
         t0 = time.perf_counter()
         covers[k] = collage_sets(starts, coarse, [k], seed=seed)[k] + covers[k]
@@ -576,7 +584,7 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
                       "chamfer_px": round(chamfer_px, 4), "score": round(chamfer_px + MAP_COST * k, 4),
                       "seconds": round(time.perf_counter() - t0, 2)})
     # the best few numbers of maps, each with its maps turned where that helps (`reorient`), then compared again
-    for row in sorted(table, key=lambda r: (r["score"], r["maps"]))[:REORIENT]:
+    for row in [] if hopeless else sorted(table, key=lambda r: (r["score"], r["maps"]))[:REORIENT]:
         t0 = time.perf_counter()
         found[row["maps"]], error = reorient(found[row["maps"]], fine, seed=seed)
         row["reoriented"] = True
@@ -586,10 +594,13 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
     if progress and not draw_bars():
         note("fractal search: " + ", ".join(f"{r['maps']} maps {r['chamfer_px']:.2f} px" for r in table))
-    chosen = min((r for r in table if r.get("reoriented")), key=lambda r: (r["score"], r["maps"]))
+    chosen = min((r for r in table if r.get("reoriented") or hopeless), key=lambda r: (r["score"], r["maps"]))
     rule = (f"fewest maps for the fit: least attractor Chamfer distance at {fine.size}² plus {MAP_COST} px a map "
             f"(minimum description length), among the {REORIENT} best before reorienting; {chosen['maps']} maps scored "
             f"{chosen['score']:.3f}")
+    if hopeless:
+        rule += (f"; {', '.join(map(str, hopeless))} maps not tried, and none reoriented: up to {GIVE_UP_MAPS} maps no "
+                 f"attractor came within {GIVE_UP_PX} px of the target")
     if skipped:
         rule += (f"; {', '.join(map(str, skipped))} maps not tried: with {MAP_COST} px a map they score at least "
                  f"{MAP_COST * skipped[0]:.1f}, no less than the best already found")
