@@ -584,7 +584,8 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
                       "chamfer_px": round(chamfer_px, 4), "score": round(chamfer_px + MAP_COST * k, 4),
                       "seconds": round(time.perf_counter() - t0, 2)})
     # the best few numbers of maps, each with its maps turned where that helps (`reorient`), then compared again
-    for row in [] if hopeless else sorted(table, key=lambda r: (r["score"], r["maps"]))[:REORIENT]:
+    turned = [] if hopeless else sorted(table, key=lambda r: (r["score"], r["maps"]))[:REORIENT]
+    for row in turned:
         t0 = time.perf_counter()
         found[row["maps"]], error = reorient(found[row["maps"]], fine, seed=seed)
         row["reoriented"] = True
@@ -594,7 +595,7 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
     if progress and not draw_bars():
         note("fractal search: " + ", ".join(f"{r['maps']} maps {r['chamfer_px']:.2f} px" for r in table))
-    chosen = min((r for r in table if r.get("reoriented") or hopeless), key=lambda r: (r["score"], r["maps"]))
+    chosen = min(turned or table, key=lambda r: (r["score"], r["maps"]))
     rule = (f"fewest maps for the fit: least attractor Chamfer distance at {fine.size}² plus {MAP_COST} px a map "
             f"(minimum description length), among the {REORIENT} best before reorienting; {chosen['maps']} maps scored "
             f"{chosen['score']:.3f}")
