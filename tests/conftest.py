@@ -6,6 +6,8 @@ The default is ``cpu``.
 """
 import math
 import os
+import shutil
+import tempfile
 
 import pytest
 import torch
@@ -64,9 +66,28 @@ def pattern_name(request):
     return request.param
 
 
-# nbval's kernels inherit this environment: they run at 2 threads unless the caller chose a count;
-# tests/test_notebook_runs.py runs every notebook again at another count and compares.
+# nbval's kernels inherit this environment. They run at 2 threads unless the caller chose a count: the
+# stored outputs they are compared with were made at 1 (notebooks/store.py), so that a checked output
+# that depends on the summation order fails (tests/test_notebook_runs.py checks the two counts differ).
 os.environ.setdefault("IFSLIB_THREADS", "2")
+
+
+def pytest_configure(config):
+    """Give nbval's kernels a folder for the notebooks' figures (``IFSLIB_FIGURES``), unless the caller chose one.
+
+    ``save_figure`` falls back on it when a notebook's ``save_to`` is empty; tests/test_notebook_runs.py
+    compares those figures with tests/reference/.
+    """
+    if not os.environ.get("IFSLIB_FIGURES"):
+        config._ifslib_figures = tempfile.mkdtemp(prefix="ifslib-figures-")
+        os.environ["IFSLIB_FIGURES"] = config._ifslib_figures
+
+
+def pytest_unconfigure(config):
+    folder = getattr(config, "_ifslib_figures", None)
+    if folder:
+        shutil.rmtree(folder, ignore_errors=True)
+        os.environ.pop("IFSLIB_FIGURES", None)
 
 
 def pytest_addoption(parser):

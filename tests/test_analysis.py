@@ -125,13 +125,19 @@ def test_copy_outlines_are_the_maps_of_the_bounding_box():
     assert box_width == pytest.approx((0.8 + 1 / 256) / 3, abs=2 / 256)
 
 
-def test_save_figure_is_byte_stable_and_unstamped(tmp_path):
+def test_save_figure_is_byte_stable_and_unstamped(tmp_path, monkeypatch):
     fig = figures.gallery([[np.eye(8), np.ones((8, 8))]], ["a", "b"])
     first = figures.save_figure(fig, "f", tmp_path / "one")
     second = figures.save_figure(fig, "f", tmp_path / "two")
     assert first.read_bytes() == second.read_bytes()
     assert b"Software" not in first.read_bytes() and b"matplotlib" not in first.read_bytes()
+    monkeypatch.delenv(figures.FIGURES_ENV, raising=False)
     assert figures.save_figure(fig, "f", "") is None
+    # an empty folder falls back on IFSLIB_FIGURES (how the tests collect nbval's figures); a given one wins
+    monkeypatch.setenv(figures.FIGURES_ENV, str(tmp_path / "env"))
+    assert figures.save_figure(fig, "f", "") == tmp_path / "env" / "f.png"
+    assert figures.save_figure(fig, "g", tmp_path / "one") == tmp_path / "one" / "g.png"
+    assert not (tmp_path / "env" / "g.png").exists()
 
 
 def test_koch_paper_is_the_papers_start():

@@ -184,11 +184,19 @@ def rendered(ifs: IFS, size: int, depth: int | str | None = None, **kwargs) -> n
         return render(ifs, size, depth, **kwargs).cpu().numpy()
 
 
-def save_figure(fig: plt.Figure, name: str, folder: str | os.PathLike | None, dpi: int = 100) -> Path | None:
-    """Write ``fig`` to ``folder/name.png`` byte-stably; do nothing when ``folder`` is empty or None.
+#: When a notebook's ``save_to`` is empty, `save_figure` writes to the folder this environment variable names,
+#: if any: the tests set it so that the figures of nbval's run of the notebooks can be compared with references.
+FIGURES_ENV = "IFSLIB_FIGURES"
 
-    The PNG carries no software or time stamp, so the same figure gives the same bytes.
+
+def save_figure(fig: plt.Figure, name: str, folder: str | os.PathLike | None, dpi: int = 100) -> Path | None:
+    """Write ``fig`` to ``folder/name.png`` byte-stably.
+
+    When ``folder`` is empty or None, the folder named by the ``IFSLIB_FIGURES`` environment
+    variable (`FIGURES_ENV`) is used; when that is unset too, nothing is written and None is
+    returned. The PNG carries no software or time stamp, so the same figure gives the same bytes.
     """
+    folder = folder or os.environ.get(FIGURES_ENV)
     if not folder:
         return None
     path = Path(folder) / f"{name}.png"
