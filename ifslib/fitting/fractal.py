@@ -28,9 +28,9 @@ target alone (no depth), then judges them by their attractor:
    same way.
 
 **How many maps** (minimum description length): for ``k`` = 2, 3, ... the kept maps' attractor
-is scored by its symmetric Chamfer distance to the target in pixels at the target's own size (at
-most `JUDGE_SIZE`); the number chosen is the ``k`` with the least ``chamfer + MAP_COST * k`` (a map
-must buy `MAP_COST` pixels of Chamfer distance to be kept). Since a Chamfer distance is never negative, ``k`` maps cannot beat a
+is scored by its symmetric Chamfer distance to the target in pixels at `REFINE_SIZE`; the number
+chosen is the ``k`` with the least ``chamfer + MAP_COST * k`` (a map must buy `MAP_COST` pixels of
+Chamfer distance to be kept). Since a Chamfer distance is never negative, ``k`` maps cannot beat a
 score of ``MAP_COST * k`` or less, and those numbers are not tried; nor are more than
 `GIVE_UP_MAPS` when no attractor came within `GIVE_UP_PX` (the figure is not a fractal of a few
 maps). `SearchResult.table` lists every ``k`` tried, and the automatic pattern records it.
@@ -62,11 +62,8 @@ FRACTAL_MAPS = tuple(range(2, 9))
 MAX_MAPS = 16
 #: The copies are matched at this size, and refined at it ...
 SEARCH_SIZE = 64
-#: ... then at this one ...
+#: ... then at this one, where the numbers of maps are compared.
 REFINE_SIZE = 128
-#: ... and the numbers of maps are compared at the target's own size, up to this one (at `REFINE_SIZE` a map of
-#: scale 0.15 left out changes the attractor's Chamfer distance by 0.02 px, under the pixel's own error; at 256 by 0.1 px).
-JUDGE_SIZE = 256
 #: Every map's singular values stay in this range (a map of scale 0.9 or more makes a blob; 0.02 is flat).
 MIN_SCALE, MAX_SCALE = 0.02, 0.9
 #: A placement of a copy counts when this share of its pixels lies on the figure grown by one pixel.
@@ -91,8 +88,8 @@ TURNS = 12
 SCREEN = 12
 #: The numbers of maps whose best start is reoriented before the final comparison.
 REORIENT = 3
-#: The cost of a map, in pixels of the attractor's Chamfer distance at the judging size (`JUDGE_SIZE` or less).
-MAP_COST = 0.05
+#: The cost of a map, in pixels of the attractor's Chamfer distance at `REFINE_SIZE`.
+MAP_COST = 0.1
 #: More than `GIVE_UP_MAPS` maps are not tried when no attractor of that many maps or fewer came within `GIVE_UP_PX`
 #: pixels: not a fractal of a few maps (49 of the 50 random fractals of the benchmark: at most 2.2 px by 4 maps; the
 #: paper's flower silhouette: 3.8 px).
@@ -194,9 +191,9 @@ def crowd_out(cands: np.ndarray, grid: np.ndarray, per_class: int | None = None)
     """
     per_class = PER_CLASS if per_class is None else per_class
     sv = np.linalg.svd(grid)[1]
-    key = (sv[:, 0].round(3) * 1000).astype(np.int64) * 1000 + (sv[:, 1] / sv[:, 0]).round(3) * 1000
-    key = key.astype(np.int64)[cands[:, 1]]
-    keep = np.concatenate([np.nonzero(key == k)[0][:per_class] for k in np.unique(key)])
+    shape = np.stack([sv[:, 0], sv[:, 1] / sv[:, 0]], 1).round(3)[cands[:, 1]]
+    label = np.unique(shape, axis=0, return_inverse=True)[1].ravel()
+    keep = np.concatenate([np.nonzero(label == c)[0][:per_class] for c in np.unique(label)])
     return cands[np.sort(keep)]
 
 
@@ -512,8 +509,7 @@ class SearchResult:
     table : list of dict
         One row per number of maps tried: ``maps``, ``cover`` (share of the figure the greedy
         copies covered at `SEARCH_SIZE`), ``collage_px`` (at `REFINE_SIZE`), ``chamfer_px`` (the
-        attractor's, at `REFINE_SIZE`), ``judged_px`` (the attractor's at the judging size, the
-        target's up to `JUDGE_SIZE`), ``score`` (``judged_px + MAP_COST * maps``), ``seconds``.
+        attractor's, at `REFINE_SIZE`), ``score`` (``chamfer_px + MAP_COST * maps``), ``seconds``.
     rule : str
         How the number of maps was chosen, in words.
     """
@@ -565,7 +561,6 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     rng = np.random.default_rng(seed)
     coarse = resize_target(target, min(SEARCH_SIZE, target.size))
     fine = resize_target(target, min(REFINE_SIZE, target.size))
-    judge = resize_target(target, min(JUDGE_SIZE, target.size))
     grid = linear_grid()
     cands = copy_candidates(coarse.mask, grid)
     if len(cands) == 0:
@@ -600,10 +595,10 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
             work, err = work[best], err[best]
         j = int(np.argmin([attractor_chamfer(m, fine, SCREEN_POINTS) for m in work.numpy()]))
         found[k] = work[j].numpy()
-        chamfer_px, judged_px = attractor_chamfer(found[k], fine), attractor_chamfer(found[k], judge)
+        chamfer_px = attractor_chamfer(found[k], fine)
         table.append({"maps": k, "cover": round(covered, 4), "collage_px": round(float(err[j]), 4),
-                      "chamfer_px": round(chamfer_px, 4), "judged_px": round(judged_px, 4),
-                      "score": round(judged_px + MAP_COST * k, 4), "seconds": round(time.perf_counter() - t0, 2)})
+                      "chamfer_px": round(chamfer_px, 4), "score": round(chamfer_px + MAP_COST * k, 4),
+                      "seconds": round(time.perf_counter() - t0, 2)})
     # the best few numbers of maps, each with its maps turned where that helps (`reorient`), then compared again
     turned = [] if hopeless else sorted(table, key=lambda r: (r["score"], r["maps"]))[:REORIENT]
     for row in turned:
@@ -612,13 +607,12 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         row["reoriented"] = True
         row["collage_px"] = round(error, 4)
         row["chamfer_px"] = round(attractor_chamfer(found[row["maps"]], fine), 4)
-        row["judged_px"] = round(attractor_chamfer(found[row["maps"]], judge), 4)
-        row["score"] = round(row["judged_px"] + MAP_COST * row["maps"], 4)
+        row["score"] = round(row["chamfer_px"] + MAP_COST * row["maps"], 4)
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
     if progress and not draw_bars():
         note("fractal search: " + ", ".join(f"{r['maps']} maps {r['chamfer_px']:.2f} px" for r in table))
     chosen = min(turned or table, key=lambda r: (r["score"], r["maps"]))
-    rule = (f"fewest maps for the fit: least attractor Chamfer distance at {judge.size}² plus {MAP_COST} px a map "
+    rule = (f"fewest maps for the fit: least attractor Chamfer distance at {fine.size}² plus {MAP_COST} px a map "
             f"(minimum description length), among the {REORIENT} best before reorienting; {chosen['maps']} maps scored "
             f"{chosen['score']:.3f}")
     if hopeless:
