@@ -35,27 +35,6 @@ def test_copy_candidates_count_the_copy_pixels_on_the_grown_figure_as_brute_forc
         assert on == hits
 
 
-def test_crowd_out_keeps_the_largest_placements_of_every_scale_and_shape_in_order():
-    grid = fractal.linear_grid(turns=4, phases=2, scales=(0.3, 0.6), ratios=(0.1, 1.0))
-    sv = np.linalg.svd(grid)[1]
-    thin = np.nonzero(sv[:, 1] / sv[:, 0] < 0.5)[0]
-    rng = np.random.default_rng(0)
-    # many large round placements first (most pixels), the thin ones last, as copy_candidates orders them
-    rows = [(1000 - i, int(g), i, i) for i, g in enumerate(rng.choice(np.setdiff1d(np.arange(len(grid)), thin), 40))]
-    rows += [(10 - i, int(g), 50 + i, i) for i, g in enumerate(thin[:6])]
-    cands = np.array(rows, dtype=np.int64)
-    kept = fractal.crowd_out(cands, grid, per_class=3)
-    classes = {(round(sv[g, 0], 3), round(sv[g, 1] / sv[g, 0], 3)) for g in range(len(grid))}
-    assert len(classes) == 4
-    assert np.all(np.diff(kept[:, 0]) <= 0)  # the given order
-    for scale, ratio in classes:
-        member = [r for r in cands.tolist() if (round(sv[r[1], 0], 3), round(sv[r[1], 1] / sv[r[1], 0], 3)) == (scale, ratio)]
-        ours = [r for r in kept.tolist() if (round(sv[r[1], 0], 3), round(sv[r[1], 1] / sv[r[1], 0], 3)) == (scale, ratio)]
-        assert ours == member[:3]  # the first (largest) three of each class, the thin ones among them
-    assert sum(ratio < 0.5 for _, ratio in [(sv[r[1], 0], sv[r[1], 1] / sv[r[1], 0]) for r in kept]) == \
-        min(3, sum(sv[thin[:6], 0].round(3) == 0.3)) + min(3, sum(sv[thin[:6], 0].round(3) == 0.6))
-
-
 def test_plane_maps_send_the_figure_centroid_to_the_candidate_pixel():
     _, target = fractal_target(size=32)
     grid = fractal.linear_grid(turns=4, phases=2, scales=(0.5,), ratios=(0.5, 1.0))
@@ -131,9 +110,6 @@ def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_s
     pattern = start.meta["pattern"]
     assert pattern["kind"] == "fractal" and len(start.rules) == 2
     assert [row["maps"] for row in pattern["search"]] == [2] and "minimum description length" in pattern["rule"]
-    row = pattern["search"][0]  # the attractor's Chamfer distance at 128², a map costing MAP_COST px
-    assert row["score"] == pytest.approx(row["chamfer_px"] + fractal.MAP_COST * 2, abs=2e-4)
-    assert "at 128²" in pattern["rule"]
     m = ifslib.evaluate(start, target, depth="attractor")
     assert m["iou"] >= 0.85 and m["chamfer"] <= 1.0
     # the auto strategy sends it straight to the attractor stage and records the search's table

@@ -9,8 +9,7 @@ target alone (no depth), then judges them by their attractor:
    (`linear_grid`: rotations, two singular values down to thin copies, reflections, about 25k of
    them), the figure's pixels mapped by ``L`` are matched against the figure at every translation
    at once, by one FFT correlation (`torch.fft.rfft2`): a placement counts when at least `INSIDE`
-   of the copy's pixels land on the figure (grown by one pixel). The `PER_CLASS` placements that
-   cover most are kept of each scale and shape (`crowd_out`), so that thin copies stay in.
+   of the copy's pixels land on the figure (grown by one pixel).
 2. **Sets of copies** (starts of ``k`` maps). `collage_sets`: the sets with the least collage
    distance, by greedy selection and swaps (a facility-location local search on each copy's
    distances, computed once); `beam_covers` and `greedy_covers`: sets that cover the figure with
@@ -68,8 +67,6 @@ REFINE_SIZE = 128
 MIN_SCALE, MAX_SCALE = 0.02, 0.9
 #: A placement of a copy counts when this share of its pixels lies on the figure grown by one pixel.
 INSIDE = 0.9
-#: At most this many candidate copies are kept of each shape class (scale and ratio of the singular values: `crowd_out`).
-PER_CLASS = 250
 #: Greedy covers start from each of this many of the largest copies ...
 FIRSTS = 16
 #: ... and the beam search for covers keeps this many sets of copies at each size, and charges a pixel covered twice this much ...
@@ -179,22 +176,6 @@ def copy_candidates(mask: np.ndarray, grid: np.ndarray, inside: float = INSIDE, 
                     rows.append((round(value), start + g, index // n, index % n))
     out = np.array(rows, dtype=np.int64).reshape(-1, 4)
     return out[np.argsort(-out[:, 0], kind="stable")]
-
-
-def crowd_out(cands: np.ndarray, grid: np.ndarray, per_class: int | None = None) -> np.ndarray:
-    """The candidates (rows of `copy_candidates`, most pixels first) that cover most within each shape class.
-
-    A class is a pair of the linear part's larger singular value and its ratio of the two: without
-    classes, the large round copies and their near-twins crowd out the small and the thin ones, and
-    a fractal whose map is thin loses it before the sets are formed. Keeps at most ``per_class``
-    (default `PER_CLASS`) of each class, in the given order.
-    """
-    per_class = PER_CLASS if per_class is None else per_class
-    sv = np.linalg.svd(grid)[1]
-    shape = np.stack([sv[:, 0], sv[:, 1] / sv[:, 0]], 1).round(3)[cands[:, 1]]
-    label = np.unique(shape, axis=0, return_inverse=True)[1].ravel()
-    keep = np.concatenate([np.nonzero(label == c)[0][:per_class] for c in np.unique(label)])
-    return cands[np.sort(keep)]
 
 
 def footprints(mask: np.ndarray, grid: np.ndarray, cands: np.ndarray, chunk: int = 2048) -> torch.Tensor:
@@ -565,7 +546,10 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     cands = copy_candidates(coarse.mask, grid)
     if len(cands) == 0:
         raise IFSError("no copy of the figure fits inside it: the figure is too small to search for a fractal")
-    cands = crowd_out(cands, grid)
+    # keep the copies of each scale that cover most, so that small copies are not crowded out by near-twins of large ones
+    scale = np.linalg.svd(grid)[1][:, 0].round(3)[cands[:, 1]]
+    keep = np.concatenate([np.nonzero(scale == s)[0][:800] for s in np.unique(scale)])
+    cands = cands[np.sort(keep)]
     starts = plane_maps(grid, cands, _pixels(coarse.mask).mean(0), coarse.size)
     feet = footprints(coarse.mask, grid, cands)
     covers = beam_covers(feet, max(ks))
@@ -620,5 +604,5 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
                  f"attractor came within {GIVE_UP_PX} px of the target")
     if skipped:
         rule += (f"; {', '.join(map(str, skipped))} maps not tried: with {MAP_COST} px a map they score at least "
-                 f"{MAP_COST * skipped[0]:.2f}, no less than the best already found")
+                 f"{MAP_COST * skipped[0]:.1f}, no less than the best already found")
     return SearchResult(found[chosen["maps"]], table, rule)
