@@ -41,6 +41,12 @@ def presets(name: str) -> dict:
     return yaml.safe_load(path.read_text()) or {}
 
 
+def notebooks(only=()) -> list[Path]:
+    """The numbered notebooks, by name; only those whose names start with one of ``only`` when it is given."""
+    books = sorted((repo_root() / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    return [b for b in books if not only or any(b.stem.startswith(p) for p in only)]
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--preset", default="paper", help="paper (default) or ci")
@@ -51,8 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     params = presets(args.preset)
     out = root / "build" / args.preset
     save_to = figures_dir() if args.preset == "paper" else root / "build" / f"figures-{args.preset}"
-    books = sorted((root / "notebooks").glob("[0-9][0-9]_*.ipynb"))
-    books = [b for b in books if not args.only or any(b.stem.startswith(p) for p in args.only)]
+    books = notebooks(args.only)
     out.mkdir(parents=True, exist_ok=True)
     books.sort(key=lambda b: next((k for k, p in enumerate(LONGEST) if b.stem.startswith(p)), len(LONGEST)))
     jobs = max(1, min(args.jobs or cores(), len(books)))

@@ -18,10 +18,10 @@ from pathlib import Path
 
 import nbformat
 from nbclient import NotebookClient
+from run import notebooks  # notebooks/run.py: this script's folder is first on sys.path
 
 #: The torch thread count at which the stored outputs are made (the tests use another).
 STORE_THREADS = 1
-ROOT = Path(__file__).resolve().parent
 
 
 def store(path: Path, timeout: int = 1200) -> float:
@@ -38,9 +38,7 @@ def main(argv: list[str]) -> int:
     os.environ["IFSLIB_THREADS"] = str(STORE_THREADS)  # the kernels inherit the environment
     os.environ.pop("MPLBACKEND", None)  # the inline backend, so that the figures are stored
     os.environ.pop("IFSLIB_FIGURES", None)  # the ci preset writes no figure
-    books = sorted(ROOT.glob("[0-9][0-9]_*.ipynb"))
-    books = [b for b in books if not argv or any(b.stem.startswith(p) for p in argv)]
-    for path in books:
+    for path in notebooks(argv):
         print(f"{path.name}: {store(path):.0f} s", flush=True)
     return 0
 

@@ -79,7 +79,7 @@ def test_stored_outputs_were_made_at_another_thread_count(path):
     stored = json.loads(path.read_text())["metadata"].get("ifslib", {}).get("threads")
     assert stored is not None, f"{path.name}: no thread count recorded; store it with python notebooks/store.py"
     assert str(stored) != os.environ["IFSLIB_THREADS"], (
-        f"{path.name} was stored at {stored} threads and nbval runs it at IFSLIB_THREADS={stored}: its checked "
+        f"{path.name} was stored at {stored} threads and nbval runs it at IFSLIB_THREADS={os.environ['IFSLIB_THREADS']}: its checked "
         "cells would not be compared across thread counts; run the tests at another count")
 
 
