@@ -93,9 +93,9 @@ def _stages_text(history: dict) -> str:
     stages = history.get("stages")
     if "auto" in history and history["auto"].get("kind") == "fractal":
         auto = history["auto"]
-        tried = ", ".join(f"{c['maps']} maps {c['chamfer_px']:.2f} px" for c in auto["candidates"])
+        tried = ", ".join(f"{c['maps']} maps IoU {c['iou']:.3f}" for c in auto["candidates"])
         return (f"{history['cost']} steps spent (auto: a fractal, {auto['chosen']} maps chosen by the search's rule, "
-                f"attractor Chamfer distance plus a cost per map ({tried}); then "
+                f"1 - attractor IoU plus a cost per map ({tried}); then "
                 f"{', '.join(_stage_text(s) for s in stages)} steps)")
     if "auto" in history:
         auto = history["auto"]

@@ -112,6 +112,8 @@ def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_s
     assert [row["maps"] for row in pattern["search"]] == [2] and "minimum description length" in pattern["rule"]
     m = ifslib.evaluate(start, target, depth="attractor")
     assert m["iou"] >= 0.85 and m["chamfer"] <= 1.0
+    row = pattern["search"][0]  # the rule's score: 1 - the attractor's IoU (chaos game) plus the cost of its maps
+    assert abs(row["iou"] - m["iou"]) < 0.03 and row["score"] == round(1 - row["iou"] + fractal.MAP_COST * 2, 4)
     # the auto strategy sends it straight to the attractor stage and records the search's table
     fitted = ifslib.fit(start, target, strategy="auto", steps=5, progress=False)
     assert fitted.history["auto"]["kind"] == "fractal" and fitted.history["auto"]["chosen"] == 2
