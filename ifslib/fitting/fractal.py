@@ -30,14 +30,12 @@ target alone (no depth), then judges them by their attractor:
 is drawn (chaos game, `JUDGE_POINTS` points) at `JUDGE_SIZE` (or the target's size when smaller)
 and scored by its IoU with the target, the measure a fit is judged by; the number chosen is the
 ``k`` with the least ``1 - IoU + MAP_COST * k`` (a map must raise the attractor's IoU by
-`MAP_COST` to be kept). Since ``1 - IoU`` is never negative, ``k`` maps cannot beat a score of
-``MAP_COST * k`` or less, and those numbers are not tried; nor are more when the last map added made
-the attractor neither closer (symmetric Chamfer distance at `REFINE_SIZE`) nor more overlapping
-(IoU) than the best before it, nor more than `GIVE_UP_MAPS` when no attractor came within
-`GIVE_UP_PX` pixels (the figure is not a fractal of a few maps). The `REORIENT` numbers of maps
-reoriented, among which the choice is made, are those with the least Chamfer distance plus
-`TURN_COST` pixels a map (a copy turned the wrong way costs the IoU much and the Chamfer distance
-little, and reorienting mends it). `SearchResult.table` lists every ``k`` tried, and the automatic
+`MAP_COST` to be kept), among the `REORIENT` numbers of maps reoriented. Which numbers are tried and
+reoriented goes by the attractor's symmetric Chamfer distance at `REFINE_SIZE` plus `CHAMFER_COST`
+pixels a map, a score that forgives a copy turned the wrong way (reorienting mends it) where the
+IoU does not: since a distance is never negative, ``k`` maps cannot score below ``CHAMFER_COST * k``,
+and once some number scores that little, ``k`` is not tried. Nor are more than `GIVE_UP_MAPS` maps
+tried when no attractor came within `GIVE_UP_PX` pixels (the figure is not a fractal of a few maps). `SearchResult.table` lists every ``k`` tried, and the automatic
 pattern records it.
 """
 from __future__ import annotations
@@ -89,9 +87,9 @@ SHORTLIST, SCREEN_POINTS = 16, 50_000
 TURNS = 12
 #: ... and refines the variants whose collage starts best, this many of them.
 SCREEN = 12
-#: The numbers of maps whose best start is reoriented before the final comparison: the `REORIENT` with the least
-#: attractor Chamfer distance at `REFINE_SIZE` plus `TURN_COST` pixels a map.
-REORIENT, TURN_COST = 3, 0.1
+#: The numbers of maps tried, and the `REORIENT` of them whose best start is reoriented before the final comparison,
+#: are chosen by the attractor's Chamfer distance at `REFINE_SIZE` plus `CHAMFER_COST` pixels a map.
+REORIENT, CHAMFER_COST = 3, 0.1
 #: The numbers of maps are compared by their attractors' IoU at this size (or the target's, when smaller),
 #: drawn with this many chaos-game points (within 0.002 of two million on the benchmark's fractals) ...
 JUDGE_SIZE, JUDGE_POINTS = 256, 500_000
@@ -577,17 +575,13 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         for k in ks:
             covers[k].append(cover[:k])
     feet_total = float(coarse.mask.sum())
-    table, found, skipped, hopeless, stalled = [], {}, [], [], []
+    table, found, skipped, hopeless = [], {}, [], []
     for k in tqdm(ks, desc=f"fractal search · {fine.size}² · maps", disable=not (progress and draw_bars())):
-        if table and min(r["score"] for r in table) <= MAP_COST * k:
-            skipped.append(k)  # k maps score at least MAP_COST * k: they cannot win
+        if table and min(r["chamfer_px"] + CHAMFER_COST * r["maps"] for r in table) <= CHAMFER_COST * k:
+            skipped.append(k)  # k maps score at least CHAMFER_COST * k: they cannot win by the Chamfer distance
             continue
         if k > GIVE_UP_MAPS and table and min(r["chamfer_px"] for r in table) > GIVE_UP_PX:
             hopeless.append(k)
-            continue
-        if len(table) > 1 and table[-1]["chamfer_px"] >= min(r["chamfer_px"] for r in table[:-1]) \
-                and table[-1]["iou"] <= max(r["iou"] for r in table[:-1]):
-            stalled.append(k)  # the last map added brought the attractor neither closer nor more overlap
             continue
         t0 = time.perf_counter()
         covers[k] = collage_sets(starts, coarse, [k], seed=seed)[k] + covers[k]
@@ -610,7 +604,7 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     # the best few numbers of maps, each with its maps turned where that helps (`reorient`), then compared again
     # reoriented: the numbers of maps with the least Chamfer distance plus a cost per map, which forgives a copy turned
     # the wrong way (what reorienting mends) where the IoU does not
-    turned = [] if hopeless else sorted(table, key=lambda r: (r["chamfer_px"] + TURN_COST * r["maps"], r["maps"]))[:REORIENT]
+    turned = [] if hopeless else sorted(table, key=lambda r: (r["chamfer_px"] + CHAMFER_COST * r["maps"], r["maps"]))[:REORIENT]
     for row in turned:
         t0 = time.perf_counter()
         found[row["maps"]], error = reorient(found[row["maps"]], fine, seed=seed)
@@ -625,14 +619,11 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     chosen = min(turned or table, key=lambda r: (r["score"], r["maps"]))
     rule = (f"fewest maps for the fit: least 1 - attractor IoU at {judge.size}² plus {MAP_COST} a map "
             f"(minimum description length), among the {REORIENT} reoriented (the least attractor Chamfer distance at "
-            f"{fine.size}² plus {TURN_COST} px a map); {chosen['maps']} maps scored {chosen['score']:.3f}")
+            f"{fine.size}² plus {CHAMFER_COST} px a map); {chosen['maps']} maps scored {chosen['score']:.3f}")
     if hopeless:
         rule += (f"; {', '.join(map(str, hopeless))} maps not tried, and none reoriented: up to {GIVE_UP_MAPS} maps no "
                  f"attractor came within {GIVE_UP_PX} px of the target")
     if skipped:
-        rule += (f"; {', '.join(map(str, skipped))} maps not tried: with {MAP_COST} a map they score at least "
-                 f"{MAP_COST * skipped[0]:.2f}, no less than the best already found")
-    if stalled:
-        rule += (f"; {', '.join(map(str, stalled))} maps not tried: the last map added brought the attractor neither "
-                 f"closer (Chamfer) nor more overlap (IoU)")
+        rule += (f"; {', '.join(map(str, skipped))} maps not tried: with {CHAMFER_COST} px a map their Chamfer distance "
+                 f"scores at least {CHAMFER_COST * skipped[0]:.1f}, no less than the best already found")
     return SearchResult(found[chosen["maps"]], table, rule)
