@@ -35,8 +35,8 @@ reoriented goes by the attractor's symmetric Chamfer distance at `REFINE_SIZE` p
 pixels a map, a score that forgives a copy turned the wrong way (reorienting mends it) where the
 IoU does not: since a distance is never negative, ``k`` maps cannot score below ``CHAMFER_COST * k``,
 and once some number scores that little, ``k`` is not tried. Nor are more than `GIVE_UP_MAPS` maps
-tried when no attractor came within `GIVE_UP_PX` pixels (the figure is not a fractal of a few maps). `SearchResult.table` lists every ``k`` tried, and the automatic
-pattern records it.
+tried when no attractor came within `GIVE_UP_PX` pixels (the figure is not a fractal of a few
+maps). `SearchResult.table` lists every ``k`` tried, and the automatic pattern records it.
 """
 from __future__ import annotations
 
@@ -604,7 +604,8 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     # the best few numbers of maps, each with its maps turned where that helps (`reorient`), then compared again
     # reoriented: the numbers of maps with the least Chamfer distance plus a cost per map, which forgives a copy turned
     # the wrong way (what reorienting mends) where the IoU does not
-    turned = [] if hopeless else sorted(table, key=lambda r: (r["chamfer_px"] + CHAMFER_COST * r["maps"], r["maps"]))[:REORIENT]
+    by_chamfer = sorted(table, key=lambda r: (r["chamfer_px"] + CHAMFER_COST * r["maps"], r["maps"]))
+    turned = [] if hopeless else by_chamfer[:REORIENT]
     for row in turned:
         t0 = time.perf_counter()
         found[row["maps"]], error = reorient(found[row["maps"]], fine, seed=seed)
