@@ -71,6 +71,9 @@ REFINE_SIZE = 128
 MIN_SCALE, MAX_SCALE = 0.02, 0.9
 #: A placement of a copy counts when this share of its pixels lies on the figure grown by one pixel.
 INSIDE = 0.9
+#: The candidate copies of each scale that cover most are kept, this many of them (so that small copies are not
+#: crowded out by near-twins of large ones).
+PER_SCALE = 800
 #: Greedy covers start from each of this many of the largest copies ...
 FIRSTS = 16
 #: ... and the beam search for covers keeps this many sets of copies at each size, and charges a pixel covered twice this much ...
@@ -483,16 +486,19 @@ def as_ifs(maps: np.ndarray | torch.Tensor, depth: int = 3) -> IFS:
     return patterns.affine(torch.as_tensor(maps).detach().double().numpy(), depth=depth, name="auto")
 
 
+def _drawn(maps: np.ndarray | torch.Tensor, target: Target, points: int) -> np.ndarray:
+    """The maps' attractor drawn by the chaos game (``points`` points) on ``target``'s pixel grid."""
+    return figure_mask(as_ifs(maps), target.size, ATTRACTOR, method="chaos", points=points)
+
+
 def attractor_chamfer(maps: np.ndarray | torch.Tensor, target: Target, points: int = COMPARE_POINTS) -> float:
     """Symmetric Chamfer distance (pixels of ``target``) of the maps' attractor, drawn by the chaos game, to the target."""
-    drawn = figure_mask(as_ifs(maps), target.size, ATTRACTOR, method="chaos", points=points)
-    return chamfer(drawn, target.mask)
+    return chamfer(_drawn(maps, target, points), target.mask)
 
 
 def attractor_iou(maps: np.ndarray | torch.Tensor, target: Target, points: int = JUDGE_POINTS) -> float:
     """IoU of the maps' attractor, drawn by the chaos game at the target's size, with the target's mask."""
-    drawn = figure_mask(as_ifs(maps), target.size, ATTRACTOR, method="chaos", points=points)
-    return iou(drawn, target.mask)
+    return iou(_drawn(maps, target, points), target.mask)
 
 
 @dataclass
@@ -564,9 +570,8 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     cands = copy_candidates(coarse.mask, grid)
     if len(cands) == 0:
         raise IFSError("no copy of the figure fits inside it: the figure is too small to search for a fractal")
-    # keep the copies of each scale that cover most, so that small copies are not crowded out by near-twins of large ones
     scale = np.linalg.svd(grid)[1][:, 0].round(3)[cands[:, 1]]
-    keep = np.concatenate([np.nonzero(scale == s)[0][:800] for s in np.unique(scale)])
+    keep = np.concatenate([np.nonzero(scale == s)[0][:PER_SCALE] for s in np.unique(scale)])
     cands = cands[np.sort(keep)]
     starts = plane_maps(grid, cands, _pixels(coarse.mask).mean(0), coarse.size)
     feet = footprints(coarse.mask, grid, cands)
@@ -576,8 +581,17 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
             covers[k].append(cover[:k])
     feet_total = float(coarse.mask.sum())
     table, found, skipped, hopeless = [], {}, [], []
+
+    def chamfer_score(row):  # which numbers of maps are tried and reoriented (see the module docstring)
+        return row["chamfer_px"] + CHAMFER_COST * row["maps"]
+
+    def judged(maps):  # a row's attractor scores: Chamfer distance at the refining size, IoU at the judging size
+        overlap = round(attractor_iou(maps, judge), 4)
+        return {"chamfer_px": round(attractor_chamfer(maps, fine), 4), "iou": overlap,
+                "score": round(1 - overlap + MAP_COST * len(maps), 4)}
+
     for k in tqdm(ks, desc=f"fractal search · {fine.size}² · maps", disable=not (progress and draw_bars())):
-        if table and min(r["chamfer_px"] + CHAMFER_COST * r["maps"] for r in table) <= CHAMFER_COST * k:
+        if table and min(map(chamfer_score, table)) <= CHAMFER_COST * k:
             skipped.append(k)  # k maps score at least CHAMFER_COST * k: they cannot win by the Chamfer distance
             continue
         if k > GIVE_UP_MAPS and table and min(r["chamfer_px"] for r in table) > GIVE_UP_PX:
@@ -597,23 +611,18 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
             work, err = work[best], err[best]
         j = int(np.argmin([attractor_chamfer(m, fine, SCREEN_POINTS) for m in work.numpy()]))
         found[k] = work[j].numpy()
-        chamfer_px, overlap = attractor_chamfer(found[k], fine), attractor_iou(found[k], judge)
-        table.append({"maps": k, "cover": round(covered, 4), "collage_px": round(float(err[j]), 4),
-                      "chamfer_px": round(chamfer_px, 4), "iou": round(overlap, 4),
-                      "score": round(1 - overlap + MAP_COST * k, 4), "seconds": round(time.perf_counter() - t0, 2)})
+        table.append({"maps": k, "cover": round(covered, 4), "collage_px": round(float(err[j]), 4), **judged(found[k]),
+                      "seconds": round(time.perf_counter() - t0, 2)})
     # the best few numbers of maps, each with its maps turned where that helps (`reorient`), then compared again
     # reoriented: the numbers of maps with the least Chamfer distance plus a cost per map, which forgives a copy turned
     # the wrong way (what reorienting mends) where the IoU does not
-    by_chamfer = sorted(table, key=lambda r: (r["chamfer_px"] + CHAMFER_COST * r["maps"], r["maps"]))
-    turned = [] if hopeless else by_chamfer[:REORIENT]
+    turned = [] if hopeless else sorted(table, key=lambda r: (chamfer_score(r), r["maps"]))[:REORIENT]
     for row in turned:
         t0 = time.perf_counter()
         found[row["maps"]], error = reorient(found[row["maps"]], fine, seed=seed)
         row["reoriented"] = True
         row["collage_px"] = round(error, 4)
-        row["chamfer_px"] = round(attractor_chamfer(found[row["maps"]], fine), 4)
-        row["iou"] = round(attractor_iou(found[row["maps"]], judge), 4)
-        row["score"] = round(1 - row["iou"] + MAP_COST * row["maps"], 4)
+        row.update(judged(found[row["maps"]]))
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
     if progress and not draw_bars():
         note("fractal search: " + ", ".join(f"{r['maps']} maps IoU {r['iou']:.3f}, {r['chamfer_px']:.2f} px" for r in table))
