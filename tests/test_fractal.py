@@ -149,3 +149,40 @@ def test_search_compares_the_numbers_of_maps_given_and_sampled_leaves_refuse_a_m
     slow[1, :2, 2] = 0.2
     with pytest.raises(IFSError, match=f"more than {MAX_WORD_LENGTH}"):
         sample_attractor(slow, 1e-3, 64)
+
+
+def test_chaos_occupancy_marks_the_pixels_of_the_float64_chaos_game_for_a_batch():
+    from ifslib.geometry.attractor import chaos_probabilities
+    from ifslib.raster.chaos import chaos_game, chaos_occupancy
+
+    systems = [ifslib.patterns.random_ifs(3, 1), ifslib.patterns.random_ifs(3, 5)]
+    maps = torch.stack([s.maps().detach() for s in systems])
+    batched = chaos_probabilities(maps)
+    for one, s in zip(batched, systems):  # a batch is normalised one IFS at a time, as each alone
+        torch.testing.assert_close(one, chaos_probabilities(s.maps()))
+    drawn = chaos_occupancy(maps[:, :, :2, :], 64, chains=100, steps=200).numpy()
+    for picture, s in zip(drawn, systems):
+        points = chaos_game(s, 400_000)
+        col, row = np.floor((points[:, 0] + 0.5) * 64).astype(int), np.floor((0.5 - points[:, 1]) * 64).astype(int)
+        inside = (col >= 0) & (col < 64) & (row >= 0) & (row < 64)
+        reference = np.zeros((64, 64), bool)
+        reference[row[inside], col[inside]] = True
+        assert (picture & ~reference).sum() <= 0.01 * picture.sum()  # float32 points stay on the attractor's pixels
+        assert ifslib.iou(picture, reference) >= 0.85  # 20,000 points find most of them
+    with pytest.raises(IFSError, match="shape"):
+        chaos_occupancy(maps[0], 64)
+
+
+def test_swap_puts_back_a_map_that_the_sets_of_copies_left_out():
+    truth, target = fractal_target(maps=3, seed=1, size=128)
+    coarse = resize_target(target, 64)
+    true_maps = truth.maps().detach().double()[:, :2].numpy()
+    wrong = true_maps.copy()
+    wrong[2] = [[0.3, 0.0, -0.2], [0.0, 0.3, 0.2]]  # a small copy in the wrong place
+    rng = np.random.default_rng(0)
+    pool = np.concatenate([fractal.random_starts(60, 1, coarse, rng)[:, 0], true_maps[2:] + 0.004])
+    best, before = fractal.attractor_iou(true_maps, target), fractal.attractor_iou(wrong, target)
+    maps, after, kept = fractal.swap(wrong, pool, coarse, target, target, rounds=2)
+    assert before < 0.2 and kept >= 1 and after >= best - 0.03  # as close as the true maps' attractor
+    assert after == pytest.approx(fractal.attractor_iou(maps, target), abs=0.02)
+    assert np.abs(maps - true_maps).max() < 0.02  # the true map, found in the pool, and the others kept

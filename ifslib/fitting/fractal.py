@@ -55,6 +55,7 @@ from ..geometry.ifs import IFS
 from tqdm.auto import tqdm
 
 from ..progress import draw_bars, note
+from ..raster.chaos import chaos_occupancy
 from ..raster.render import figure_mask
 from .metrics import chamfer, iou
 from .targets import Target, foreground_points, resize_target
@@ -104,6 +105,11 @@ MAP_COST = 0.04
 #: pixels: not a fractal of a few maps (49 of the 50 random fractals of the benchmark: at most 2.2 px by 4 maps; the
 #: paper's flower silhouette: 3.8 px).
 GIVE_UP_MAPS, GIVE_UP_PX = 4, 2.5
+#: When no reoriented number of maps draws an attractor of IoU `SWAP_BELOW` or more, `swap` replaces one map at a
+#: time by a candidate copy, for up to `SWAP_ROUNDS` rounds: every replacement by the `SWAP_PER_SHAPE` largest copies
+#: of each scale and ratio of singular values is ranked by a short chaos game at `SEARCH_SIZE` (`chaos_occupancy`),
+#: and the `SWAP_TOP` best are refined and judged by their attractors.
+SWAP_BELOW, SWAP_ROUNDS, SWAP_PER_SHAPE, SWAP_TOP = 0.9, 3, 100, 8
 #: At most this many figure pixels are used for the collage distance at each size.
 COLLAGE_POINTS = (600, 2000)
 #: The chaos game's points when the attractors of each number of maps are compared.
@@ -481,6 +487,73 @@ def reorient(maps: np.ndarray, target: Target, rounds: int = 3, seed: int = 0) -
     return maps, error
 
 
+def largest(groups: np.ndarray, per: int) -> np.ndarray:
+    """Indices of the first ``per`` rows of each value of ``groups`` (of rows sorted largest copy first), in order."""
+    return np.sort(np.concatenate([np.nonzero(groups == g)[0][:per] for g in np.unique(groups)]))
+
+
+def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge: Target, rounds: int = SWAP_ROUNDS,
+         top: int = SWAP_TOP, seed: int = 0) -> tuple[np.ndarray, float, int]:
+    """Replace one map at a time by a copy of ``pool``, ranked by the attractor; keep what raises its IoU.
+
+    The search's sets are made by the collage, which places the large copies well and often
+    misses a thin or small one (its copy covers few pixels, and a wrong set covers the coarse
+    figure's stray pixels better). The attractor tells them apart: each round, every IFS with one
+    map replaced by one copy of the pool (``k * len(pool)`` of them) is drawn by a short chaos
+    game at ``coarse``'s size (`chaos_occupancy`) and ranked by its IoU with ``coarse``; the
+    ``top`` best are refined on the collage at ``fine``'s size (`refine`), and of them and their
+    unrefined selves the one whose attractor (`SCREEN_POINTS` points) overlaps ``fine`` most is
+    kept when its attractor IoU at ``judge``'s size beats the maps' by more than 0.001. Stops after
+    ``rounds`` rounds or a round that keeps nothing.
+
+    Parameters
+    ----------
+    maps : numpy.ndarray
+        ``(k, 2, 3)`` the maps, plane units.
+    pool : numpy.ndarray
+        ``(C, 2, 3)`` the copies that may replace a map.
+    coarse, fine, judge : Target
+        The target at the ranking, refining and judging sizes.
+    rounds, top : int
+        Rounds at most, and replacements refined a round.
+    seed : int
+        Seeds the chaos games and the collage's pixel sample.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(k, 2, 3)`` the maps.
+    float
+        Their attractor IoU at ``judge``'s size (`attractor_iou`).
+    int
+        The rounds that replaced a map.
+    """
+    maps = np.asarray(maps, dtype=np.float64)
+    value, kept = attractor_iou(maps, judge), 0
+    copies = torch.as_tensor(pool, dtype=torch.float32)
+    figure = torch.as_tensor(coarse.mask)
+    for _ in range(rounds):
+        ranks = []
+        for i in range(len(maps)):
+            batch = torch.as_tensor(maps, dtype=torch.float32).expand(len(copies), -1, -1, -1).clone()
+            batch[:, i] = copies
+            for start in range(0, len(batch), 1024):
+                drawn = chaos_occupancy(batch[start:start + 1024], coarse.size, seed=seed)
+                ranks.append((drawn & figure).sum((1, 2)) / (drawn | figure).sum((1, 2)))
+        best = torch.argsort(torch.cat(ranks), descending=True)[:top].tolist()
+        trials = np.repeat(maps[None], len(best), 0)
+        for t, flat in enumerate(best):
+            trials[t, flat // len(pool)] = pool[flat % len(pool)]
+        refined, _ = refine(trials, fine, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
+        variants = np.concatenate([trials, refined.numpy()])
+        j = int(np.argmax([iou(_drawn(m, fine, SCREEN_POINTS), fine.mask) for m in variants]))
+        overlap = attractor_iou(variants[j], judge)
+        if overlap <= value + 1e-3:
+            break
+        maps, value, kept = variants[j], overlap, kept + 1
+    return maps, value, kept
+
+
 def as_ifs(maps: np.ndarray | torch.Tensor, depth: int = 3) -> IFS:
     """An `ifslib.patterns.affine` IFS of ``maps`` ``(k, 2, 3)``."""
     return patterns.affine(torch.as_tensor(maps).detach().double().numpy(), depth=depth, name="auto")
@@ -570,10 +643,13 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     cands = copy_candidates(coarse.mask, grid)
     if len(cands) == 0:
         raise IFSError("no copy of the figure fits inside it: the figure is too small to search for a fractal")
-    scale = np.linalg.svd(grid)[1][:, 0].round(3)[cands[:, 1]]
-    keep = np.concatenate([np.nonzero(scale == s)[0][:PER_SCALE] for s in np.unique(scale)])
-    cands = cands[np.sort(keep)]
-    starts = plane_maps(grid, cands, _pixels(coarse.mask).mean(0), coarse.size)
+    singular = np.linalg.svd(grid)[1].round(3)[cands[:, 1]]
+    centroid = _pixels(coarse.mask).mean(0)
+    shape = np.unique(np.stack([singular[:, 0], (singular[:, 1] / singular[:, 0]).round(2)], 1), axis=0,
+                      return_inverse=True)[1].reshape(-1)
+    pool = plane_maps(grid, cands[largest(shape, SWAP_PER_SHAPE)], centroid, coarse.size)
+    cands = cands[largest(singular[:, 0], PER_SCALE)]
+    starts = plane_maps(grid, cands, centroid, coarse.size)
     feet = footprints(coarse.mask, grid, cands)
     covers = beam_covers(feet, max(ks))
     for cover in greedy_covers(feet, FIRSTS, max(ks)):
@@ -624,6 +700,17 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         row["collage_px"] = round(error, 4)
         row.update(judged(found[row["maps"]]))
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
+    # no reoriented number of maps fits well: replace one map at a time, judged by the attractor (`swap`)
+    if turned and max(r["iou"] for r in turned) < SWAP_BELOW:
+        for row in sorted(turned, key=lambda r: (r["score"], r["maps"])):
+            if MAP_COST * row["maps"] >= min(r["score"] for r in turned):
+                continue  # even an attractor of IoU 1 would not score below the best
+            t0 = time.perf_counter()
+            found[row["maps"]], _, swaps = swap(found[row["maps"]], pool, coarse, fine, judge, seed=seed)
+            if swaps:
+                row["swapped"] = swaps
+                row.update(judged(found[row["maps"]]))
+            row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
     if progress and not draw_bars():
         note("fractal search: " + ", ".join(f"{r['maps']} maps IoU {r['iou']:.3f}, {r['chamfer_px']:.2f} px" for r in table))
     chosen = min(turned or table, key=lambda r: (r["score"], r["maps"]))

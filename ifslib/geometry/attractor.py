@@ -132,15 +132,16 @@ def _apply(maps: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
 
 
 def chaos_probabilities(maps: torch.Tensor) -> torch.Tensor:
-    """The chaos game's choice of maps: ``(m,)`` float64 probabilities for ``(m, 3, 3)`` (or ``(m, 2, 3)``) maps.
+    """The chaos game's choice of maps: ``(..., m)`` float64 probabilities for ``(..., m, 3, 3)`` (or ``(..., m, 2, 3)``) maps.
 
     In proportion to the area each map keeps, ``|det L_i|``, with a floor of `CHAOS_FLOOR` times the
-    largest, so that a map that flattens the figure (a fern's stem) is still chosen.
+    largest, so that a map that flattens the figure (a fern's stem) is still chosen. Leading
+    dimensions are a batch of IFSs, each normalised on its own.
     """
-    lin = maps.detach()[:, :2, :2]
-    det = (lin[:, 0, 0] * lin[:, 1, 1] - lin[:, 0, 1] * lin[:, 1, 0]).abs().double()
-    weight = torch.maximum(det, CHAOS_FLOOR * det.max().clamp_min(1e-300))
-    return weight / weight.sum()
+    lin = maps.detach()[..., :2, :2]
+    det = (lin[..., 0, 0] * lin[..., 1, 1] - lin[..., 0, 1] * lin[..., 1, 0]).abs().double()
+    weight = torch.maximum(det, CHAOS_FLOOR * det.amax(-1, keepdim=True).clamp_min(1e-300))
+    return weight / weight.sum(-1, keepdim=True)
 
 
 def _prepare(maps: torch.Tensor, rules=None) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, float]:
