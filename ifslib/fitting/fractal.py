@@ -25,6 +25,11 @@ target alone (no depth), then judges them by their attractor:
    collage have their attractors drawn (chaos game at `REFINE_SIZE`), the `KEEP` closest go on at
    `REFINE_SIZE`, and the maps whose attractor is closest are kept; `reorient` turns maps the
    same way.
+5. **Swapped** (`swap`), when no number of maps reoriented draws an attractor of IoU `SWAP_BELOW`:
+   the collage places the large copies well and often misses a thin or small one, so each map in
+   turn is replaced by each copy of a pool, every such IFS drawn at once by a short chaos game
+   (`ifslib.raster.chaos.chaos_occupancy`), and the best replacements refined and kept when the
+   attractor's IoU rises.
 
 **How many maps** (minimum description length): for ``k`` = 2, 3, ... the kept maps' attractor
 is drawn (chaos game, `JUDGE_POINTS` points) at `JUDGE_SIZE` (or the target's size when smaller)
@@ -106,10 +111,11 @@ MAP_COST = 0.04
 #: paper's flower silhouette: 3.8 px).
 GIVE_UP_MAPS, GIVE_UP_PX = 4, 2.5
 #: When no reoriented number of maps draws an attractor of IoU `SWAP_BELOW` or more, `swap` replaces one map at a
-#: time by a candidate copy, for up to `SWAP_ROUNDS` rounds: every replacement by the `SWAP_PER_SHAPE` largest copies
-#: of each scale and ratio of singular values is ranked by a short chaos game at `SEARCH_SIZE` (`chaos_occupancy`),
-#: and the `SWAP_TOP` best are refined and judged by their attractors.
-SWAP_BELOW, SWAP_ROUNDS, SWAP_PER_SHAPE, SWAP_TOP = 0.9, 3, 100, 8
+#: time by a candidate copy, `SWAP_ROUNDS` rounds in all, each for the reoriented number of maps that scores best:
+#: every replacement by the `SWAP_PER_SHAPE` largest copies of each scale and ratio of singular values is ranked by a
+#: short chaos game at `SEARCH_SIZE` (`chaos_occupancy`), and the `SWAP_TOP` best are refined and judged by their
+#: attractors.
+SWAP_BELOW, SWAP_ROUNDS, SWAP_PER_SHAPE, SWAP_TOP = 0.9, 8, 100, 8
 #: At most this many figure pixels are used for the collage distance at each size.
 COLLAGE_POINTS = (600, 2000)
 #: The chaos game's points when the attractors of each number of maps are compared.
@@ -492,7 +498,7 @@ def largest(groups: np.ndarray, per: int) -> np.ndarray:
     return np.sort(np.concatenate([np.nonzero(groups == g)[0][:per] for g in np.unique(groups)]))
 
 
-def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge: Target, rounds: int = SWAP_ROUNDS,
+def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge: Target, rounds: int = 1,
          top: int = SWAP_TOP, seed: int = 0) -> tuple[np.ndarray, float, int]:
     """Replace one map at a time by a copy of ``pool``, ranked by the attractor; keep what raises its IoU.
 
@@ -586,7 +592,8 @@ class SearchResult:
         One row per number of maps tried: ``maps``, ``cover`` (share of the figure the greedy
         copies covered at `SEARCH_SIZE`), ``collage_px`` (at `REFINE_SIZE`), ``chamfer_px`` (the
         attractor's, at `REFINE_SIZE`), ``iou`` (the attractor's, at `JUDGE_SIZE`), ``score``
-        (``1 - iou + MAP_COST * maps``), ``seconds``.
+        (``1 - iou + MAP_COST * maps``), ``seconds``; ``reoriented`` and ``swapped`` (the rounds
+        of `swap` that replaced a map) where they apply.
     rule : str
         How the number of maps was chosen, in words.
     """
@@ -700,16 +707,22 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         row["collage_px"] = round(error, 4)
         row.update(judged(found[row["maps"]]))
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
-    # no reoriented number of maps fits well: replace one map at a time, judged by the attractor (`swap`)
+    # no reoriented number of maps fits well: replace one map at a time, judged by the attractor (`swap`), one round
+    # at a time for the number of maps that scores best, until a round keeps nothing for it or the rounds run out
     if turned and max(r["iou"] for r in turned) < SWAP_BELOW:
-        for row in sorted(turned, key=lambda r: (r["score"], r["maps"])):
+        open_rows, rounds = list(turned), SWAP_ROUNDS
+        while rounds and open_rows and max(r["iou"] for r in turned) < SWAP_BELOW:
+            row = min(open_rows, key=lambda r: (r["score"], r["maps"]))
             if MAP_COST * row["maps"] >= min(r["score"] for r in turned):
-                continue  # even an attractor of IoU 1 would not score below the best
-            t0 = time.perf_counter()
-            found[row["maps"]], _, swaps = swap(found[row["maps"]], pool, coarse, fine, judge, seed=seed)
-            if swaps:
-                row["swapped"] = swaps
+                open_rows.remove(row)  # even an attractor of IoU 1 would not score below the best
+                continue
+            t0, rounds = time.perf_counter(), rounds - 1
+            found[row["maps"]], _, kept = swap(found[row["maps"]], pool, coarse, fine, judge, rounds=1, seed=seed)
+            if kept:
+                row["swapped"] = row.get("swapped", 0) + 1
                 row.update(judged(found[row["maps"]]))
+            else:
+                open_rows.remove(row)
             row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
     if progress and not draw_bars():
         note("fractal search: " + ", ".join(f"{r['maps']} maps IoU {r['iou']:.3f}, {r['chamfer_px']:.2f} px" for r in table))
@@ -717,6 +730,10 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     rule = (f"fewest maps for the fit: least 1 - attractor IoU at {judge.size}² plus {MAP_COST} a map "
             f"(minimum description length), among the {REORIENT} reoriented (the least attractor Chamfer distance at "
             f"{fine.size}² plus {CHAMFER_COST} px a map); {chosen['maps']} maps scored {chosen['score']:.3f}")
+    swapped = [r for r in table if r.get("swapped")]
+    if swapped:
+        rule += "; " + ", ".join(f"{r['maps']} maps had {r['swapped']} map(s) swapped" for r in swapped) + \
+                f" (no reoriented attractor reached IoU {SWAP_BELOW})"
     if hopeless:
         rule += (f"; {', '.join(map(str, hopeless))} maps not tried, and none reoriented: up to {GIVE_UP_MAPS} maps no "
                  f"attractor came within {GIVE_UP_PX} px of the target")
