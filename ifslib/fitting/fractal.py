@@ -501,7 +501,7 @@ def largest(groups: np.ndarray, per: int) -> np.ndarray:
 
 
 def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge: Target, rounds: int = 1,
-         top: int = SWAP_TOP, seed: int = 0) -> tuple[np.ndarray, float, int]:
+         top: int = SWAP_TOP, seed: int = 0, value: float | None = None) -> tuple[np.ndarray, float, int]:
     """Replace one map at a time by a copy of ``pool``, ranked by the attractor; keep what raises its IoU.
 
     The search's sets are made by the collage, which places the large copies well and often
@@ -526,6 +526,8 @@ def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge
         Rounds at most, and replacements refined a round.
     seed : int
         Seeds the chaos games and the collage's pixel sample.
+    value : float, optional
+        The maps' attractor IoU at ``judge``'s size (`attractor_iou`), when the caller has it.
 
     Returns
     -------
@@ -537,7 +539,7 @@ def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge
         The rounds that replaced a map.
     """
     maps = np.asarray(maps, dtype=np.float64)
-    value, kept = attractor_iou(maps, judge), 0
+    value, kept = attractor_iou(maps, judge) if value is None else value, 0
     copies = torch.as_tensor(pool, dtype=torch.float32)
     figure = torch.as_tensor(coarse.mask)
     for _ in range(rounds):
@@ -670,8 +672,12 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     def chamfer_score(row):  # which numbers of maps are tried and reoriented (see the module docstring)
         return row["chamfer_px"] + CHAMFER_COST * row["maps"]
 
-    def judged(maps):  # a row's attractor scores: Chamfer distance at the refining size, IoU at the judging size
-        overlap = round(attractor_iou(maps, judge), 4)
+    overlaps = {}  # each number of maps' attractor IoU at the judging size, unrounded (what `swap` starts from)
+
+    def judged(maps, overlap=None):  # a row's attractor scores: Chamfer distance at the refining size, IoU at the
+        # judging size (``overlap`` when already drawn)
+        overlaps[len(maps)] = attractor_iou(maps, judge) if overlap is None else overlap
+        overlap = round(overlaps[len(maps)], 4)
         return {"chamfer_px": round(attractor_chamfer(maps, fine), 4), "iou": overlap,
                 "score": round(1 - overlap + MAP_COST * len(maps), 4)}
 
@@ -719,10 +725,11 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
                 open_rows.remove(row)  # even an attractor of IoU 1 would not score below the best
                 continue
             t0, rounds = time.perf_counter(), rounds - 1
-            found[row["maps"]], _, kept = swap(found[row["maps"]], pool, coarse, fine, judge, rounds=1, seed=seed)
+            found[row["maps"]], overlap, kept = swap(found[row["maps"]], pool, coarse, fine, judge, rounds=1, seed=seed,
+                                                     value=overlaps[row["maps"]])
             if kept:
                 row["swapped"] = row.get("swapped", 0) + 1
-                row.update(judged(found[row["maps"]]))
+                row.update(judged(found[row["maps"]], overlap))
             else:
                 open_rows.remove(row)
             row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
