@@ -12,6 +12,7 @@ the targets beside the attractors found.
 
     python benchmarks/fractals.py                  # 50 fractals at 256²
     python benchmarks/fractals.py --count 8        # the first 8
+    python benchmarks/fractals.py --only 30 35     # fractals 30 and 35 (after a change that only they feel)
 """
 from __future__ import annotations
 
@@ -48,17 +49,22 @@ def why(row: dict) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=50, help="number of fractals (default 50)")
+    parser.add_argument("--only", type=int, nargs="*", default=None,
+                        help="fit only these fractals (numbers below --count); the summary is of them")
     parser.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     parser.add_argument("--out", default="build/fractals", help="folder for the PNGs and fits")
     parser.add_argument("--picture", default="figures/fractals.png", help="targets beside the attractors found")
     args = parser.parse_args()
+    chosen = list(range(args.count)) if args.only is None else args.only
+    if any(not 0 <= i < args.count for i in chosen):
+        parser.error(f"--only takes fractal numbers from 0 to {args.count - 1}")
     out = repo_root() / args.out
     out.mkdir(parents=True, exist_ok=True)
     rows, panels = [], []
     print(f"python -m ifslib fit <png> --pattern auto --size {args.size}, IFSLIB_THREADS={os.environ.get('IFSLIB_THREADS', 'auto')}")
     print("| fractal | maps | found | attractor IoU | attractor Chamfer (px) | s | recovered | why not |")
     print("|---|---|---|---|---|---|---|---|")
-    for i in range(args.count):
+    for i in chosen:
         maps, seed = 2 + i % 4, i
         truth = ifslib.patterns.random_ifs(maps, seed)
         picture = ifslib.render(truth, args.size, method="chaos", points=2_000_000, seed=seed).numpy()
