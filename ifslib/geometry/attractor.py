@@ -360,11 +360,16 @@ MAX_WORD_LENGTH = 512
 
 
 def _uniforms(seed: int, n: int, cols: int) -> torch.Tensor:
-    """``(n, cols)`` float64 uniforms, the same for the same ``(seed, n)`` (cached: a fit asks every step)."""
+    """``(n, cols)`` float64 uniforms, the same for the same ``(seed, n)`` whatever was asked before.
+
+    Cached (a fit asks every step), and drawn column by column (walker ``i``'s uniform for letter ``j`` is the
+    generator's number ``j * n + i``), so a cache grown for longer words keeps the columns it had: drawn row by row,
+    growing it changed every uniform, and a fit's sampled leaves depended on the fits run before it in the process.
+    """
     cached = _UNIFORMS.get((seed, n))
     if cached is None or cached.shape[1] < cols:
         generator = torch.Generator().manual_seed(seed)
-        cached = torch.rand(n, max(cols, 16), dtype=torch.float64, generator=generator)
+        cached = torch.rand(max(cols, 16), n, dtype=torch.float64, generator=generator).T.contiguous()
         if len(_UNIFORMS) > 8:
             _UNIFORMS.clear()
         _UNIFORMS[(seed, n)] = cached
