@@ -49,7 +49,7 @@ def why(row: dict) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=50, help="number of fractals (default 50)")
-    parser.add_argument("--only", type=int, nargs="*", default=None,
+    parser.add_argument("--only", type=int, nargs="+", default=None,
                         help="fit only these fractals (numbers below --count); the summary is of them")
     parser.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     parser.add_argument("--out", default="build/fractals", help="folder for the PNGs and fits")
