@@ -1,7 +1,10 @@
 """Strategies on small sizes: each runs, counts its steps, and returns a result at least as good as its start."""
+import math
+
 import pytest
 
 import ifslib
+from ifslib.fitting import strategies
 from ifslib.fitting.strategies import DEFAULT_STRATEGY, STRATEGIES, UNCROSS_WEIGHT
 
 SIZE, STEPS = 32, 12
@@ -70,3 +73,18 @@ def test_default_is_pyramid_and_a_single_run_when_checkpointing(target, tmp_path
     assert 0 < result.history["cost"] <= 8 * STEPS
     single = ifslib.fit(start, target, steps=4, progress=False, checkpoint=tmp_path / "c.json")
     assert single.history["cost"] == 4 and "strategy" not in single.history
+
+
+def test_attractor_stage_falls_back_to_sampled_leaves_when_the_cut_outgrows_the_budget(monkeypatch):
+    """The stage starts with the certified cut when it is small enough (`attractor_method`), but maps that grow during
+    the stage can make the cut outgrow the leaf budget (benchmark fractal 3 did, and the command failed): the stage
+    then runs again with sampled leaves, and its record says so."""
+    from ifslib.geometry import attractor
+
+    ifs = ifslib.patterns.koch(depth=3)
+    target = ifslib.load_target(ifslib.render(ifs, 64).detach().numpy(), 64)
+    assert strategies.attractor_method(ifs, 64) == "fast"
+    monkeypatch.setattr(attractor, "DEFAULT_MAX_LEAVES", 16)  # the stage's own cut: far over this budget at once
+    result, record = strategies.attractor_stage(ifs, target, steps=2, seed=0, lr=1e-3, kwargs={}, label="test")
+    assert record["method"] == "sampled" and "outgrew the leaf budget" in record["fallback"]
+    assert math.isfinite(result.best_loss)

@@ -141,12 +141,23 @@ def attractor_stage(ifs: IFS, target: Target, steps: int, seed: int, lr: float, 
     stage = {**kwargs, "depth": ATTRACTOR, "method": method}
     if loss is not None:
         stage["loss"] = loss
-    result = run(ifs, target, steps=min(steps, ATTRACTOR_STAGE_STEPS), seed=seed, lr=lr,
-                 desc=f"{label} · {target.size}² · attractor", **stage)
+    record = {}
+    try:
+        result = run(ifs, target, steps=min(steps, ATTRACTOR_STAGE_STEPS), seed=seed, lr=lr,
+                     desc=f"{label} · {target.size}² · attractor", **stage)
+    except LeafBudgetError as exc:
+        if method != "fast":
+            raise
+        # the maps grew on the way until the certified cut outgrew the leaf budget: the stage again, from its start,
+        # with sampled leaves of the cut (whose number does not grow with the maps)
+        method = stage["method"] = "sampled"
+        record["fallback"] = f"the certified cut outgrew the leaf budget during the stage ({exc}); run again with sampled leaves"
+        result = run(ifs, target, steps=min(steps, ATTRACTOR_STAGE_STEPS), seed=seed, lr=lr,
+                     desc=f"{label} · {target.size}² · attractor (sampled)", **stage)
     used = stage.get("loss", "multiscale_pixel")
     return result, {"size": target.size, "depth": ATTRACTOR, "method": method, "loss": used if isinstance(used, str)
                     else "custom", "steps": result.history["cost"], "stopped": result.history["stopped"],
-                    "best_loss": result.best_loss}
+                    "best_loss": result.best_loss, **record}
 
 
 def check_strategy(strategy: str) -> str:
