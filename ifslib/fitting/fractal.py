@@ -25,7 +25,13 @@ target alone (no depth), then judges them by their attractor:
    collage have their attractors drawn (chaos game at `REFINE_SIZE`), the `KEEP` closest go on at
    `REFINE_SIZE`, and the maps whose attractor is closest are kept; `reorient` turns maps the
    same way.
-5. **Swapped** (`swap`), when no number of maps reoriented draws an attractor of IoU `SWAP_BELOW`:
+5. **Matched to uncovered regions** (`region_swap`), for each number of maps reoriented whose
+   attractor's IoU is below `SWAP_BELOW`: for each map, the figure pixels the other maps'
+   copies leave uncovered are matched by the figure's copy with the same mean and covariance
+   (`ifslib.fitting.regions`), which places a thin copy as well as a round one; one or two maps
+   are replaced by such copies, ranked by a short chaos game, refined, and kept when the
+   attractor's IoU rises, round after round.
+6. **Swapped** (`swap`), when still no number of maps reoriented draws an attractor of IoU `SWAP_BELOW`:
    the collage places the large copies well and often misses a thin or small one, so each map in
    turn is replaced by each copy of a pool, every such IFS drawn at once by a short chaos game
    (`ifslib.raster.chaos.chaos_occupancy`), and the best replacements refined and kept when the
@@ -45,6 +51,7 @@ maps). `SearchResult.table` lists every ``k`` tried, and the automatic pattern r
 """
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from dataclasses import dataclass, field
@@ -63,6 +70,7 @@ from ..progress import draw_bars, note
 from ..raster.chaos import chaos_occupancy
 from ..raster.render import figure_mask
 from .metrics import chamfer, iou
+from .regions import region_maps, sqrtm_psd
 from .targets import Target, foreground_points, resize_target
 
 #: The numbers of maps `search` compares when none is given ...
@@ -118,6 +126,10 @@ GIVE_UP_MAPS, GIVE_UP_PX = 4, 2.5
 #: (`SWAP_BELOW` is the IoU a fractal counts as recovered at: at 0.9, successes whose search ends at IoU 0.85-0.9
 #: before the attractor stage, such as fractals 13, 21, 33 and 34 of the benchmark, paid 10-40 s for no change.)
 SWAP_BELOW, SWAP_ROUNDS, SWAP_PER_SHAPE, SWAP_TOP = 0.85, 8, 100, 8
+#: Before `swap`, every reoriented number of maps whose attractor's IoU is below `SWAP_BELOW` has a map, or two,
+#: replaced by copies matched to the figure's uncovered regions (`region_swap`), at most `REGION_ROUNDS` rounds, each
+#: refining and judging the `REGION_TOP` best replacements.
+REGION_ROUNDS, REGION_TOP = 4, 8
 #: At most this many figure pixels are used for the collage distance at each size.
 COLLAGE_POINTS = (600, 2000)
 #: The chaos game's points when the attractors of each number of maps are compared.
@@ -433,12 +445,6 @@ def refine(maps: np.ndarray | torch.Tensor, target: Target, steps: int, lr: floa
     return work.detach().double(), ((outside + cover) * pixel2).sqrt().double()
 
 
-def sqrtm_psd(c: np.ndarray) -> np.ndarray:
-    """The symmetric square root of a covariance matrix (eigenvalues floored at 1e-12)."""
-    w, v = np.linalg.eigh(c)
-    return v @ np.diag(np.sqrt(np.maximum(w, 1e-12))) @ v.T
-
-
 def turns(target: Target, count: int = TURNS) -> np.ndarray:
     """``(2 * count - 1, 2, 3)`` maps that keep the figure's mean and covariance: its likely near-symmetries.
 
@@ -541,27 +547,81 @@ def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge
     maps = np.asarray(maps, dtype=np.float64)
     value, kept = attractor_iou(maps, judge) if value is None else value, 0
     copies = torch.as_tensor(pool, dtype=torch.float32)
-    figure = torch.as_tensor(coarse.mask)
     for _ in range(rounds):
         ranks = []
         for i in range(len(maps)):
             batch = torch.as_tensor(maps, dtype=torch.float32).expand(len(copies), -1, -1, -1).clone()
             batch[:, i] = copies
-            for start in range(0, len(batch), 1024):
-                drawn = chaos_occupancy(batch[start:start + 1024], coarse.size, seed=seed)
-                ranks.append((drawn & figure).sum((1, 2)) / (drawn | figure).sum((1, 2)))
+            ranks.append(occupancy_iou(batch, coarse, seed))
         best = torch.argsort(torch.cat(ranks), descending=True)[:top].tolist()
         trials = np.repeat(maps[None], len(best), 0)
         for t, flat in enumerate(best):
             trials[t, flat // len(pool)] = pool[flat % len(pool)]
-        refined, _ = refine(trials, fine, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
-        variants = np.concatenate([trials, refined.numpy()])
-        j = int(np.argmax([iou(_drawn(m, fine, SCREEN_POINTS), fine.mask) for m in variants]))
-        overlap = attractor_iou(variants[j], judge)
+        replaced, overlap = _best_trial(trials, fine, judge, seed)
         if overlap <= value + 1e-3:
             break
-        maps, value, kept = variants[j], overlap, kept + 1
+        maps, value, kept = replaced, overlap, kept + 1
     return maps, value, kept
+
+
+def occupancy_iou(batch: torch.Tensor, target: Target, seed: int = 0, chunk: int = 1024) -> torch.Tensor:
+    """``(S,)`` IoU with ``target``'s mask of the short chaos games (`chaos_occupancy`) of IFSs ``(S, k, 2, 3)``: a ranking."""
+    figure = torch.as_tensor(target.mask)
+    out = []
+    for start in range(0, len(batch), chunk):
+        drawn = chaos_occupancy(batch[start:start + chunk], target.size, seed=seed)
+        out.append((drawn & figure).sum((1, 2)) / (drawn | figure).sum((1, 2)))
+    return torch.cat(out)
+
+
+def _best_trial(trials: np.ndarray, fine: Target, judge: Target, seed: int) -> tuple[np.ndarray, float]:
+    """Of ``trials`` ``(S, k, 2, 3)`` and their collage refinements at ``fine``'s size, the one whose attractor
+    (`SCREEN_POINTS` points) overlaps ``fine`` most, and its attractor IoU at ``judge``'s size."""
+    refined, _ = refine(trials, fine, REFINE_STEPS, 0.002, COLLAGE_POINTS[1], seed)
+    variants = np.concatenate([trials, refined.numpy()])
+    j = int(np.argmax([iou(_drawn(m, fine, SCREEN_POINTS), fine.mask) for m in variants]))
+    return variants[j], attractor_iou(variants[j], judge)
+
+
+def region_swap(maps: np.ndarray, fine: Target, judge: Target, points: np.ndarray, top: int = REGION_TOP,
+                seed: int = 0, value: float | None = None) -> tuple[np.ndarray, float, bool]:
+    """One round of replacing a map, or two, by copies matched to the figure's uncovered regions (`ifslib.fitting.regions`).
+
+    For each map, the figure pixels the other maps' copies leave uncovered are matched by moments
+    (`region_maps`, a few maps each); every IFS with one map, or two maps, replaced by such maps
+    (a pair: two thin maps are often missed together, and one alone does not raise the IoU) is
+    drawn by a short chaos game at ``fine``'s size and ranked by its IoU with it; the ``top`` best
+    are refined on the collage and the best by their attractor is kept when its IoU at
+    ``judge``'s size beats the maps' by more than 0.001.
+
+    Parameters and returns are those of `swap` (``fine`` ranks and refines, ``judge`` judges), but
+    for ``points``, ``(P, 2)`` plane points of the figure denser than ``fine`` (its pixels at
+    ``judge``'s size) that draw the copies, and the last value returned, a bool: whether a
+    replacement was kept.
+    """
+    maps = np.asarray(maps, dtype=np.float64)
+    value = attractor_iou(maps, judge) if value is None else value
+    offers = [region_maps(maps, i, fine.mask, points) for i in range(len(maps))]
+    trials = [_replaced(maps, {i: m}) for i, ms in enumerate(offers) for m in ms]
+    for i, j in itertools.combinations(range(len(maps)), 2):
+        trials += [_replaced(maps, {i: a, j: b}) for a in offers[i] for b in offers[j]]
+    if not trials:
+        return maps, value, False
+    trials = np.array(trials)
+    ranks = occupancy_iou(torch.as_tensor(trials, dtype=torch.float32), fine, seed)
+    best = torch.argsort(ranks, descending=True)[:top].numpy()
+    replaced, overlap = _best_trial(trials[best], fine, judge, seed)
+    if overlap <= value + 1e-3:
+        return maps, value, False
+    return replaced, overlap, True
+
+
+def _replaced(maps: np.ndarray, new: dict) -> np.ndarray:
+    """A copy of ``maps`` with map ``i`` replaced by ``new[i]`` for each key."""
+    out = maps.copy()
+    for i, m in new.items():
+        out[i] = m
+    return out
 
 
 def as_ifs(maps: np.ndarray | torch.Tensor, depth: int = 3) -> IFS:
@@ -596,8 +656,9 @@ class SearchResult:
         One row per number of maps tried: ``maps``, ``cover`` (share of the figure the greedy
         copies covered at `SEARCH_SIZE`), ``collage_px`` (at `REFINE_SIZE`), ``chamfer_px`` (the
         attractor's, at `REFINE_SIZE`), ``iou`` (the attractor's, at `JUDGE_SIZE`), ``score``
-        (``1 - iou + MAP_COST * maps``), ``seconds``; ``reoriented`` and ``swapped`` (the rounds
-        of `swap` that replaced a map) where they apply.
+        (``1 - iou + MAP_COST * maps``), ``seconds``; ``reoriented``, ``regions`` (the rounds of
+        `region_swap` that replaced maps) and ``swapped`` (the rounds of `swap` that replaced a
+        map) where they apply.
     rule : str
         How the number of maps was chosen, in words.
     """
@@ -715,30 +776,53 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         row["collage_px"] = round(error, 4)
         row.update(judged(found[row["maps"]]))
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
-    # no reoriented number of maps fits well: replace one map at a time, judged by the attractor (`swap`), one round
-    # at a time for the number of maps that scores best, until a round keeps nothing for it or the rounds run out
-    if turned and max(r["iou"] for r in turned) < SWAP_BELOW:
-        open_rows, rounds = list(turned), SWAP_ROUNDS
-        while rounds and open_rows and max(r["iou"] for r in turned) < SWAP_BELOW:
-            row = min(open_rows, key=lambda r: (r["score"], r["maps"]))
-            if MAP_COST * row["maps"] >= min(r["score"] for r in turned):
-                open_rows.remove(row)  # even an attractor of IoU 1 would not score below the best
-                continue
-            t0, rounds = time.perf_counter(), rounds - 1
-            found[row["maps"]], overlap, kept = swap(found[row["maps"]], pool, coarse, fine, judge, rounds=1, seed=seed,
-                                                     value=overlaps[row["maps"]])
-            if kept:
-                row["swapped"] = row.get("swapped", 0) + 1
-                row.update(judged(found[row["maps"]], overlap))
-            else:
-                open_rows.remove(row)
+    # a reoriented number of maps that does not fit well has a map or two replaced by copies matched to the regions the
+    # other maps leave uncovered (`region_swap`), round after round while a round raises its attractor's IoU; then, for
+    # the number of maps that scores best, one map at a time by a copy of the pool (`swap`), one round at a time, each
+    # round that keeps a map followed by region rounds again, until a round keeps nothing for it or the rounds run out
+    dense = foreground_points(judge)
+
+    def regions_for(row):
+        k = row["maps"]
+        for _ in range(REGION_ROUNDS):
+            if row["iou"] >= SWAP_BELOW:
+                return
+            t0 = time.perf_counter()
+            found[k], overlap, kept = region_swap(found[k], fine, judge, dense, seed=seed, value=overlaps[k])
             row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
+            if not kept:
+                return
+            row["regions"] = row.get("regions", 0) + 1
+            row.update(judged(found[k], overlap))
+
+    for row in turned:
+        regions_for(row)
+    open_rows, rounds = list(turned), SWAP_ROUNDS
+    while rounds and open_rows and max(r["iou"] for r in turned) < SWAP_BELOW:
+        row = min(open_rows, key=lambda r: (r["score"], r["maps"]))
+        if MAP_COST * row["maps"] >= min(r["score"] for r in turned):
+            open_rows.remove(row)  # even an attractor of IoU 1 would not score below the best
+            continue
+        t0, rounds = time.perf_counter(), rounds - 1
+        found[row["maps"]], overlap, kept = swap(found[row["maps"]], pool, coarse, fine, judge, rounds=1, seed=seed,
+                                                 value=overlaps[row["maps"]])
+        row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
+        if kept:
+            row["swapped"] = row.get("swapped", 0) + 1
+            row.update(judged(found[row["maps"]], overlap))
+            regions_for(row)
+        else:
+            open_rows.remove(row)
     if progress and not draw_bars():
         note("fractal search: " + ", ".join(f"{r['maps']} maps IoU {r['iou']:.3f}, {r['chamfer_px']:.2f} px" for r in table))
     chosen = min(turned or table, key=lambda r: (r["score"], r["maps"]))
     rule = (f"fewest maps for the fit: least 1 - attractor IoU at {judge.size}² plus {MAP_COST} a map "
             f"(minimum description length), among the {REORIENT} reoriented (the least attractor Chamfer distance at "
             f"{fine.size}² plus {CHAMFER_COST} px a map); {chosen['maps']} maps scored {chosen['score']:.3f}")
+    regions = [r for r in table if r.get("regions")]
+    if regions:
+        rule += "; " + ", ".join(f"{r['maps']} maps had {r['regions']} round(s) of maps matched to uncovered regions"
+                                 for r in regions) + f" (the reoriented attractor's IoU was below {SWAP_BELOW})"
     swapped = [r for r in table if r.get("swapped")]
     if swapped:
         rule += "; " + ", ".join(f"{r['maps']} maps had {r['swapped']} map(s) swapped" for r in swapped) + \
