@@ -25,12 +25,12 @@ target alone (no depth), then judges them by their attractor:
    collage have their attractors drawn (chaos game at `REFINE_SIZE`), the `KEEP` closest go on at
    `REFINE_SIZE`, and the maps whose attractor is closest are kept; `reorient` turns maps the
    same way.
-5. **Matched to uncovered regions** (`region_swap`), for each number of maps reoriented whose
-   attractor's IoU is below `SWAP_BELOW`: for each map, the figure pixels the other maps'
-   copies leave uncovered are matched by the figure's copy with the same mean and covariance
-   (`ifslib.fitting.regions`), which places a thin copy as well as a round one; one or two maps
-   are replaced by such copies, ranked by a short chaos game, refined, and kept when the
-   attractor's IoU rises, round after round.
+5. **Matched to uncovered regions** (`region_swap`), when no number of maps reoriented draws an
+   attractor of IoU `SWAP_BELOW`, for each of them, the best scoring first: for each map, the
+   figure pixels the other maps' copies leave uncovered are matched by the figure's copy with the
+   same mean and covariance (`ifslib.fitting.regions`), which places a thin copy as well as a
+   round one; one or two maps are replaced by such copies, ranked by a short chaos game, refined,
+   and kept when the attractor's IoU rises, round after round.
 6. **Swapped** (`swap`), when still no number of maps reoriented draws an attractor of IoU `SWAP_BELOW`:
    the collage places the large copies well and often misses a thin or small one, so each map in
    turn is replaced by each copy of a pool, every such IFS drawn at once by a short chaos game
@@ -776,8 +776,9 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         row["collage_px"] = round(error, 4)
         row.update(judged(found[row["maps"]]))
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
-    # a reoriented number of maps that does not fit well has a map or two replaced by copies matched to the regions the
-    # other maps leave uncovered (`region_swap`), round after round while a round raises its attractor's IoU; then, for
+    # while no reoriented number of maps fits well, each (the best scoring first) has a map or two replaced by copies
+    # matched to the regions the other maps leave uncovered (`region_swap`), round after round while a round raises its
+    # attractor's IoU; then, for
     # the number of maps that scores best, one map at a time by a copy of the pool (`swap`), one round at a time, each
     # round that keeps a map followed by region rounds again, until a round keeps nothing for it or the rounds run out
     dense = foreground_points(judge)
@@ -785,7 +786,7 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     def regions_for(row):
         k = row["maps"]
         for _ in range(REGION_ROUNDS):
-            if row["iou"] >= SWAP_BELOW:
+            if max(r["iou"] for r in turned) >= SWAP_BELOW:
                 return
             t0 = time.perf_counter()
             found[k], overlap, kept = region_swap(found[k], fine, judge, dense, seed=seed, value=overlaps[k])
@@ -795,7 +796,7 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
             row["regions"] = row.get("regions", 0) + 1
             row.update(judged(found[k], overlap))
 
-    for row in turned:
+    for row in sorted(turned, key=lambda r: (r["score"], r["maps"])):
         regions_for(row)
     open_rows, rounds = list(turned), SWAP_ROUNDS
     while rounds and open_rows and max(r["iou"] for r in turned) < SWAP_BELOW:
