@@ -19,8 +19,8 @@ def test_moment_maps_contain_the_map_that_made_the_region():
     rng = np.random.default_rng(0)
     figure = rng.normal(size=(500, 2)) @ np.array([[0.2, 0.05], [0.0, 0.1]]) + [0.05, -0.02]
     root = regions.sqrtm_psd(np.cov(figure.T))
-    q = fractal._rotation(2 * math.pi * 5 / 72) @ np.diag([1.0, -1.0])  # a reflection on the grid of 72 angles
-    shrink = 0.35 * fractal._rotation(0.3) @ np.diag([1.0, 0.5])  # the region's covariance: a copy's, shrink C shrink^T
+    q = regions.rotation(2 * math.pi * 5 / 72) @ np.diag([1.0, -1.0])  # a reflection on the grid of 72 angles
+    shrink = 0.35 * regions.rotation(0.3) @ np.diag([1.0, 0.5])  # the region's covariance: a copy's, shrink C shrink^T
     linear = regions.sqrtm_psd(shrink @ np.cov(figure.T) @ shrink.T) @ q @ np.linalg.inv(root)
     assert np.linalg.svd(linear)[1].max() < 0.9  # contracts: not clipped
     shift = np.array([0.1, 0.2])

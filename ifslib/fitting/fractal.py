@@ -70,7 +70,7 @@ from ..progress import draw_bars, note
 from ..raster.chaos import chaos_occupancy
 from ..raster.render import figure_mask
 from .metrics import chamfer, iou
-from .regions import region_maps, sqrtm_psd
+from .regions import region_maps, rotation, sqrtm_psd
 from .targets import Target, foreground_points, resize_target
 
 #: The numbers of maps `search` compares when none is given ...
@@ -126,7 +126,7 @@ GIVE_UP_MAPS, GIVE_UP_PX = 4, 2.5
 #: (`SWAP_BELOW` is the IoU a fractal counts as recovered at: at 0.9, successes whose search ends at IoU 0.85-0.9
 #: before the attractor stage, such as fractals 13, 21, 33 and 34 of the benchmark, paid 10-40 s for no change.)
 SWAP_BELOW, SWAP_ROUNDS, SWAP_PER_SHAPE, SWAP_TOP = 0.85, 8, 100, 8
-#: Before `swap`, every reoriented number of maps whose attractor's IoU is below `SWAP_BELOW` has a map, or two,
+#: Before `swap`, while no reoriented number of maps draws an attractor of IoU `SWAP_BELOW`, each has a map, or two,
 #: replaced by copies matched to the figure's uncovered regions (`region_swap`), at most `REGION_ROUNDS` rounds, each
 #: refining and judging the `REGION_TOP` best replacements.
 REGION_ROUNDS, REGION_TOP = 4, 8
@@ -134,12 +134,6 @@ REGION_ROUNDS, REGION_TOP = 4, 8
 COLLAGE_POINTS = (600, 2000)
 #: The chaos game's points when the attractors of each number of maps are compared.
 COMPARE_POINTS = 200_000
-
-
-def _rotation(angle):
-    """``(..., 2, 2)`` rotation matrices by ``angle`` (radians; a number or an array)."""
-    c, s = np.cos(angle), np.sin(angle)
-    return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
 
 
 def linear_grid(turns: int = 36, phases: int = 8, scales=(0.25, 0.35, 0.45, 0.55, 0.65, 0.75, 0.85),
@@ -156,7 +150,7 @@ def linear_grid(turns: int = 36, phases: int = 8, scales=(0.25, 0.35, 0.45, 0.55
             for phi in ([0.0] if r == 1.0 else np.arange(phases) * math.pi / phases):
                 for theta in np.arange(turns) * 2 * math.pi / turns:
                     for sign in (1.0, -1.0):
-                        out.append(_rotation(theta) @ np.diag([s, sign * r * s]) @ _rotation(phi))
+                        out.append(rotation(theta) @ np.diag([s, sign * r * s]) @ rotation(phi))
     return np.array(out)
 
 
@@ -301,7 +295,7 @@ def random_starts(count: int, k: int, target: Target, rng: np.random.Generator) 
     angle = rng.uniform(-math.pi, math.pi, (count, k, 2))
     scale = rng.uniform(0.25, 0.65, (count, k, 2))
     scale[..., 1] *= np.where(rng.random((count, k)) < 1 / 3, -1.0, 1.0)
-    rot = _rotation(angle)  # (count, k, 2, 2, 2): [..., which, i, j]
+    rot = rotation(angle)  # (count, k, 2, 2, 2): [..., which, i, j]
     linear = rot[..., 0, :, :] * scale[..., None, :] @ rot[..., 1, :, :]
     t = fg[rng.integers(0, len(fg), (count, k))] - linear @ fg.mean(0)
     return np.concatenate([linear, t[..., None]], -1)
@@ -458,7 +452,7 @@ def turns(target: Target, count: int = TURNS) -> np.ndarray:
     out = []
     for angle in np.arange(count) * 2 * math.pi / count:
         for sign in (1.0, -1.0):
-            linear = root @ _rotation(angle) @ np.diag([1.0, sign]) @ inverse
+            linear = root @ rotation(angle) @ np.diag([1.0, sign]) @ inverse
             out.append(np.concatenate([linear, (mu - linear @ mu)[:, None]], 1))
     return np.array(out[1:])
 
@@ -778,9 +772,9 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         row["seconds"] = round(row["seconds"] + time.perf_counter() - t0, 2)
     # while no reoriented number of maps fits well, each (the best scoring first) has a map or two replaced by copies
     # matched to the regions the other maps leave uncovered (`region_swap`), round after round while a round raises its
-    # attractor's IoU; then, for
-    # the number of maps that scores best, one map at a time by a copy of the pool (`swap`), one round at a time, each
-    # round that keeps a map followed by region rounds again, until a round keeps nothing for it or the rounds run out
+    # attractor's IoU; then, for the number of maps that scores best, one map at a time by a copy of the pool (`swap`),
+    # one round at a time, each round that keeps a map followed by region rounds again, until a round keeps nothing
+    # for it or the rounds run out
     dense = foreground_points(judge)
 
     def regions_for(row):

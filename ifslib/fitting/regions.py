@@ -22,6 +22,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..errors import IFSError
+from ..raster.nearest import pixel_centres
 
 #: Rotations ``Q`` tried (each with and without a reflection) ...
 ANGLES = 72
@@ -37,11 +38,17 @@ def sqrtm_psd(c: np.ndarray) -> np.ndarray:
     return v @ np.diag(np.sqrt(np.maximum(w, 1e-12))) @ v.T
 
 
+def rotation(angle) -> np.ndarray:
+    """``(..., 2, 2)`` rotation matrices by ``angle`` (radians; a number or an array)."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
+
+
 def _pixel_points(mask: np.ndarray) -> np.ndarray:
-    """Plane coordinates ``(P, 2)`` of a mask's pixel centres (CONVENTIONS.md: row 0 at the top)."""
-    n = mask.shape[0]
-    rows, cols = np.nonzero(mask)
-    return np.stack([(cols + 0.5) / n - 0.5, 0.5 - (rows + 0.5) / n], 1)
+    """Plane coordinates ``(P, 2)`` of a mask's pixel centres (`pixel_centres`, CONVENTIONS.md)."""
+    x, y = pixel_centres(mask.shape[0])
+    flat = mask.reshape(-1)
+    return np.stack([x.numpy()[flat], y.numpy()[flat]], 1)
 
 
 def copy_masks(maps: np.ndarray, points: np.ndarray, size: int) -> np.ndarray:
@@ -81,9 +88,7 @@ def moment_maps(figure: np.ndarray, region: np.ndarray, angles: int = ANGLES, pi
     inverse = np.linalg.inv(sqrtm_psd(np.cov(figure.T)))
     spread = np.cov(region.T) if len(region) > 1 else np.zeros((2, 2))
     root = sqrtm_psd(spread + np.eye(2) * pixel ** 2 / 12)
-    theta = np.arange(angles) * 2 * math.pi / angles
-    c, s = np.cos(theta), np.sin(theta)
-    rotations = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
+    rotations = rotation(np.arange(angles) * 2 * math.pi / angles)
     q = np.concatenate([rotations, rotations @ np.diag([1.0, -1.0])])
     linear = root @ q @ inverse
     u, sv, vh = np.linalg.svd(linear)

@@ -142,9 +142,13 @@ def attractor_stage(ifs: IFS, target: Target, steps: int, seed: int, lr: float, 
     if loss is not None:
         stage["loss"] = loss
     record = {}
+
+    def stage_run(note: str = "") -> FitResult:
+        return run(ifs, target, steps=min(steps, ATTRACTOR_STAGE_STEPS), seed=seed, lr=lr,
+                   desc=f"{label} · {target.size}² · attractor{note}", **stage)
+
     try:
-        result = run(ifs, target, steps=min(steps, ATTRACTOR_STAGE_STEPS), seed=seed, lr=lr,
-                     desc=f"{label} · {target.size}² · attractor", **stage)
+        result = stage_run()
     except LeafBudgetError as exc:
         if method != "fast":
             raise
@@ -152,8 +156,7 @@ def attractor_stage(ifs: IFS, target: Target, steps: int, seed: int, lr: float, 
         # with sampled leaves of the cut (whose number does not grow with the maps)
         method = stage["method"] = "sampled"
         record["fallback"] = f"the certified cut outgrew the leaf budget during the stage ({exc}); run again with sampled leaves"
-        result = run(ifs, target, steps=min(steps, ATTRACTOR_STAGE_STEPS), seed=seed, lr=lr,
-                     desc=f"{label} · {target.size}² · attractor (sampled)", **stage)
+        result = stage_run(" (sampled)")
     used = stage.get("loss", "multiscale_pixel")
     return result, {"size": target.size, "depth": ATTRACTOR, "method": method, "loss": used if isinstance(used, str)
                     else "custom", "steps": result.history["cost"], "stopped": result.history["stopped"],
