@@ -70,7 +70,7 @@ from ..progress import draw_bars, note
 from ..raster.chaos import chaos_occupancy
 from ..raster.render import figure_mask
 from .metrics import chamfer, iou
-from .regions import region_maps, rotation, sqrtm_psd
+from .regions import region_maps, rotation, sqrtm_psd, uncovered_maps
 from .targets import Target, foreground_points, resize_target
 
 #: The numbers of maps `search` compares when none is given ...
@@ -130,6 +130,13 @@ SWAP_BELOW, SWAP_ROUNDS, SWAP_PER_SHAPE, SWAP_TOP = 0.85, 8, 100, 8
 #: replaced by copies matched to the figure's uncovered regions (`region_swap`), at most `REGION_ROUNDS` rounds, each
 #: refining and judging the `REGION_TOP` best replacements.
 REGION_ROUNDS, REGION_TOP = 4, 8
+#: Then, while still none does, the best scoring number of maps gives the next its maps and one more, matched to the
+#: region they all leave uncovered (`region_grow`), at most `GROW_ROUNDS` times.
+GROW_ROUNDS = 2
+#: When, after all that, still no number of maps draws an attractor of IoU `SWAP_BELOW`, the search runs again from the
+#: next seed, at most this many times (on the benchmark's fractal 27 the second search found all five maps, within
+#: 0.013, where the first kept three).
+AGAIN = 1
 #: At most this many figure pixels are used for the collage distance at each size.
 COLLAGE_POINTS = (600, 2000)
 #: The chaos game's points when the attractors of each number of maps are compared.
@@ -610,6 +617,23 @@ def region_swap(maps: np.ndarray, fine: Target, judge: Target, points: np.ndarra
     return replaced, overlap, True
 
 
+def region_grow(maps: np.ndarray, fine: Target, judge: Target, points: np.ndarray, seed: int = 0
+                ) -> tuple[np.ndarray | None, float]:
+    """The maps and one more, matched to the region all their copies leave uncovered (`uncovered_maps`).
+
+    Each offer is added to the maps, refined on the collage, and the IFS whose attractor overlaps
+    ``fine`` most is returned with its attractor IoU at ``judge``'s size; ``(None, 0.0)`` when the
+    copies leave nothing uncovered. Where a search keeps the right maps but one too few (the
+    missing copy left bare), this gives the next number of maps those maps rather than a new start.
+    """
+    maps = np.asarray(maps, dtype=np.float64)
+    offers = uncovered_maps(maps, fine.mask, points)
+    if not len(offers):
+        return None, 0.0
+    trials = np.array([np.concatenate([maps, m[None]]) for m in offers])
+    return _best_trial(trials, fine, judge, seed)
+
+
 def _replaced(maps: np.ndarray, new: dict) -> np.ndarray:
     """A copy of ``maps`` with map ``i`` replaced by ``new[i]`` for each key."""
     out = maps.copy()
@@ -684,6 +708,10 @@ def check_maps(maps) -> tuple[int, ...]:
 def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> SearchResult:
     """Find the affine maps of a fractal from its image (see the module docstring).
 
+    When no number of maps draws an attractor of IoU `SWAP_BELOW` or more, the search runs again
+    from ``seed + 1``, up to `AGAIN` times (its moves take different paths from different random
+    starts and pixel samples), and the search whose chosen maps score least is returned.
+
     Parameters
     ----------
     target : Target
@@ -701,6 +729,22 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
     SearchResult
     """
     ks = check_maps(maps)
+    found = _search(target, ks, seed, progress, "fractal search")
+    tries = [found]
+    for again in range(1, AGAIN + 1):
+        if max(r["iou"] for r in found.table) >= SWAP_BELOW:
+            break
+        tries.append(_search(target, ks, seed + again, progress, f"fractal search again (seed {seed + again})"))
+        found = min(tries, key=lambda r: (r.chosen["score"], len(r.maps)))
+    if len(tries) > 1:
+        found.rule += ("; no attractor reached IoU " f"{SWAP_BELOW}, so the search ran from seeds "
+                       f"{seed}-{seed + len(tries) - 1}, scoring " +
+                       ", ".join(f"{r.chosen['score']:.3f}" for r in tries) + "; the least was kept")
+    return found
+
+
+def _search(target: Target, ks: tuple[int, ...], seed: int, progress: bool, title: str) -> SearchResult:
+    """One search from ``seed`` (`search` without its runs again), ``title`` on its progress bar."""
     rng = np.random.default_rng(seed)
     coarse = resize_target(target, min(SEARCH_SIZE, target.size))
     fine = resize_target(target, min(REFINE_SIZE, target.size))
@@ -736,7 +780,7 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         return {"chamfer_px": round(attractor_chamfer(maps, fine), 4), "iou": overlap,
                 "score": round(1 - overlap + MAP_COST * len(maps), 4)}
 
-    for k in tqdm(ks, desc=f"fractal search · {fine.size}² · maps", disable=not (progress and draw_bars())):
+    for k in tqdm(ks, desc=f"{title} · {fine.size}² · maps", disable=not (progress and draw_bars())):
         if table and min(map(chamfer_score, table)) <= CHAMFER_COST * k:
             skipped.append(k)  # k maps score at least CHAMFER_COST * k: they cannot win by the Chamfer distance
             continue
@@ -792,6 +836,24 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
 
     for row in sorted(turned, key=lambda r: (r["score"], r["maps"])):
         regions_for(row)
+    for _ in range(GROW_ROUNDS):  # the best scoring maps and one more, matched to what they leave uncovered
+        if not turned or max(r["iou"] for r in turned) >= SWAP_BELOW:
+            break
+        row = min(turned, key=lambda r: (r["score"], r["maps"]))
+        after = next((r for r in table if r["maps"] == row["maps"] + 1), None)
+        if after is None:
+            break
+        t0 = time.perf_counter()
+        grown, overlap = region_grow(found[row["maps"]], fine, judge, dense, seed=seed)
+        after["seconds"] = round(after["seconds"] + time.perf_counter() - t0, 2)
+        if grown is None or overlap <= overlaps[after["maps"]] + 1e-3:
+            break
+        found[after["maps"]] = grown
+        after["grown"] = True
+        after.update(judged(grown, overlap))
+        if after not in turned:
+            turned.append(after)
+        regions_for(after)
     open_rows, rounds = list(turned), SWAP_ROUNDS
     while rounds and open_rows and max(r["iou"] for r in turned) < SWAP_BELOW:
         row = min(open_rows, key=lambda r: (r["score"], r["maps"]))
@@ -809,7 +871,7 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         else:
             open_rows.remove(row)
     if progress and not draw_bars():
-        note("fractal search: " + ", ".join(f"{r['maps']} maps IoU {r['iou']:.3f}, {r['chamfer_px']:.2f} px" for r in table))
+        note(f"{title}: " + ", ".join(f"{r['maps']} maps IoU {r['iou']:.3f}, {r['chamfer_px']:.2f} px" for r in table))
     chosen = min(turned or table, key=lambda r: (r["score"], r["maps"]))
     rule = (f"fewest maps for the fit: least 1 - attractor IoU at {judge.size}² plus {MAP_COST} a map "
             f"(minimum description length), among the {REORIENT} reoriented (the least attractor Chamfer distance at "

@@ -107,6 +107,28 @@ def region_maps(maps: np.ndarray, i: int, mask: np.ndarray, points: np.ndarray, 
         ``(k, 2, 3)`` the maps, plane units.
     i : int
         The map to replace.
+    mask, points, angles, per_region, parts
+        As for `uncovered_maps`.
+
+    Returns
+    -------
+    numpy.ndarray
+        `uncovered_maps` of the maps but ``i``.
+    """
+    maps = np.asarray(maps, dtype=np.float64)
+    if not 0 <= i < len(maps):
+        raise IFSError(f"there is no map {i} to replace among {len(maps)} maps")
+    return uncovered_maps(np.delete(maps, i, 0), mask, points, angles, per_region, parts)
+
+
+def uncovered_maps(others: np.ndarray, mask: np.ndarray, points: np.ndarray, angles: int = ANGLES,
+                   per_region: int = PER_REGION, parts: int = PARTS) -> np.ndarray:
+    """The figure's copies matched to the region that the copies of ``others`` leave uncovered: maps to add to them.
+
+    Parameters
+    ----------
+    others : numpy.ndarray
+        ``(k, 2, 3)`` maps, plane units (``k`` may be 0: the region is then the whole figure).
     mask : numpy.ndarray
         ``(n, n)`` bool, the figure at the size the regions are drawn.
     points : numpy.ndarray
@@ -118,15 +140,12 @@ def region_maps(maps: np.ndarray, i: int, mask: np.ndarray, points: np.ndarray, 
     Returns
     -------
     numpy.ndarray
-        ``(M, 2, 3)`` maps, ``M <= per_region * (1 + parts)`` (none when the other maps cover the
+        ``(M, 2, 3)`` maps, ``M <= per_region * (1 + parts)`` (none when ``others`` cover the
         whole figure), the copies overlapping their region most first within each region.
     """
-    maps = np.asarray(maps, dtype=np.float64)
-    if not 0 <= i < len(maps):
-        raise IFSError(f"there is no map {i} to replace among {len(maps)} maps")
+    others = np.asarray(others, dtype=np.float64).reshape(-1, 2, 3)
     n = mask.shape[0]
-    others = copy_masks(np.delete(maps, i, 0), points, n).any(0)
-    region = mask & ~others
+    region = mask & ~copy_masks(others, points, n).any(0)
     labels, count = ndimage.label(region)
     regions = [region]
     if count > 1:
