@@ -187,3 +187,33 @@ def test_swap_puts_back_a_map_that_the_sets_of_copies_left_out():
     assert before < 0.2 and kept >= 1 and after >= best - 0.03  # as close as the true maps' attractor
     assert after == pytest.approx(fractal.attractor_iou(maps, target), abs=0.02)
     assert np.abs(maps - true_maps).max() < 0.02  # the true map, found in the pool, and the others kept
+
+
+def test_search_runs_again_from_the_next_seed_only_while_no_attractor_fits(monkeypatch):
+    """`search` wraps one search (`_search`): run again from the next seed when no attractor reaches `SWAP_BELOW`,
+    and the search whose chosen maps score least kept (the searches themselves are stood in for)."""
+    _, target = fractal_target(size=32)
+    ious = {0: 0.6, 1: 0.7, 5: fractal.SWAP_BELOW}
+    calls = []
+
+    def one(target, ks, seed, progress, title):
+        calls.append(seed)
+        row = {"maps": 2, "iou": ious[seed], "score": round(1 - ious[seed] + fractal.MAP_COST * 2, 4),
+               "reoriented": seed != 7}
+        return fractal.SearchResult(np.full((2, 2, 3), seed / 10), [row], f"rule {seed}")
+
+    monkeypatch.setattr(fractal, "_search", one)
+    found = fractal.search(target, maps=2, seed=0, progress=False)
+    assert calls == [0, 1] and found.maps[0, 0, 0] == 0.1
+    assert found.rule.startswith("rule 1") and "seeds 0-1" in found.rule and "0.480, 0.380" in found.rule
+    calls.clear()
+    assert fractal.search(target, maps=2, seed=0, progress=False, again=0).rule == "rule 0" and calls == [0]
+    with pytest.raises(IFSError, match="runs again"):
+        fractal.search(target, maps=2, progress=False, again=-1)
+    calls.clear()
+    found = fractal.search(target, maps=2, seed=5, progress=False)  # an attractor that fits: one search
+    assert calls == [5] and found.rule == "rule 5"
+    calls.clear()
+    ious[7] = 0.3
+    found = fractal.search(target, maps=2, seed=7, progress=False)  # gave up before reorienting: not a fractal
+    assert calls == [7] and found.rule == "rule 7"

@@ -72,3 +72,16 @@ def test_region_swap_replaces_a_wrong_thin_map(thin):
     maps, after, kept = fractal.region_swap(wrong, fine, judge, foreground_points(judge))
     assert kept and after > before + 0.05
     assert after == pytest.approx(fractal.attractor_iou(maps, judge), abs=1e-9)
+
+
+def test_region_grow_adds_back_a_map_left_out(thin):
+    """The maps but one: the copy they leave bare is matched, the map added back, and the attractor's IoU rises."""
+    true, fine, judge = thin
+    without = np.delete(true, 0, 0)
+    before = fractal.attractor_iou(without, judge)
+    grown, after = fractal.region_grow(without, fine, judge, foreground_points(judge))
+    assert grown.shape == true.shape and after > before + 0.1
+    assert after == pytest.approx(fractal.attractor_iou(grown, judge), abs=1e-9)
+    # nothing is offered where the copies already cover the whole figure
+    assert len(regions.uncovered_maps(np.array([[[1.0, 0, 0], [0, 1.0, 0]]]), fine.mask,
+                                      foreground_points(judge))) == 0

@@ -31,11 +31,17 @@ target alone (no depth), then judges them by their attractor:
    same mean and covariance (`ifslib.fitting.regions`), which places a thin copy as well as a
    round one; one or two maps are replaced by such copies, ranked by a short chaos game, refined,
    and kept when the attractor's IoU rises, round after round.
-6. **Swapped** (`swap`), when still no number of maps reoriented draws an attractor of IoU `SWAP_BELOW`:
+6. **Grown** (`region_grow`), when still none does: the best scoring number of maps gives the next
+   its maps and one more, matched to the region all their copies leave uncovered, when that
+   attractor beats the next's own (a search that keeps the right maps but one too few).
+7. **Swapped** (`swap`), when still no number of maps reoriented draws an attractor of IoU `SWAP_BELOW`:
    the collage places the large copies well and often misses a thin or small one, so each map in
    turn is replaced by each copy of a pool, every such IFS drawn at once by a short chaos game
    (`ifslib.raster.chaos.chaos_occupancy`), and the best replacements refined and kept when the
    attractor's IoU rises.
+8. **Run again**, when after all that no attractor reaches `SWAP_BELOW`: the whole search from the
+   next seed (other random starts and pixel samples send the moves down other paths), and the
+   search whose chosen maps score least (below) is kept.
 
 **How many maps** (minimum description length): for ``k`` = 2, 3, ... the kept maps' attractor
 is drawn (chaos game, `JUDGE_POINTS` points) at `JUDGE_SIZE` (or the target's size when smaller)
@@ -675,7 +681,8 @@ class SearchResult:
         copies covered at `SEARCH_SIZE`), ``collage_px`` (at `REFINE_SIZE`), ``chamfer_px`` (the
         attractor's, at `REFINE_SIZE`), ``iou`` (the attractor's, at `JUDGE_SIZE`), ``score``
         (``1 - iou + MAP_COST * maps``), ``seconds``; ``reoriented``, ``regions`` (the rounds of
-        `region_swap` that replaced maps) and ``swapped`` (the rounds of `swap` that replaced a
+        `region_swap` that replaced maps), ``grown`` (the maps are the fewer's and one more,
+        `region_grow`) and ``swapped`` (the rounds of `swap` that replaced a
         map) where they apply.
     rule : str
         How the number of maps was chosen, in words.
@@ -705,12 +712,13 @@ def check_maps(maps) -> tuple[int, ...]:
     return tuple(sorted(set(ks)))
 
 
-def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> SearchResult:
+def search(target: Target, maps=None, seed: int = 0, progress: bool = True, again: int = AGAIN) -> SearchResult:
     """Find the affine maps of a fractal from its image (see the module docstring).
 
-    When no number of maps draws an attractor of IoU `SWAP_BELOW` or more, the search runs again
-    from ``seed + 1``, up to `AGAIN` times (its moves take different paths from different random
-    starts and pixel samples), and the search whose chosen maps score least is returned.
+    When no number of maps draws an attractor of IoU `SWAP_BELOW` or more (and the search did not
+    give up), the search runs again from ``seed + 1``, up to ``again`` times (its moves take other
+    paths from other random starts and pixel samples), and the search whose chosen maps score
+    least is returned.
 
     Parameters
     ----------
@@ -723,23 +731,26 @@ def search(target: Target, maps=None, seed: int = 0, progress: bool = True) -> S
         Seeds the random starts and the pixel samples.
     progress : bool
         A progress bar over the numbers of maps.
+    again : int
+        The most times the search runs again from the next seed (0: never); by default `AGAIN`.
 
     Returns
     -------
     SearchResult
     """
     ks = check_maps(maps)
+    check_int(again, "the times a search runs again", 0)
     found = _search(target, ks, seed, progress, "fractal search")
     tries = [found]
-    for again in range(1, AGAIN + 1):
-        if max(r["iou"] for r in found.table) >= SWAP_BELOW:
-            break
-        tries.append(_search(target, ks, seed + again, progress, f"fractal search again (seed {seed + again})"))
+    for run in range(1, again + 1):
+        if max(r["iou"] for r in found.table) >= SWAP_BELOW or not any(r.get("reoriented") for r in found.table):
+            break  # an attractor fits, or the search gave up (not a fractal of a few maps: nothing reoriented)
+        tries.append(_search(target, ks, seed + run, progress, f"fractal search again (seed {seed + run})"))
         found = min(tries, key=lambda r: (r.chosen["score"], len(r.maps)))
     if len(tries) > 1:
-        found.rule += ("; no attractor reached IoU " f"{SWAP_BELOW}, so the search ran from seeds "
-                       f"{seed}-{seed + len(tries) - 1}, scoring " +
-                       ", ".join(f"{r.chosen['score']:.3f}" for r in tries) + "; the least was kept")
+        scores = ", ".join(f"{r.chosen['score']:.3f}" for r in tries)
+        found.rule += (f"; no attractor reached IoU {SWAP_BELOW}, so the search ran from seeds "
+                       f"{seed}-{seed + len(tries) - 1}, whose chosen maps scored {scores}: the least was kept")
     return found
 
 
@@ -836,13 +847,15 @@ def _search(target: Target, ks: tuple[int, ...], seed: int, progress: bool, titl
 
     for row in sorted(turned, key=lambda r: (r["score"], r["maps"])):
         regions_for(row)
+    grew = set()  # the numbers of maps grown from
     for _ in range(GROW_ROUNDS):  # the best scoring maps and one more, matched to what they leave uncovered
         if not turned or max(r["iou"] for r in turned) >= SWAP_BELOW:
             break
         row = min(turned, key=lambda r: (r["score"], r["maps"]))
         after = next((r for r in table if r["maps"] == row["maps"] + 1), None)
-        if after is None:
-            break
+        if after is None or row["maps"] in grew:
+            break  # no next number of maps tried, or the best has grown already (nothing changed since)
+        grew.add(row["maps"])
         t0 = time.perf_counter()
         grown, overlap = region_grow(found[row["maps"]], fine, judge, dense, seed=seed)
         after["seconds"] = round(after["seconds"] + time.perf_counter() - t0, 2)
