@@ -832,10 +832,13 @@ def _search(target: Target, ks: tuple[int, ...], seed: int, progress: bool, titl
     # for it or the rounds run out
     dense = foreground_points(judge)
 
+    def none_fits():  # some number of maps is reoriented (or grown), and none of them draws IoU SWAP_BELOW yet
+        return bool(turned) and max(r["iou"] for r in turned) < SWAP_BELOW
+
     def regions_for(row):
         k = row["maps"]
         for _ in range(REGION_ROUNDS):
-            if max(r["iou"] for r in turned) >= SWAP_BELOW:
+            if not none_fits():
                 return
             t0 = time.perf_counter()
             found[k], overlap, kept = region_swap(found[k], fine, judge, dense, seed=seed, value=overlaps[k])
@@ -849,7 +852,7 @@ def _search(target: Target, ks: tuple[int, ...], seed: int, progress: bool, titl
         regions_for(row)
     grew = set()  # the numbers of maps grown from
     for _ in range(GROW_ROUNDS):  # the best scoring maps and one more, matched to what they leave uncovered
-        if not turned or max(r["iou"] for r in turned) >= SWAP_BELOW:
+        if not none_fits():
             break
         row = min(turned, key=lambda r: (r["score"], r["maps"]))
         after = next((r for r in table if r["maps"] == row["maps"] + 1), None)
@@ -868,7 +871,7 @@ def _search(target: Target, ks: tuple[int, ...], seed: int, progress: bool, titl
             turned.append(after)
         regions_for(after)
     open_rows, rounds = list(turned), SWAP_ROUNDS
-    while rounds and open_rows and max(r["iou"] for r in turned) < SWAP_BELOW:
+    while rounds and open_rows and none_fits():
         row = min(open_rows, key=lambda r: (r["score"], r["maps"]))
         if MAP_COST * row["maps"] >= min(r["score"] for r in turned):
             open_rows.remove(row)  # even an attractor of IoU 1 would not score below the best
