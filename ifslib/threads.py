@@ -19,9 +19,15 @@ import time
 from contextlib import contextmanager
 from typing import Iterator
 
-import torch
+# MKL's strict reproducible mode: a matrix product gives the same bits at any thread count (by
+# default a long product is split between the threads, and its last bits follow their number).
+# MKL reads it at its first call, so it holds when torch was imported first; a value set by the
+# user is kept.
+os.environ.setdefault("MKL_CBWR", "AUTO,STRICT")
 
-from .errors import IFSError
+import torch  # noqa: E402
+
+from .errors import IFSError  # noqa: E402
 
 #: The environment variable read by `configure_threads`.
 ENV = "IFSLIB_THREADS"

@@ -213,13 +213,20 @@ def copy_candidates(mask: np.ndarray, grid: np.ndarray, inside: float = INSIDE, 
         flat = (torch.round(-v[..., 1]).long() % size) * size + torch.round(v[..., 0]).long() % size
         copies = torch.zeros(len(linear), size * size).scatter_(1, flat, 1.0).view(-1, size, size)
         pixels = copies.sum((1, 2))
+        # The correlation counts pixels, so it is an integer up to the FFT's rounding error, whose sign
+        # depends on the CPU and the thread count (a one-pixel hit came out 0.99999994 or 1.0000001):
+        # every decision below is taken on the rounded count, which is exact.
         hits = torch.fft.irfft2(torch.conj(torch.fft.rfft2(copies)) * spectrum, s=(size, size))[:, :n, :n]
-        hits = torch.where(hits >= inside * pixels[:, None, None] - 0.5, hits, torch.zeros_like(hits))
-        top = hits.reshape(len(linear), -1).topk(per_map, dim=1)
+        hits = torch.round(hits).to(torch.int64).reshape(len(linear), -1)
+        enough = hits.double() >= inside * pixels.double()[:, None] - 0.5
+        # the placements covering most, the first in reading order among equals (an exact key, no tie left to chance)
+        key = torch.where(enough, hits, 0) * (n * n) + (n * n - 1 - torch.arange(n * n))
+        top = key.topk(per_map, dim=1)
         for g in range(len(linear)):
             for value, index in zip(top.values[g].tolist(), top.indices[g].tolist()):
-                if value >= 1:
-                    rows.append((round(value), start + g, index // n, index % n))
+                index = n * n - 1 - value % (n * n)
+                if value // (n * n) >= 1:
+                    rows.append((value // (n * n), start + g, index // n, index % n))
     out = np.array(rows, dtype=np.int64).reshape(-1, 4)
     return out[np.argsort(-out[:, 0], kind="stable")]
 

@@ -25,8 +25,10 @@ LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
 
 def mse(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
     """Mean squared error of two images ``(h, w)`` (a scalar), or per image of a batch ``(B, h, w)`` (``(B,)``)."""
-    err = (a - b).square()
-    return err.mean() if err.ndim == 2 else err.mean(dim=(-2, -1))
+    # Row means first, then their mean: torch splits one reduction of a whole image between its
+    # threads (so the last bits follow the thread count), but reduces each of many outputs in one.
+    err = (a - b).square().mean(-1).mean(-1)
+    return err
 
 
 def pyramid(image: torch.Tensor, levels: int, mode: str = "avg") -> list[torch.Tensor]:

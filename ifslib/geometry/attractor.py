@@ -128,7 +128,9 @@ def _compose(nodes: torch.Tensor, maps: torch.Tensor) -> torch.Tensor:
 
 def _apply(maps: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
     """``(N, 2, 3)`` maps applied to one point ``(2,)``: ``(N, 2)``."""
-    return maps[..., :2] @ point + maps[..., 2]
+    # a product and a sum over the last axis, not a matrix-vector product: the point's gradient is
+    # then a reduction to two outputs, each in one thread, where mv's splits the N rows by thread count
+    return (maps[..., :2] * point).sum(-1) + maps[..., 2]
 
 
 def chaos_probabilities(maps: torch.Tensor) -> torch.Tensor:

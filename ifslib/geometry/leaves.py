@@ -12,6 +12,7 @@ smallest singular value.
 """
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 
@@ -125,7 +126,11 @@ def estimate_bytes(n_leaves_words: int, n_pixels: int, method: str = "fast") -> 
 def check_budget(ifs: IFS, depth: int, n_pixels: int, method: str, memory_budget: int | None) -> None:
     """Raise `IFSError` if the estimated memory exceeds the budget, before allocating anything."""
     budget = DEFAULT_MEMORY_BUDGET if memory_budget is None else int(memory_budget)
-    words = len(ifs.rules) ** depth
+    m = len(ifs.rules)
+    if m > 1 and depth * math.log2(m) > 60:  # more words than any memory holds: not worth the big integer
+        raise IFSError(f"depth {depth} with {m} rules makes {m}^{depth} = {_power_text(m, depth)} leaf maps, far over "
+                       f"the memory budget of {budget / 2**30:.2f} GiB. Lower the depth.")
+    words = m ** depth
     need = estimate_bytes(words, n_pixels, method)
     if need > budget:
         raise IFSError(
@@ -238,10 +243,16 @@ def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gr
                   tuple(p.kind for p in ifs.primitives), per_item, None if forward is None else forward.reshape(-1, 6))
 
 
+def _power_text(m: int, depth: int, factor: int = 1) -> str:
+    """``factor * m**depth`` in words: exact below 10^15, else its power of ten (without building the integer)."""
+    digits = (depth * math.log10(m) if m > 1 else 0) + math.log10(max(factor, 1))
+    return f"{factor * m ** depth:,}" if digits < 15 else f"about 10^{digits:.1f}"
+
+
 def leaf_count_text(ifs: IFS, depth: int) -> str:
-    """A one-line description of the leaf count, e.g. ``4^3 x 1 = 64 leaves``."""
+    """A one-line description of the leaf count, e.g. ``4^3 x 1 = 64 leaves`` (``4^1000 x 1 = about 10^602.1 leaves``)."""
     m, p = len(ifs.rules), len(ifs.primitives)
-    return f"{m}^{depth} x {p} = {m ** depth * p:,} leaves"
+    return f"{m}^{check_depth(depth)} x {p} = {_power_text(m, depth, p)} leaves"
 
 
 __all__ = ["Leaves", "expand", "expand_batch", "compose_words", "invert_similarities", "estimate_bytes", "check_budget",
@@ -299,7 +310,10 @@ def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tens
     inv, scale, forward, prim, row = _gather_words(leaves, leaf)
     kinds = sorted(set(leaves.kinds))
     if len(kinds) == 1:
-        params = leaves.params[0] if row is None else leaves.params.index_select(0, row)
+        # one row per pair even when all share params[0]: the gradient of a row broadcast to every
+        # pixel is one sum over all of them, which torch splits by thread count; index_select's is not
+        row = torch.zeros_like(leaf) if row is None else row
+        params = leaves.params.index_select(0, row)
         return leaf_sdf(kinds[0], x, y, inv, scale, params, forward)
     out = torch.zeros_like(x)
     kind_codes = torch.tensor([kinds.index(k) for k in leaves.kinds], device=leaf.device)
