@@ -65,6 +65,8 @@ def cmd_render(args: argparse.Namespace) -> None:
     depth = args.depth
     if args.window is not None and depth is None:
         depth = "attractor"
+    if args.window is not None and depth != "attractor":
+        raise IFSError("--window draws the attractor: leave out --depth (or say --depth attractor)")
     if args.chaos is not None:
         if depth not in (None, "attractor"):
             raise IFSError("--chaos draws the attractor: leave out --depth (or say --depth attractor)")
@@ -120,6 +122,10 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
     t0 = time.perf_counter()
     target = load_target(args.target, args.size, invert=args.invert)
+    if not args.quiet:
+        # a fit of the background must never be silent: say which part is the figure, and how to take the other
+        print(f"target: {target.polarity}; {'--no-invert' if target.inverted else '--invert'} to fit the other part",
+              file=sys.stderr)
     attractor = args.depth == "attractor"  # fit the attractor at every stage, not only the last
     if args.pattern == "auto":
         if attractor:
@@ -137,6 +143,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
                  checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet, strategy=args.strategy,
                  tol=args.tol, depth="attractor" if attractor else None)
     m = evaluate(result.best, target)
+    result.best.meta["target"] = {"polarity": target.polarity, "inverted": target.inverted}
     result.best.meta["scores"] = {
         "depth": {"depth": result.best.depth, **{k: m[k] for k in ("iou", "f1", "chamfer")}},
         "attractor": {k: m[f"attractor_{k}"] for k in ("iou", "f1", "chamfer")}}
@@ -196,7 +203,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("-o", "--output", required=True, help="PNG file to write")
     r.set_defaults(run=cmd_render)
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
-    f.add_argument("target", help="target image (white figure on black), or koch/sierpinski/apple/flower")
+    f.add_argument("target", help="target image (its figure found from its border: the background is the colour "
+                   "that touches it; a transparent background makes the opaque part the figure), or "
+                   "koch/sierpinski/apple/flower")
     f.add_argument("--pattern", default="koch",
                    help="auto (any image: a fractal's maps searched for, a curve or a shape; the number of maps compared), koch, koch_paper, carpet, "
                         "gridN, rosetteN, or an ifslib/1 JSON file (default koch)")
@@ -215,7 +224,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="pixel, multiscale_pixel, distance or multiscale_distance (default)")
     f.add_argument("--jitter", type=float, default=0.0, help="uniform jitter of the initial points (plane units)")
     f.add_argument("--seed", type=int, default=0, help="seed of the jitter and the run")
-    f.add_argument("--invert", action="store_true", help="the target is a dark figure on a light background")
+    f.add_argument("--invert", action=argparse.BooleanOptionalAction, default=None,
+                   help="--invert: the figure is the target's dark (or transparent) part; --no-invert: its light "
+                        "(or opaque) part (default: found from the image's border, and said on standard error)")
     f.add_argument("--checkpoint", help="write a resumable checkpoint here every 100 steps")
     f.add_argument("--resume", help="continue from this checkpoint")
     f.add_argument("--strategy", default=None,

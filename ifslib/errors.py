@@ -9,10 +9,16 @@ class IFSError(ValueError):
     """A bad IFS, file, argument or request (the message says which and why)."""
 
 
-def check_int(value, name: str, minimum: int, hint: str = "") -> int:
-    """Return ``value`` if it is an int (not a bool) >= ``minimum``, else raise `IFSError`."""
+#: The largest seed a fit takes: torch seeds with at most ``2**64 - 1``, and the strategies add a run's index.
+MAX_SEED = 2**63 - 1
+
+
+def check_int(value, name: str, minimum: int, hint: str = "", maximum: int | None = None) -> int:
+    """Return ``value`` if it is an int (not a bool) >= ``minimum`` (and <= ``maximum``, when given), else raise `IFSError`."""
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
         raise IFSError(f"{name} must be an integer >= {minimum}{hint}, got {value!r}")
+    if maximum is not None and value > maximum:
+        raise IFSError(f"{name} must be an integer from {minimum} to {maximum:,}{hint}, got {value!r}")
     return value
 
 

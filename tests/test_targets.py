@@ -44,10 +44,12 @@ def test_invert_and_resize(tmp_path):
     im, fg = _disk_image(dark=True)
     path = tmp_path / "dark.png"
     im.save(path)
-    light = ifslib.load_target(path, 20)
-    assert light.mask.mean() > 0.5  # taken literally: the white background is the figure
+    light = ifslib.load_target(path, 20, invert=False)
+    assert light.mask.mean() > 0.5 and not light.inverted  # taken as asked: the white background is the figure
     dark = ifslib.load_target(path, 20, invert=True)
-    assert 0 < dark.mask.mean() < 0.2 and dark.mask[6, 12]
+    assert 0 < dark.mask.mean() < 0.2 and dark.mask[6, 12] and dark.inverted
+    found = ifslib.load_target(path, 20)  # its border is white: the figure is the dark disk
+    assert (found.mask == dark.mask).all() and found.inverted and "its border is light" in found.polarity
 
 
 def test_ifs_and_tensor_sources():

@@ -5,16 +5,18 @@ the strategies call the single Adam run (`ifslib.fitting.run.run`). Nothing belo
 """
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Callable
 
-from ..errors import IFSError, check_int
+from ..errors import MAX_SEED, IFSError, check_int
 from ..geometry.attractor import check_depth_or_attractor
 from ..geometry.ifs import IFS
 from .run import FitResult, check_stop, run
 from .strategies import DEFAULT_STRATEGY, check_strategy, run_strategy
 from .targets import Target
+
+#: The largest learning rate a fit takes: Adam's step is about ``lr`` plane units, and the frame is 1 wide.
+MAX_LR = 1.0
 
 
 def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: str | Callable = "multiscale_pixel",
@@ -37,7 +39,7 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         strategy each stage of each start spends at most ``min(steps, 500)`` and most stop
         long before.
     lr : float
-        Learning rate at the target's size (the paper used 0.003).
+        Learning rate at the target's size (the paper used 0.003), at most `MAX_LR`.
     loss : str or callable
         ``pixel``, ``multiscale_pixel``, ``distance``, ``multiscale_distance`` or ``f(distance, target)``.
     depth : int or "attractor", optional
@@ -45,7 +47,8 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         stage (the default strategies end with an attractor stage anyway: see
         `ifslib.fitting.strategies`).
     seed : int
-        Seeds torch and the strategies' jitter; a seeded fit on CPU is reproducible.
+        Seeds torch and the strategies' jitter, from 0 to ``ifslib.errors.MAX_SEED``; a seeded fit on CPU is
+        reproducible.
     callback : callable, optional
         ``callback(step, loss, ifs)`` after every step of every run.
     checkpoint, checkpoint_every, resume
@@ -93,8 +96,9 @@ def fit(ifs: IFS, target: Target, steps: int = 1500, lr: float = 0.003, loss: st
         check_stop(tol, patience)
     else:
         check_stop(tol, 1)
-    if not (isinstance(lr, (int, float)) and lr > 0 and math.isfinite(lr)):
-        raise IFSError(f"lr must be a finite number > 0, got {lr!r}")
+    if not (isinstance(lr, (int, float)) and 0 < lr <= MAX_LR):
+        raise IFSError(f"lr must be a finite number > 0 and at most {MAX_LR:g} (a step as wide as the frame), got {lr!r}")
+    check_int(seed, "seed", 0, maximum=MAX_SEED)
     if not isinstance(target, Target):
         raise IFSError(f"target must be a Target (see ifslib.load_target), got a {type(target).__name__}")
     if not isinstance(ifs, IFS):

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import torch
 
-from ..errors import IFSError
+from ..errors import MAX_SEED, IFSError, check_int
 from ..geometry.crossings import is_curve
 from ..geometry.ifs import IFS
 from .auto import auto_start
@@ -56,9 +56,9 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
         cover the target; fit it with the ``auto`` strategy to compare several numbers of maps.
     target : Target
     jitter : float
-        Half-width of the uniform jitter added to every free coordinate (plane units).
+        Half-width of the uniform jitter added to every free coordinate (plane units, from 0 to 1).
     seed : int, optional
-        Seed of the jitter (and of the automatic start's k-means).
+        Seed of the jitter (and of the automatic start's k-means), from 0 to ``ifslib.errors.MAX_SEED``.
     maps, depth : int, optional
         ``"auto"`` only: fix the number of maps or the depth instead of choosing among candidates
         (`ifslib.fitting.auto.choices`).
@@ -67,6 +67,10 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
     -------
     IFS
     """
+    if isinstance(jitter, bool) or not isinstance(jitter, (int, float)) or not 0 <= jitter <= 1:
+        raise IFSError(f"jitter must be a number from 0 to 1 (plane units: the frame is 1 wide), got {jitter!r}")
+    if seed is not None:
+        check_int(seed, "seed", 0, maximum=MAX_SEED)
     if isinstance(pattern, str):
         if pattern != "auto":
             raise IFSError(f"initialize takes an IFS or 'auto', got {pattern!r} (patterns by name: ifslib.patterns.by_name)")

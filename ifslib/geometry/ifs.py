@@ -180,9 +180,18 @@ def check_depth(depth: Any) -> int:
     return check_int(depth, "depth", 0)
 
 
+#: The line widths a drawing takes, in plane units (the frame is 1 wide): below, its square underflows
+#: float32 (0 / 0 on the figure); above, every pixel of any frame is lit.
+SIGMA_RANGE = (1e-12, 1e3)
+
+
 def check_sigma(sigma: Any) -> float:
-    """Return ``sigma`` as a float if it is finite and > 0, else raise `IFSError`."""
-    return check_positive(sigma, "sigma")
+    """Return ``sigma`` as a float if it is finite and in `SIGMA_RANGE`, else raise `IFSError`."""
+    sigma = check_positive(sigma, "sigma")
+    if not SIGMA_RANGE[0] <= sigma <= SIGMA_RANGE[1]:
+        raise IFSError(f"sigma must be from {SIGMA_RANGE[0]:g} to {SIGMA_RANGE[1]:g} plane units (the frame is 1 wide), "
+                       f"got {sigma!r}")
+    return sigma
 
 
 __all__ = ["IFS", "Rule", "Primitive", "check_depth", "check_gradient_mode", "check_rule_lengths"]

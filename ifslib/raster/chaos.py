@@ -20,6 +20,7 @@ import torch
 from ..errors import IFSError, check_int
 from ..geometry.attractor import chaos_probabilities, check_contractive_maps
 from ..geometry.ifs import IFS
+from ..geometry.leaves import DEFAULT_MEMORY_BUDGET
 from .nearest import nearest_point, pixel_centres
 
 #: Chains run side by side (each a vectorised row).
@@ -27,6 +28,19 @@ CHAINS = 1024
 
 #: Points of the chaos game a picture uses by default.
 DEFAULT_POINTS = 1_000_000
+
+# Rough bytes per point (the float64 points, their copy for the KD-tree, the tree) and per pixel
+# (its centre, its nearest point's index and distance), rounded up.
+_BYTES_PER_POINT = 64
+_BYTES_PER_PIXEL = 64
+
+
+def _check_memory(n_points: int, n_pixels: int = 0) -> None:
+    need = n_points * _BYTES_PER_POINT + n_pixels * _BYTES_PER_PIXEL
+    if need > DEFAULT_MEMORY_BUDGET:
+        raise IFSError(f"a chaos game of {n_points:,} points drawn on {n_pixels:,} pixels needs about "
+                       f"{need / 2**30:.3g} GiB, over the memory budget of {DEFAULT_MEMORY_BUDGET / 2**30:.3g} GiB: "
+                       "draw fewer points or pixels (or raise IFSLIB_MEMORY_BUDGET_GB)")
 
 
 def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
@@ -49,10 +63,11 @@ def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
     Raises
     ------
     IFSError
-        For ``n < 1`` or a map that does not contract.
+        For ``n < 1``, more points than the memory budget holds, or a map that does not contract.
     """
     check_int(n, "the number of chaos-game points", 1)
     check_int(seed, "seed", 0)
+    _check_memory(n)
     with torch.no_grad():
         maps_t = ifs.to(torch.float64).maps()
     check_contractive_maps(maps_t, ifs.rules)
@@ -88,6 +103,8 @@ def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, win
     window : (x0, y0, x1, y1), optional
         The box of the plane the picture covers (the frame when None).
     """
+    check_int(n, "the number of chaos-game points", 1)
+    _check_memory(n, check_int(size, "size", 1) ** 2)
     points = torch.from_numpy(chaos_game(ifs, n, seed))
     x, y = pixel_centres(size, dtype=torch.float64, window=window)
     return nearest_point(points, x, y)[1].view(size, size)

@@ -74,7 +74,7 @@ def _brute(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
 def pixel_size(size: int, window: tuple[float, float, float, float] | None = None) -> float:
     """A pixel's side in plane units (the smaller side, for a window that is not square)."""
     x0, y0, x1, y1 = FRAME if window is None else check_window(window)
-    return min(x1 - x0, y1 - y0) / size
+    return min(x1 - x0, y1 - y0) / check_size(size)
 
 
 def point_distance(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
@@ -132,7 +132,7 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
     ifs : IFS
         The fractal; the result is differentiable in ``ifs.points``.
     size : int
-        Image side in pixels; pixel centres follow CONVENTIONS.md (row 0 at the top).
+        Image side in pixels; pixel centres follow docs/guide/conventions.md (row 0 at the top).
     depth : int or "attractor", optional
         Number of Hutchinson steps ``K`` (``ifs.depth`` when None), or ``"attractor"``: the
         unsigned distance to the attractor itself, within ``tolerance`` pixels (see the module
