@@ -1,4 +1,4 @@
-"""Rendering: range, the sigma default, and the pixel grid of CONVENTIONS.md."""
+"""Rendering: range, the sigma default, and the pixel grid of docs/guide/conventions.md."""
 import math
 
 import pytest

@@ -56,7 +56,8 @@ def collage_distance(ifs: IFS, target: Target, n: int = 2000, seed: int = 0) -> 
     p = _sample(target, n, seed).to(ifs.points.dtype)
     maps = ifs.maps()
     copies = (p @ maps[:, :2, :2].transpose(1, 2) + maps[:, None, :2, 2]).reshape(-1, 2)  # (m * n, 2)
-    # the target's distance at the copies: plane (x, y) -> grid_sample's (x, -y) * 2, pixel centres as in CONVENTIONS
+    # the target's distance at the copies: plane (x, y) -> grid_sample's (x, -y) * 2, pixel centres as in
+    # docs/guide/conventions.md
     grid = torch.stack([copies[:, 0] * 2, -copies[:, 1] * 2], -1).view(1, 1, -1, 2)
     dist = target.distance.to(copies.dtype).view(1, 1, target.size, target.size)
     outside = torch.nn.functional.grid_sample(dist, grid, mode="bilinear", padding_mode="border",

@@ -45,7 +45,7 @@ def rotation(angle) -> np.ndarray:
 
 
 def _pixel_points(mask: np.ndarray) -> np.ndarray:
-    """Plane coordinates ``(P, 2)`` of a mask's pixel centres (`pixel_centres`, CONVENTIONS.md)."""
+    """Plane coordinates ``(P, 2)`` of a mask's pixel centres (`pixel_centres`, docs/guide/conventions.md)."""
     x, y = pixel_centres(mask.shape[0])
     flat = mask.reshape(-1)
     return np.stack([x.numpy()[flat], y.numpy()[flat]], 1)

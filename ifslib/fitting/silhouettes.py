@@ -2,8 +2,8 @@
 
 They are targets that need no file: a reader's first image to fit, and the benchmark set of shapes
 (`benchmarks/silhouettes.py`). Every drawing is a boolean ``(size, size)`` array in the pixel grid
-of CONVENTIONS.md (row 0 at the top), the figure centred and filling about 80% of the frame;
-`ifslib.load_target` takes it as it is.
+of docs/guide/conventions.md (row 0 at the top), the figure centred and filling about 80% of the
+frame; `ifslib.load_target` takes it as it is.
 """
 from __future__ import annotations
 

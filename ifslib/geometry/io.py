@@ -1,8 +1,13 @@
 """The ``ifslib/1`` JSON file: read, validate, write.
 
-One small JSON document holds an IFS (see CONVENTIONS.md): ``format``, ``name``, ``points``,
-``rules`` (``kind``, ``from``, ``to``), ``primitives`` (``kind``, ``points``, optional ``radius``),
-``depth``, and the optional ``fixed``, ``sigma`` and ``meta``.
+One small JSON document holds an IFS (see docs/guide/conventions.md): ``format``, ``name``,
+``points``, ``rules`` (``kind``, ``from``, ``to``), ``primitives`` (``kind``, ``points``, optional
+``radius``), ``depth``, and the optional ``fixed``, ``sigma`` and ``meta``. Its JSON Schema (draft
+2020-12) ships beside this module, ``ifslib-1.schema.json``, and `schema` returns it; what a schema
+cannot say (an index below the number of points, finite numbers, a whole number written as ``3``
+and not ``3.0``) the reader checks as well. Whether a rule's source has non-zero length and its map
+contracts depends on the points' values: that is checked when the maps are built (`IFS.maps`, a
+drawing at depth K > 0), not when the file is read.
 
 Rule kinds: ``segment`` and ``square`` take two point indices on each side and make similarities;
 ``affine`` takes three on each side (``{"kind": "affine", "from": [0, 1, 2], "to": [4, 5, 6]}``:
@@ -16,10 +21,12 @@ it does not know and names the formats it knows.
 """
 from __future__ import annotations
 
+import functools
 import json
 import math
 import os
 import tempfile
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -29,6 +36,31 @@ from .ifs import IFS
 FORMAT = "ifslib/1"
 KNOWN_FORMATS = (FORMAT,)
 _REQUIRED = ("format", "points", "rules", "primitives", "depth")
+#: The file name of the format's JSON Schema, in this package folder (``ifslib/geometry``).
+SCHEMA_FILE = "ifslib-1.schema.json"
+
+
+@functools.lru_cache(maxsize=1)
+def _schema_text() -> str:
+    return resources.files(__package__).joinpath(SCHEMA_FILE).read_text(encoding="utf-8")
+
+
+def schema() -> dict:
+    """The JSON Schema (draft 2020-12) of the ``ifslib/1`` file, as a fresh dict.
+
+    Every file `save_ifs` writes is valid under it, and it refuses what `load_ifs` refuses where a
+    schema can say so: an unknown format, a missing field, an unknown rule or primitive kind, the
+    wrong number of point indices, a negative depth. The reader alone checks that every index is
+    below the number of points, that every number is finite and that a whole number has no
+    fraction (JSON Schema counts ``3.0`` as an integer). Validate with any draft 2020-12 validator, e.g.
+    ``jsonschema.Draft202012Validator(ifslib.geometry.io.schema()).validate(doc)``.
+
+    Returns
+    -------
+    dict
+        A new copy on each call (changing it changes nothing here).
+    """
+    return json.loads(_schema_text())
 
 
 def _require(doc: dict, key: str, where: str) -> Any:

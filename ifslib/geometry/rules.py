@@ -2,7 +2,7 @@
 
 A rule ``(P_i, R_i)`` names control points by index; its map is a 3 x 3 homogeneous matrix
 ``[[a, b, tx], [c, d, ty], [0, 0, 1]]`` acting on column vectors ``(x, y, 1)``
-(see ``CONVENTIONS.md``).
+(see ``docs/guide/conventions.md``).
 
 Kinds
 -----

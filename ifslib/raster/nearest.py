@@ -54,7 +54,7 @@ class NearestResult:
 
 def pixel_centres(size: int, device: torch.device | str = "cpu", dtype: torch.dtype = torch.float64,
                   window: tuple[float, float, float, float] | None = None):
-    """Pixel-centre coordinates of a ``size x size`` image, as in CONVENTIONS.md.
+    """Pixel-centre coordinates of a ``size x size`` image, as in docs/guide/conventions.md.
 
     Parameters
     ----------
