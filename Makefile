@@ -26,7 +26,12 @@ figures: $(VENV)/.installed  ## run every notebook with papermill (paper preset;
 	$(PY) notebooks/run.py --preset $(PRESET)
 	$(PY) -m ifslib render koch --size 512 --depth 6 -o figures/koch.png
 
-book: $(VENV)/.installed  ## static HTML book of the notebooks (stored outputs, warnings as errors) in build/book/html
+# MathJax for the book's formulas, from the npm registry: the book shows them with no network (no CDN)
+MATHJAX := build/npm/node_modules/mathjax/es5/tex-mml-chtml.js
+$(MATHJAX):
+	npm install --no-save --no-audit --no-fund --prefix build/npm mathjax@3.2.2
+
+book: $(VENV)/.installed $(MATHJAX)  ## static HTML book of the notebooks (stored outputs, warnings as errors) in build/book/html
 	$(PY) docs/build.py
 
 setup-browser: $(VENV)/.installed  ## Debian's chromium (apt-get, as root, only when missing) and playwright, for test-browser

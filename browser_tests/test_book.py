@@ -4,7 +4,8 @@ The front page says "ifslib" and links to the notebook pages, the results pages 
 reference; a notebook page shows its figures (at least one image, none broken) and no traceback;
 the API reference and a results page load with no console error, the API page of `ifslib.fit`
 shows its signature, parameters and returns, and the results page the command that regenerates
-it. Without the built book the tests FAIL: run ``make book`` first. ``IFSLIB_BOOK_HTML`` points
+it; the tutorial's formulas are typeset by the book's own MathJax, with no request to the network
+and no raw TeX source left on the page. Without the built book the tests FAIL: run ``make book`` first. ``IFSLIB_BOOK_HTML`` points
 them at another built tree.
 """
 from __future__ import annotations
@@ -23,6 +24,7 @@ NOTEBOOK_PAGE = "notebooks/00_explore.html"
 API_PAGE = "docs/api/index.html"
 FIT_PAGE = "docs/api/generated/ifslib.fit.html"
 RESULTS_PAGE = "docs/results/strategies.html"
+MATH_PAGE = "notebooks/00_tutorial.html"
 
 # Every <img>: its address and whether it loaded (naturalWidth is 0 for a broken image).
 _IMAGES = """() => [...document.images].map(i => ({src: i.currentSrc || i.src, ok: i.complete && i.naturalWidth > 0,
@@ -124,3 +126,22 @@ def test_results_page_opens_with_its_command(page, book, shots):
     assert "benchmarks/convergence.py" in first_code, f"{RESULTS_PAGE}'s first code block: {first_code[:200]!r}"
     assert page.locator("table").count() >= 2, f"{RESULTS_PAGE} lost its tables"
     page.screenshot(path=shots / "book_results.png")
+
+
+def test_formulas_are_typeset_with_no_network(page, book, shots):
+    """The tutorial's formulas show as mathematics, typeset by the book's own MathJax: no raw ``\\(`` source."""
+    _require(MATH_PAGE)
+    outside = []
+    page.on("request", lambda r: not r.url.startswith((book, "data:", "blob:")) and outside.append(r.url))
+    _open_cleanly(page, book, MATH_PAGE)
+    page.wait_for_selector("mjx-container", timeout=20_000)
+    typeset = page.locator("mjx-container").count()
+    # the page's text outside code blocks: where a formula MathJax did not typeset shows its TeX source
+    text = page.evaluate("""() => { const c = document.querySelector('main') || document.body;
+        const copy = c.cloneNode(true); copy.querySelectorAll('pre, code, mjx-container, script').forEach(e => e.remove());
+        return copy.innerText; }""")
+    raw = [m for m in ("\\(", "\\)", "\\[", "$$") if m in text]
+    assert typeset >= 5, f"{MATH_PAGE}: only {typeset} formulas typeset"
+    assert not raw, f"{MATH_PAGE} shows raw TeX source ({raw}) outside its code"
+    assert not outside, f"{MATH_PAGE} asked the network for {outside[:5]}"
+    page.screenshot(path=shots / "book_math.png")

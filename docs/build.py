@@ -8,8 +8,10 @@
    (MyST-NB, stored outputs only, no execution, no network; autodoc imports ``ifslib``).
 3. Check the result: index.html shows the README's title; each notebook page exists and holds
    at least one ``<img`` (its stored figure outputs); each results page (``docs/results/*.md``)
-   exists and opens with a ``bash`` block, the command that regenerates it; and every name of
-   ``ifslib.__all__`` has an entry in the API reference.
+   exists and opens with a ``bash`` block, the command that regenerates it; every name of
+   ``ifslib.__all__`` has an entry in the API reference; and no page loads a script or a style
+   sheet from the network (MathJax is the book's own copy, from the npm package ``make book``
+   installs into ``build/npm``).
 
 Options: ``--no-check`` skips step 3; ``--check-only`` runs only step 3.
 Exit status is non-zero on any warning, error or failed check.
@@ -54,8 +56,32 @@ def _empty_glob(entry: str, listed: set[str]) -> bool:
     return not (found - listed)
 
 
+#: MathJax's browser build, installed from the npm registry by ``make book`` (``build/npm``).
+MATHJAX = ROOT / "build" / "npm" / "node_modules" / "mathjax" / "es5"
+#: The parts of it the book loads: TeX and MathML in, HTML-CSS out with its fonts, the menu; the
+#: speech engine (sre, 4 MB) and the SVG builds are left out.
+MATHJAX_PARTS = ("tex-mml-chtml.js", "input", "output/chtml", "ui", "a11y", "adaptors")
+#: ``docs/conf.py``'s ``html_static_path``: copied into the book's ``_static``.
+STATIC = BOOK / "static"
+
+
+def copy_mathjax() -> None:
+    """Copy MathJax into the book's static files, so its formulas render with no network."""
+    if not (MATHJAX / MATHJAX_PARTS[0]).is_file():
+        sys.exit(f"MathJax is missing at {MATHJAX}: run `make book` (it installs the npm package mathjax)")
+    shutil.rmtree(STATIC, ignore_errors=True)
+    for part in MATHJAX_PARTS:
+        source, target = MATHJAX / part, STATIC / "mathjax" / part
+        if source.is_dir():
+            shutil.copytree(source, target)
+        elif source.is_file():
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(source, target)
+
+
 def assemble() -> None:
     """Recreate build/book/src from the repository (copies into build/ only)."""
+    copy_mathjax()
     shutil.rmtree(SRC, ignore_errors=True)
     (SRC / "notebooks").mkdir(parents=True)
     shutil.copy2(ROOT / "README.md", SRC / "README.md")
@@ -127,8 +153,19 @@ def check() -> list[str]:
             problems.append(f"{page.relative_to(ROOT)}: no <img> (stored figure outputs missing)")
         if f'href="notebooks/{nb.stem}.html"' not in text:
             problems.append(f"index.html: no toctree link to notebooks/{nb.stem}.html")
-    problems += check_results() + check_api()
+    problems += check_results() + check_api() + check_offline()
     return problems
+
+
+def check_offline() -> list[str]:
+    """No page loads a script or style sheet from another host (MathJax from a CDN, say)."""
+    problems = []
+    for page in sorted(HTML.rglob("*.html")):
+        for url in re.findall(r'<(?:script|link)[^>]+(?:src|href)="((?:https?:)?//[^"]+)"', page.read_text(encoding="utf-8")):
+            problems.append(f"{page.relative_to(ROOT)}: loads {url} from the network")
+    if not (HTML / "_static" / "mathjax" / "tex-mml-chtml.js").is_file():
+        problems.append("the book has no MathJax of its own in _static/mathjax")
+    return problems[:20]
 
 
 def check_results() -> list[str]:

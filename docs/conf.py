@@ -62,6 +62,11 @@ html_theme_options = {
 # mode" as a console error on every page a new visitor opens.
 html_context = {"default_mode": "auto"}
 
+# The formulas are typeset by the MathJax that docs/build.py copies from build/npm (make book
+# installs it from the npm registry) into the book's _static: no page loads it from a CDN.
+html_static_path = [str(Path(__file__).resolve().parent.parent / "build" / "book" / "static")]
+mathjax_path = "mathjax/tex-mml-chtml.js"
+
 # No intersphinx and no other extension that reaches the network.
 nitpicky = True
 # What nitpicky may not resolve without intersphinx: the types the docstrings name in words

@@ -1,7 +1,7 @@
 """Store the notebooks' outputs: run each in place, top to bottom, with its ci preset: ``python notebooks/store.py``.
 
 The stored outputs are what readers see on GitHub and in the book, and what nbval compares the
-cells marked ``# NBVAL_CHECK_OUTPUT`` with. They are made at ``STORE_THREADS`` torch threads and the
+cells tagged ``nbval-check-output`` with. They are made at ``STORE_THREADS`` torch threads and the
 count is recorded in each notebook's metadata (``metadata["ifslib"]["threads"]``); the tests run
 the notebooks at another count (`tests/conftest.py`), so that a checked output which depends on
 the summation order fails in the tests rather than on a reader's machine.

@@ -1,8 +1,9 @@
 """The same answer at any thread count: fits run in fresh processes at 1 and 2 threads, their files compared.
 
 Each run is a subprocess with ``IFSLIB_THREADS`` fixed, so the comparison crosses thread counts
-whatever the machine's load (the default ``auto`` follows the load, and with results that do not
-depend on the thread count, a busy machine gives the same answer as an idle one).
+whatever the machine's load; the two run at once, so each is also the other's busy neighbour (the
+default ``auto`` follows the load, and with results that do not depend on the thread count, a busy
+machine gives the same answer as an idle one).
 """
 import json
 import os
@@ -35,9 +36,14 @@ print(json.dumps(out))
 """
 
 
-def _run(threads: int, args: list[str]) -> subprocess.CompletedProcess:
-    env = dict(os.environ, IFSLIB_THREADS=str(threads))
-    return subprocess.run([sys.executable, *args], env=env, capture_output=True, text=True, check=True)
+def _side_by_side(runs: dict[int, list[str]]) -> dict[int, str]:
+    """``python ARGS`` for each ``{threads: ARGS}``, all at once (each the other's busy neighbour): their outputs."""
+    procs = {t: subprocess.Popen([sys.executable, *args], env=dict(os.environ, IFSLIB_THREADS=str(t)),
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for t, args in runs.items()}
+    outs = {t: p.communicate() for t, p in procs.items()}
+    for t, p in procs.items():
+        assert p.returncode == 0, outs[t][1]
+    return {t: out for t, (out, _) in outs.items()}
 
 
 def _without_timings(value):
@@ -49,17 +55,16 @@ def _without_timings(value):
 
 
 def test_a_koch_fit_writes_the_same_file_at_1_and_2_threads(tmp_path):
-    files = []
-    for threads in (1, 2):
-        out = tmp_path / f"koch{threads}.json"
-        _run(threads, ["-m", "ifslib", "fit", "koch", "--size", "64", "--steps", "40", "--quiet", "-o", str(out)])
-        files.append(_without_timings(json.loads(out.read_text())))
+    out = {t: tmp_path / f"koch{t}.json" for t in (1, 2)}
+    _side_by_side({t: ["-m", "ifslib", "fit", "koch", "--size", "64", "--steps", "40", "--quiet", "-o", str(path)]
+                   for t, path in out.items()})
+    files = [_without_timings(json.loads(out[t].read_text())) for t in (1, 2)]
     assert files[0]["meta"]["history"]["loss"]  # the fit ran its steps
     assert files[0] == files[1]
 
 
 def test_the_fractal_search_finds_the_same_maps_at_1_and_2_threads():
-    found = [json.loads(_run(threads, ["-c", SEARCH]).stdout) for threads in (1, 2)]
+    found = [json.loads(out) for out in _side_by_side({1: ["-c", SEARCH], 2: ["-c", SEARCH]}).values()]
     assert found[0]["fractal"]["table"][0].get("reoriented")  # the search made its moves, each a discrete choice
     assert found[0] == found[1]
     # a two-pixel speck is the attractor of two maps, each of whose copies is one pixel on the speck: the

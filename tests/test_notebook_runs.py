@@ -1,8 +1,8 @@
 """The notebooks' run by nbval: at another thread count than their stored outputs, and their figures.
 
 nbval (see pyproject.toml) executes every notebook with ``IFSLIB_THREADS=2`` (set in
-``tests/conftest.py`` unless the caller set it) and compares each cell marked
-``# NBVAL_CHECK_OUTPUT`` with its stored output (after ``notebooks/sanitize.cfg``). The stored
+``tests/conftest.py`` unless the caller set it) and compares each cell
+tagged ``nbval-check-output`` with its stored output (after ``notebooks/sanitize.cfg``). The stored
 outputs were made at 1 thread by ``notebooks/store.py``, which records the count in the
 notebook's metadata, so torch's CPU kernels sum in another order in the tests: a checked output
 that carries a rounding error's last digits, or a fit result that flips with the summation order,
