@@ -81,3 +81,13 @@ def test_papermill_reads_every_parameter(path):
     """papermill parses the cell itself (its parser is stricter than Python's): it must see them all."""
     inspection = pytest.importorskip("papermill.inspection")
     assert set(inspection.inspect_notebook(str(path))) == set(parameters(load(path)))
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_each_notebook_opens_as_a_lesson(path):
+    """What the reader will learn, what they need first, and how long it runs at both presets, measured."""
+    first = "".join(load(path)["cells"][0]["source"])
+    for heading in ("**What you will learn:**", "**What you need first:**", "**How long it runs**"):
+        assert heading in first, f"{path.name}: its first cell has no {heading}"
+    times = first[first.index("**How long it runs**"):]
+    assert "ci preset" in times and "`make figures`" in times and times.count(" s") >= 2, times
