@@ -11,13 +11,19 @@ export IFSLIB_DATA
 
 # pyproject.toml declares ranges; constraints.txt pins the versions the tests ran with (torch==2.13.0:
 # this machine's local CPU wheel, never a multi-GB CUDA build from the index).
+# What the tests and the notebooks need; the book's and the browser's extras come on top, only for
+# the commands that use them (make test does not wait for Sphinx and Playwright to install).
 $(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep]'
+	touch $@
+
+$(VENV)/.installed-docs: $(VENV)/.installed
 	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,docs,browser]'
 	touch $@
 
-setup: $(VENV)/.installed  ## create .venv and install ifslib (editable) with its extras, at the tested versions (constraints.txt)
+setup: $(VENV)/.installed $(VENV)/.installed-docs  ## create .venv and install ifslib (editable) with all its extras, at the tested versions (constraints.txt)
 
 test: $(VENV)/.installed  ## run the whole test suite
 	$(PY) -m pytest -q
@@ -31,10 +37,10 @@ MATHJAX := build/npm/node_modules/mathjax/es5/tex-mml-chtml.js
 $(MATHJAX):
 	npm install --no-save --no-audit --no-fund --prefix build/npm mathjax@3.2.2
 
-book: $(VENV)/.installed $(MATHJAX)  ## static HTML book of the notebooks (stored outputs, warnings as errors) in build/book/html
+book: $(VENV)/.installed-docs $(MATHJAX)  ## static HTML book of the notebooks (stored outputs, warnings as errors) in build/book/html
 	$(PY) docs/build.py
 
-setup-browser: $(VENV)/.installed  ## Debian's chromium (apt-get, as root, only when missing) and playwright, for test-browser
+setup-browser: $(VENV)/.installed-docs  ## Debian's chromium (apt-get, as root, only when missing) and playwright, for test-browser
 	PY=$(PY) sh browser_tests/setup.sh
 
 test-browser: setup-browser book  ## the explorer and the tutorial in JupyterLab in headless Chromium, and the book's pages
