@@ -69,7 +69,9 @@ def pattern_name(request):
 # nbval's kernels inherit this environment. They run at 2 threads unless the caller chose a count: the
 # stored outputs they are compared with were made at 1 (notebooks/store.py), so that a checked output
 # that depends on the summation order fails (tests/test_notebook_runs.py checks the two counts differ).
-os.environ.setdefault("IFSLIB_THREADS", "2")
+if "IFSLIB_THREADS" not in os.environ:
+    os.environ["IFSLIB_THREADS"] = "2"
+    os.environ["IFSLIB_THREADS_SET_BY"] = "conftest"  # the default run: tests/test_notebook_runs.py holds it to 2
 
 
 def pytest_configure(config):

@@ -78,6 +78,9 @@ def runs(tmp_path_factory):
 def test_stored_outputs_were_made_at_another_thread_count(path):
     stored = json.loads(path.read_text())["metadata"].get("ifslib", {}).get("threads")
     assert stored is not None, f"{path.name}: no thread count recorded; store it with python notebooks/store.py"
+    if str(stored) == os.environ["IFSLIB_THREADS"] and os.environ.get("IFSLIB_THREADS_SET_BY") != "conftest":
+        pytest.skip(f"IFSLIB_THREADS={stored} was fixed by the caller, the count the outputs were stored at: this run "
+                    "compares them at the same count (the default run, at 2 threads, compares across counts)")
     assert str(stored) != os.environ["IFSLIB_THREADS"], (
         f"{path.name} was stored at {stored} threads and nbval runs it at IFSLIB_THREADS={os.environ['IFSLIB_THREADS']}: its checked "
         "cells would not be compared across thread counts; run the tests at another count")
