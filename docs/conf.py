@@ -48,6 +48,9 @@ add_module_names = False
 # --- MyST / MyST-NB ---------------------------------------------------------------------------
 nb_execution_mode = "off"  # stored outputs only: the notebooks are executed by `make figures`
 nb_merge_streams = True  # one block per cell for consecutive stdout/stderr writes
+# No widget manager from a CDN (require.js, @jupyter-widgets/html-manager): the book is read offline, and a
+# stored widget (a progress bar) shows its text form instead.
+nb_ipywidgets_js = {}
 myst_enable_extensions = ["dollarmath", "amsmath"]
 myst_heading_anchors = 3  # README-style `[text](#section)` links resolve to headings
 
