@@ -45,7 +45,7 @@ from scipy import ndimage
 from skimage.transform import resize
 
 from ..data import path as data_path
-from ..geometry.leaves import DEFAULT_MEMORY_BUDGET
+from ..geometry.leaves import check_bytes
 from ..raster.distance import check_size
 from ..raster.nearest import pixel_centres
 from ..raster.render import figure_mask
@@ -132,10 +132,7 @@ def _check_threshold(threshold) -> float:
 
 
 def _check_memory(size: int) -> None:
-    need = size * size * _TARGET_BYTES_PER_PIXEL
-    if need > DEFAULT_MEMORY_BUDGET:
-        raise IFSError(f"a {size:,}x{size:,} target needs about {need / 2**30:.3g} GiB, over the memory budget of "
-                       f"{DEFAULT_MEMORY_BUDGET / 2**30:.3g} GiB: choose a smaller size (or raise IFSLIB_MEMORY_BUDGET_GB)")
+    check_bytes(size * size * _TARGET_BYTES_PER_PIXEL, f"a {size:,}x{size:,} target", "choose a smaller size")
 
 
 def _scaled(gray: np.ndarray) -> np.ndarray:

@@ -123,6 +123,13 @@ def estimate_bytes(n_leaves_words: int, n_pixels: int, method: str = "fast") -> 
     return n_leaves_words * _BYTES_PER_WORD + n_pixels * _BYTES_PER_PIXEL[method]
 
 
+def check_bytes(need: int, what: str, advice: str) -> None:
+    """Raise `IFSError` when ``need`` bytes exceed `DEFAULT_MEMORY_BUDGET`: "``what`` needs about ...: ``advice``"."""
+    if need > DEFAULT_MEMORY_BUDGET:
+        raise IFSError(f"{what} needs about {need / 2**30:.3g} GiB, over the memory budget of "
+                       f"{DEFAULT_MEMORY_BUDGET / 2**30:.3g} GiB: {advice} (or raise IFSLIB_MEMORY_BUDGET_GB)")
+
+
 def check_budget(ifs: IFS, depth: int, n_pixels: int, method: str, memory_budget: int | None) -> None:
     """Raise `IFSError` if the estimated memory exceeds the budget, before allocating anything."""
     budget = DEFAULT_MEMORY_BUDGET if memory_budget is None else int(memory_budget)
@@ -255,7 +262,7 @@ def leaf_count_text(ifs: IFS, depth: int) -> str:
     return f"{m}^{check_depth(depth)} x {p} = {_power_text(m, depth, p)} leaves"
 
 
-__all__ = ["Leaves", "expand", "expand_batch", "compose_words", "invert_similarities", "estimate_bytes", "check_budget",
+__all__ = ["Leaves", "expand", "expand_batch", "compose_words", "invert_similarities", "estimate_bytes", "check_bytes", "check_budget",
            "DEFAULT_MEMORY_BUDGET", "leaf_count_text"]
 
 

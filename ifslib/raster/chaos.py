@@ -20,7 +20,7 @@ import torch
 from ..errors import IFSError, check_int
 from ..geometry.attractor import chaos_probabilities, check_contractive_maps
 from ..geometry.ifs import IFS
-from ..geometry.leaves import DEFAULT_MEMORY_BUDGET
+from ..geometry.leaves import check_bytes
 from .nearest import nearest_point, pixel_centres
 
 #: Chains run side by side (each a vectorised row).
@@ -36,11 +36,8 @@ _BYTES_PER_PIXEL = 64
 
 
 def _check_memory(n_points: int, n_pixels: int = 0) -> None:
-    need = n_points * _BYTES_PER_POINT + n_pixels * _BYTES_PER_PIXEL
-    if need > DEFAULT_MEMORY_BUDGET:
-        raise IFSError(f"a chaos game of {n_points:,} points drawn on {n_pixels:,} pixels needs about "
-                       f"{need / 2**30:.3g} GiB, over the memory budget of {DEFAULT_MEMORY_BUDGET / 2**30:.3g} GiB: "
-                       "draw fewer points or pixels (or raise IFSLIB_MEMORY_BUDGET_GB)")
+    check_bytes(n_points * _BYTES_PER_POINT + n_pixels * _BYTES_PER_PIXEL,
+                f"a chaos game of {n_points:,} points drawn on {n_pixels:,} pixels", "draw fewer points or pixels")
 
 
 def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
