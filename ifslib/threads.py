@@ -2,8 +2,7 @@
 
 torch picks one thread per core by default. On a shared machine, or when several fits run side by
 side (the Dask sweep, a notebook beside a test run), that oversubscribes the cores, and a fit does
-not slow down by half but collapses: on this project's 2-core machine, a 27 s CLI fit took 426 s
-while another process ran two threads of its own.
+not slow down by half but collapses, many times slower (measured in docs/results/threads.md).
 
 So by default (``IFSLIB_THREADS`` unset or ``auto``) ifslib counts the cores that other processes
 keep busy (`busy_cores`, a short sample of ``/proc/stat``) and gives torch the rest, at least one:

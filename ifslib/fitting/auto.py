@@ -66,9 +66,9 @@ MAX_MAPS = 64
 MIN_PIXELS = 4
 
 #: A figure is porous, and searched as a fractal, when fewer than this share of its pixels are interior
-#: (all eight neighbours on the figure) at `POROUS_SIZE`: the 50 random fractals of the benchmark have 0.06-0.76,
-#: the drawn silhouettes 0.88-0.95, the apple 0.93 (the flower, 0.71-0.74, is searched and then
-#: fitted as a shape; the paper's carpet has 0.33-0.71 from 256² to 64² images).
+#: (all eight neighbours on the figure) at `POROUS_SIZE`: it separates the benchmark's fractals (at most 0.76) from
+#: solid silhouettes (0.88 and more; docs/results/fractals.md); the thin-petalled flower (0.71-0.74) falls below it
+#: and pays for a search before it is fitted as a shape, and the paper's carpet has 0.33-0.71 from 256² to 64².
 POROUS_SHARE = 0.8
 #: ... measured with the target made this many pixels wide (the share of a solid figure's edge falls
 #: with its size; a fractal's does not).

@@ -9,9 +9,9 @@ item only, exactly as the single run `ifslib.fitting.run.run` does. So each item
 that ``run(start, target, seed=seed)`` (``ifslib.fit(..., strategy="plain")``) follows, up to
 floating-point rounding. It sits beside `run` at the bottom of the fitting layer.
 
-Measured on this 2-core CPU (`benchmarks/fit_many.py`, one thread): 8 seeds batched run 1.09x the
-throughput of 8 sequential runs at 64²/depth 3 and 0.9x for 32 seeds at 128², so the default
-strategy runs its starts one after another (and usually needs only the first).
+On a CPU a step's cost is the (pixel, leaf) pairs, which batching does not reduce, so it gains
+little there (docs/results/fit-many.md); the default strategy runs its starts one after another
+(and usually needs only the first).
 """
 from __future__ import annotations
 

@@ -114,23 +114,22 @@ SCREEN = 12
 #: are chosen by the attractor's Chamfer distance at `REFINE_SIZE` plus `CHAMFER_COST` pixels a map.
 REORIENT, CHAMFER_COST = 3, 0.1
 #: The numbers of maps are compared by their attractors' IoU at this size (or the target's, when smaller),
-#: drawn with this many chaos-game points (within 0.002 of two million on the benchmark's fractals) ...
+#: drawn with this many chaos-game points: a quarter of two million, for an IoU within 0.002 of theirs ...
 JUDGE_SIZE, JUDGE_POINTS = 256, 500_000
-#: ... and a map costs this much IoU. Chosen on the search tables of the benchmark's 50 fractals, against the
-#: Chamfer distance at `REFINE_SIZE` with 0.1 px a map: the true number in 35 against 34, at most one too many in 48
-#: against 45, attractor IoU >= 0.85 before the attractor stage in 31 against 29 (docs/results/fractals.md).
+#: ... and a map costs this much IoU: lower keeps maps that add slivers, higher drops true small maps (the choice
+#: against a Chamfer cost per map is measured in docs/results/fractals.md).
 MAP_COST = 0.04
 #: More than `GIVE_UP_MAPS` maps are not tried when no attractor of that many maps or fewer came within `GIVE_UP_PX`
-#: pixels: not a fractal of a few maps (49 of the 50 random fractals of the benchmark: at most 2.2 px by 4 maps; the
-#: paper's flower silhouette: 3.8 px).
+#: pixels: not a fractal of a few maps, so a shape stops paying for the search (49 of the benchmark's 50 fractals come
+#: within it by 4 maps, the paper's flower does not: docs/results/fractals.md).
 GIVE_UP_MAPS, GIVE_UP_PX = 4, 2.5
 #: When no reoriented number of maps draws an attractor of IoU `SWAP_BELOW` or more, `swap` replaces one map at a
 #: time by a candidate copy, `SWAP_ROUNDS` rounds in all, each for the reoriented number of maps that scores best:
 #: every replacement by the `SWAP_PER_SHAPE` largest copies of each scale and ratio of singular values is ranked by a
 #: short chaos game at `SEARCH_SIZE` (`chaos_occupancy`), and the `SWAP_TOP` best are refined and judged by their
 #: attractors.
-#: (`SWAP_BELOW` is the IoU a fractal counts as recovered at: at 0.9, successes whose search ends at IoU 0.85-0.9
-#: before the attractor stage, such as fractals 13, 21, 33 and 34 of the benchmark, paid 10-40 s for no change.)
+#: (`SWAP_BELOW` is the IoU a fractal counts as recovered at: a higher bar makes searches that already recover pay
+#: for moves that change nothing, docs/results/fractals.md.)
 SWAP_BELOW, SWAP_ROUNDS, SWAP_PER_SHAPE, SWAP_TOP = 0.85, 8, 100, 8
 #: Before `swap`, while no reoriented number of maps draws an attractor of IoU `SWAP_BELOW`, each has a map, or two,
 #: replaced by copies matched to the figure's uncovered regions (`region_swap`), at most `REGION_ROUNDS` rounds, each
@@ -140,8 +139,8 @@ REGION_ROUNDS, REGION_TOP = 4, 8
 #: region they all leave uncovered (`region_grow`), at most `GROW_ROUNDS` times.
 GROW_ROUNDS = 2
 #: When, after all that, still no number of maps draws an attractor of IoU `SWAP_BELOW`, the search runs again from the
-#: next seed, at most this many times (on the benchmark's fractal 27 the second search found all five maps, within
-#: 0.013, where the first kept three).
+#: next seed, at most this many times: other random starts send the moves down other paths, at the cost of a whole
+#: search each (docs/results/fractals.md).
 AGAIN = 1
 #: At most this many figure pixels are used for the collage distance at each size.
 COLLAGE_POINTS = (600, 2000)

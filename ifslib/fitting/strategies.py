@@ -85,11 +85,11 @@ UNCROSS_WEIGHT = 0.1
 COARSEST = 64
 
 #: Each pyramid stage is this many times the size of the one before (4: 64² then 256²; a middle
-#: 128² stage cost more steps than it saved in our timing).
+#: 128² stage costs more time than it saves at 256², docs/results/fits-in-seconds.md).
 PYRAMID_FACTOR = 4
 
-#: At most this many steps in one pyramid stage (or ``steps``, when smaller): the stages of starts that
-#: recovered took 250-400 steps in our runs; those that crawl on for a thousand steps end stalled.
+#: At most this many steps in one pyramid stage (or ``steps``, when smaller): enough for the stages of starts
+#: that recover, while a start that crawls on for a thousand steps ends stalled and is better replaced.
 PYRAMID_STAGE_STEPS = 500
 
 #: Steps each candidate of the ``auto`` strategy gets at the coarsest size before they are compared.
@@ -105,11 +105,8 @@ PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
 #: A fractal's start (maps found by `ifslib.fitting.fractal.search`) gets one attractor stage of at
 #: most this many steps: the search has placed its maps within a fraction of a pixel.
 FRACTAL_STAGE_STEPS = 100
-#: ... with this loss. The single-scale pixel loss: through the command line on the 44 benchmark fractals fitted
-#: as fractals (`benchmarks/fractals.py`, 256²), the attractor IoU rose in 42 of 44 against the multiscale pixel
-#: loss (median +0.0075, at most +0.035), was the same in one and 0.001 lower in one; fractal 35 recovered
-#: (0.843 -> 0.853), and the fits were 6.6 s quicker (median) (docs/results/fractals.md). A soft IoU loss did
-#: worse than either on two near misses.
+#: ... with this loss: the single-scale pixel loss scores what the fit is judged by (the attractor's IoU) better
+#: than the multiscale pixel or a soft IoU loss, and quicker (docs/results/fractals.md).
 FRACTAL_LOSS = "pixel"
 
 #: ``pyramid`` and ``auto`` end with a stage that fits the attractor itself at the target's size (what
@@ -199,7 +196,7 @@ def _crosses(ifs: IFS) -> bool:
 def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Generator) -> list[IFS]:
     """``n`` starting points: ``ifs`` itself, then jittered copies of it and, for curves, every other
     one a best-fit-line start (`ifslib.initialize`): the first exactly on the line, the paper's
-    advice and the start that recovered most often in our runs, the later ones jittered."""
+    advice and the start that recovers most often (docs/results/strategies.md), the later ones jittered."""
     out = [ifs]
     for k in range(1, n):
         if is_curve(ifs) and k % 2 == 1:
@@ -251,9 +248,8 @@ def _pyramid(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, n_st
             climbed.append(stage)
         cost += sum(st["steps"] for st in climbed)
         stages += [{"start": k, **st} for st in climbed]
-        # judged on the full-size target, after the last stage only: the finer stages do rescue fits
-        # (a Koch curve at 0.64 scale sat 2.9 px off after 64² in every start, and 0.14 px after 256²);
-        # what is judged is the attractor when the fit ends on it
+        # judged on the full-size target, after the last stage only: a start far off at 64² can still
+        # recover at full size; what is judged is the attractor when the fit ends on it
         chamfer = evaluate(result.best, target, depth=ATTRACTOR if final else None, attractor=False)["chamfer"]
         stages[-1]["chamfer"] = chamfer
         tried.append((result, chamfer))

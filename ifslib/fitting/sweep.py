@@ -177,8 +177,8 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
                 warnings.warn(f"sweep: {workers} workers on {n_cores} cores would oversubscribe them; using {n_cores}")
                 workers = n_cores
             # Dask's nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers, so glibc hands every freed
-            # tensor back to the kernel and faults it in again: on this 2-core machine that doubled a
-            # sweep's wall time (4 fits: 31 s, 34 s of it in the kernel, against 16 s serial). Unset it.
+            # tensor back to the kernel and faults it in again, and a worker spends more time in the
+            # kernel than in torch (docs/results/strategies.md). Unset it.
             with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                        dashboard_address=None, env=env)

@@ -137,9 +137,9 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS,
         A warm start: ``(size * size,)`` (item-major for a batch) upper bounds on each pixel's
         nearest distance, such as each pixel's distance to its winner of the previous fit step.
         A block's bound is then also the largest of its pixels' (a max pyramid), which can only
-        prune more; the result is the same. Measured along Koch fits (`benchmarks/warm_search.py`)
-        it removes under 5% of the pairs and saves no time, since the pairs that remain are the
-        near-ties of the last two levels, so fits do not use it.
+        prune more; the result is the same. Fits do not use it: the pairs that remain are the
+        near-ties of the last two levels, which no bound removes, so it saves no time
+        (docs/results/fits-in-seconds.md).
 
     Returns
     -------
