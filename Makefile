@@ -7,7 +7,7 @@ PRESET ?= paper
 IFSLIB_DATA ?= $(if $(wildcard ../shared/data/koch.png),$(abspath ../shared/data),)
 export IFSLIB_DATA
 
-.PHONY: setup test figures book setup-browser test-browser bench clean
+.PHONY: setup test figures book slides student setup-browser test-browser bench clean
 
 # pyproject.toml declares ranges; constraints.txt pins the versions the tests ran with (torch==2.13.0:
 # this machine's local CPU wheel, never a multi-GB CUDA build from the index).
@@ -25,25 +25,36 @@ $(VENV)/.installed-docs: $(VENV)/.installed
 
 setup: $(VENV)/.installed $(VENV)/.installed-docs  ## create .venv and install ifslib (editable) with all its extras, at the tested versions (constraints.txt)
 
+# one pytest-xdist worker per core, at one torch thread each (tests/conftest.py); a notebook's cells and
+# its figure's comparison stay together on one worker
 test: $(VENV)/.installed  ## run the whole test suite
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n auto --dist loadscope
 
 figures: $(VENV)/.installed  ## run every notebook with papermill (paper preset; PRESET=ci for the quick run)
 	$(PY) notebooks/run.py --preset $(PRESET)
 	$(PY) -m ifslib render koch --size 512 --depth 6 -o figures/koch.png
 
-# MathJax for the book's formulas, from the npm registry: the book shows them with no network (no CDN)
+# The book's formulas (MathJax) and the lecture slides (reveal.js) from the npm registry, so both open with
+# no network (no CDN). One install for both: `npm install --no-save` removes the packages it is not given.
+NPM_PACKAGES := mathjax@3.2.2 reveal.js@4.6.1
 MATHJAX := build/npm/node_modules/mathjax/es5/tex-mml-chtml.js
-$(MATHJAX):
-	npm install --no-save --no-audit --no-fund --prefix build/npm mathjax@3.2.2
+REVEAL := build/npm/node_modules/reveal.js/dist/reveal.js
+$(MATHJAX) $(REVEAL) &:
+	npm install --no-save --no-audit --no-fund --prefix build/npm $(NPM_PACKAGES)
 
 book: $(VENV)/.installed-docs $(MATHJAX)  ## static HTML book of the notebooks (stored outputs, warnings as errors) in build/book/html
 	$(PY) docs/build.py
 
+slides: $(VENV)/.installed-docs $(REVEAL)  ## reveal.js slides of each lecture notebook (stored outputs, offline) in build/slides/
+	$(PY) docs/slides.py
+
+student: $(VENV)/.installed  ## student edition of the notebooks (solutions stubbed, outputs cleared) in build/student, each executed and checked
+	$(PY) notebooks/student.py build/student --check
+
 setup-browser: $(VENV)/.installed-docs  ## Debian's chromium (apt-get, as root, only when missing) and playwright, for test-browser
 	PY=$(PY) sh browser_tests/setup.sh
 
-test-browser: setup-browser book  ## the explorer and the tutorial in JupyterLab in headless Chromium, and the book's pages
+test-browser: setup-browser book slides  ## the explorer and the tutorial in JupyterLab in headless Chromium, the book's pages and the lecture slides
 	$(PY) -m pytest browser_tests -q -p no:cacheprovider
 
 bench: $(VENV)/.installed  ## print the renderer's speed and memory

@@ -145,3 +145,24 @@ def test_formulas_are_typeset_with_no_network(page, book, shots):
     assert not raw, f"{MATH_PAGE} shows raw TeX source ({raw}) outside its code"
     assert not outside, f"{MATH_PAGE} asked the network for {outside[:5]}"
     page.screenshot(path=shots / "book_math.png")
+
+
+# Every code block of a notebook page: its first line and whether it is wider than the column (a scroll bar).
+_WIDE_CODE = """() => [...document.querySelectorAll('div.cell_input pre')]
+    .filter(p => p.scrollWidth > p.clientWidth + 1)
+    .map(p => p.textContent.split('\\n').find(l => l.length > 88) || p.textContent.slice(0, 80))"""
+
+
+def test_notebook_code_fits_the_column(page, book):
+    """No code cell of a notebook page scrolls sideways at a laptop's width (1280 px): the book's column holds it."""
+    _require("index.html")
+    page.set_viewport_size({"width": 1280, "height": 900})
+    pages = sorted(p.relative_to(BOOK).as_posix() for p in (BOOK / "notebooks").glob("*.html"))
+    assert pages, "no notebook pages in the book"
+    wide = {}
+    for name in pages:
+        page.goto(f"{book}/{name}", wait_until="load")
+        lines = page.evaluate(_WIDE_CODE)
+        if lines:
+            wide[name] = lines
+    assert not wide, f"code wider than the book's column (a scroll bar): {wide}"

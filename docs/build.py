@@ -2,13 +2,17 @@
 
 1. Assemble the Sphinx source tree in ``build/book/src`` (fresh each time; nothing is copied into
    the repository): ``docs/index.md`` (README.md included + the toctrees), README.md, ``figures/``,
-   every ``notebooks/[0-9][0-9]_*.ipynb`` and the pages under ``docs/`` (results, guides, the API
-   reference, whose per-name pages autosummary generates there).
+   every ``notebooks/*.ipynb`` (the numbered series, and pages index.md lists by name, such as
+   the glossary) and the pages under ``docs/`` (results, guides, the API
+   reference, whose per-name pages autosummary generates there). In the book's copy of a notebook
+   each exercise's solution (a ``### BEGIN SOLUTION`` block) is folded: the cell is split into the
+   code around the block, shown, and the block, a cell of its own tagged ``hide-input``, which
+   MyST-NB shows behind a "Show the solution" toggle (`fold_solutions`).
 2. Run ``sphinx-build -W --keep-going -n -E`` with ``docs/conf.py`` into ``build/book/html``
    (MyST-NB, stored outputs only, no execution, no network; autodoc imports ``ifslib``).
 3. Check the result: index.html shows the README's title; each notebook page exists and holds
-   at least one ``<img`` (its stored figure outputs); each results page (``docs/results/*.md``)
-   exists and opens with a ``bash`` block, the command that regenerates it; every name of
+   at least one ``<img`` (its stored figure outputs) and its solutions only folded; each results page
+   (``docs/results/*.md``) exists and opens with a ``bash`` block, the command that regenerates it; every name of
    ``ifslib.__all__`` has an entry in the API reference; and no page loads a script or a style
    sheet from the network (MathJax is the book's own copy, from the npm package ``make book``
    installs into ``build/npm``).
@@ -20,6 +24,8 @@ Exit status is non-zero on any warning, error or failed check.
 from __future__ import annotations
 
 import argparse
+import copy
+import importlib.util
 import re
 import shutil
 import sys
@@ -89,8 +95,9 @@ def assemble() -> None:
     # The book's own pages keep their place (docs/results/x.md -> src/docs/results/x.md), so a link
     # in README.md or between pages resolves the same on GitHub and in the book.
     shutil.copytree(DOCS, SRC / "docs", ignore=_not_pages)
-    for nb in notebooks():
-        shutil.copy2(nb, SRC / "notebooks" / nb.name)
+    # the numbered series and the notebooks index.md lists by name (the glossary), each a page
+    for nb in sorted((ROOT / "notebooks").glob("*.ipynb")):
+        fold_solutions(nb, SRC / "notebooks" / nb.name)
     # index.md's toctrees glob docs/results/* and docs/* so that a page added there joins the book
     # without an edit here; a glob that matches no page yet is dropped (Sphinx would warn, and -W fail)
     lines = (DOCS / "index.md").read_text(encoding="utf-8").splitlines()
@@ -98,6 +105,56 @@ def assemble() -> None:
     kept = [line for line in lines if not _empty_glob(line.strip(), listed)]
     (SRC / "index.md").write_text("\n".join(kept) + "\n", encoding="utf-8")
     _complete_api(SRC / "docs" / "api" / "index.md")
+
+
+def _student():
+    """``notebooks/student.py``, which reads the solution markers (the student edition's tool)."""
+    name = "ifslib_student_edition"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, ROOT / "notebooks" / "student.py")
+        sys.modules[name] = importlib.util.module_from_spec(spec)  # before it runs: its dataclass looks itself up
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]
+
+
+#: The toggle's words, for MyST-NB's cell-level options (``metadata.mystnb``).
+FOLD = {"code_prompt_show": "Show the solution", "code_prompt_hide": "Hide the solution"}
+
+
+def fold_solutions(source: Path, target: Path) -> int:
+    """Copy the notebook ``source`` to ``target`` with each marked solution in a folded cell of its own.
+
+    A code cell with ``### BEGIN SOLUTION`` blocks becomes its pieces in order: the code around a
+    block (the exercise and its check, shown as the student sees them) and each block's lines
+    without the markers, tagged ``hide-input``. The cell's outputs stay under its last piece, so the
+    check's verdict follows the check. Returns the number of solutions folded.
+    """
+    import nbformat
+
+    student = _student()
+    book = nbformat.read(source, as_version=4)
+    cells, folded = [], 0
+    for cell in book.cells:
+        try:
+            pieces = student.split(cell.source) if cell.cell_type == "code" else []
+        except student.MarkerError as error:
+            sys.exit(f"{source.name}: {error}")
+        pieces = [piece for piece in pieces if piece.text.strip()]
+        if not any(piece.solution for piece in pieces):
+            cells.append(cell)
+            continue
+        for k, piece in enumerate(pieces):
+            part = nbformat.v4.new_code_cell(piece.text.rstrip("\n"), metadata=copy.deepcopy(cell.metadata))
+            part.id = f"{cell.get('id', 'cell')}-{k}"
+            if piece.solution:
+                folded += 1
+                part.metadata["tags"] = [*part.metadata.get("tags", []), "hide-input"]
+                part.metadata["mystnb"] = {**part.metadata.get("mystnb", {}), **FOLD}
+            cells.append(part)
+        cells[-1].outputs, cells[-1].execution_count = cell.outputs, cell.execution_count
+    book.cells = cells
+    nbformat.write(book, target)
+    return folded
 
 
 def _complete_api(page: Path) -> None:
@@ -151,10 +208,25 @@ def check() -> list[str]:
         body = page.read_text(encoding="utf-8")
         if "<img" not in body:
             problems.append(f"{page.relative_to(ROOT)}: no <img> (stored figure outputs missing)")
+        problems += check_folded(nb, page, body)
         if f'href="notebooks/{nb.stem}.html"' not in text:
             problems.append(f"index.html: no toctree link to notebooks/{nb.stem}.html")
     problems += check_results() + check_api() + check_offline()
     return problems
+
+
+def check_folded(nb: Path, page: Path, body: str) -> list[str]:
+    """The page of ``nb`` shows each of its solution lines only inside a folded block (``<details>``)."""
+    import html
+    import nbformat
+
+    solutions = _student().solution_lines(nbformat.read(nb, as_version=4))
+    shown = html.unescape(re.sub(r"<[^>]+>", "", re.sub(r"<details.*?</details>", "", body, flags=re.S)))
+    # whole lines: a solution line may be a part of a longer line that the page rightly shows
+    unfolded = sorted(solutions & {line.strip() for line in shown.splitlines()})
+    if "BEGIN SOLUTION" in body or unfolded:
+        return [f"{page.relative_to(ROOT)}: a solution shown unfolded: {(unfolded or ['its markers'])[0]!r}"]
+    return []
 
 
 def check_offline() -> list[str]:

@@ -67,7 +67,10 @@ html_context = {"default_mode": "auto"}
 
 # The formulas are typeset by the MathJax that docs/build.py copies from build/npm (make book
 # installs it from the npm registry) into the book's _static: no page loads it from a CDN.
-html_static_path = [str(Path(__file__).resolve().parent.parent / "build" / "book" / "static")]
+html_static_path = [str(Path(__file__).resolve().parent.parent / "build" / "book" / "static"),
+                    str(Path(__file__).resolve().parent / "_static")]
+# the notebooks' code at a size whose 88 characters fit the column (see _static/ifslib.css)
+html_css_files = ["ifslib.css"]
 mathjax_path = "mathjax/tex-mml-chtml.js"
 
 # No intersphinx and no other extension that reaches the network.

@@ -42,8 +42,9 @@ def presets(name: str) -> dict:
 
 
 def notebooks(only=()) -> list[Path]:
-    """The numbered notebooks, by name; only those whose names start with one of ``only`` when it is given."""
-    books = sorted((repo_root() / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    """The numbered lessons and the glossary, by name; only those whose names start with one of ``only`` when given."""
+    folder = repo_root() / "notebooks"
+    books = sorted(folder.glob("[0-9][0-9]_*.ipynb")) + [folder / "glossary.ipynb"]
     return [b for b in books if not only or any(b.stem.startswith(p) for p in only)]
 
 

@@ -6,8 +6,10 @@ The default is ``cpu``.
 """
 import math
 import os
+import re
 import shutil
 import tempfile
+from pathlib import Path
 
 import pytest
 import torch
@@ -66,12 +68,44 @@ def pattern_name(request):
     return request.param
 
 
-# nbval's kernels inherit this environment. They run at 2 threads unless the caller chose a count: the
-# stored outputs they are compared with were made at 1 (notebooks/store.py), so that a checked output
+# nbval's kernels inherit this environment. They run at 1 thread unless the caller chose a count: the
+# stored outputs they are compared with were made at 2 (notebooks/store.py), so that a checked output
 # that depends on the summation order fails (tests/test_notebook_runs.py checks the two counts differ).
+# One thread also suits ``make test``'s two pytest-xdist workers on a 2-core machine.
 if "IFSLIB_THREADS" not in os.environ:
-    os.environ["IFSLIB_THREADS"] = "2"
-    os.environ["IFSLIB_THREADS_SET_BY"] = "conftest"  # the default run: tests/test_notebook_runs.py holds it to 2
+    os.environ["IFSLIB_THREADS"] = "1"
+    os.environ["IFSLIB_THREADS_SET_BY"] = "conftest"  # the default run: tests/test_notebook_runs.py holds it to 1
+
+
+def notebook_scope(nodeid: str) -> str:
+    """The work unit of a test under ``make test``'s pytest-xdist workers (``-n auto --dist loadscope``).
+
+    A notebook's cells share one kernel and must run in order on one worker; the comparison of its
+    figure (tests/test_notebook_runs.py) reads what that run saved, so it joins the same unit, after
+    the cells (pytest collects ``notebooks/`` first). Every other test is a unit of its own, so the
+    workers stay evenly loaded.
+    """
+    path, _, rest = nodeid.partition("::")
+    if path.endswith(".ipynb"):
+        return Path(path).stem
+    figure = re.fullmatch(r"test_figure_matches_reference\[(.+)\]", rest)
+    if path.endswith("test_notebook_runs.py") and figure:
+        return figure.group(1)
+    return nodeid
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadscope`` with `notebook_scope`'s units (pytest 9's node ids defeat xdist's ``loadgroup`` marks)."""
+    if config.getvalue("dist") != "loadscope":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class NotebookScheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return notebook_scope(nodeid)
+
+    return NotebookScheduling(config, log)
 
 
 def pytest_configure(config):

@@ -1,9 +1,9 @@
 """The notebooks' run by nbval: at another thread count than their stored outputs, and their figures.
 
-nbval (see pyproject.toml) executes every notebook with ``IFSLIB_THREADS=2`` (set in
+nbval (see pyproject.toml) executes every notebook with ``IFSLIB_THREADS=1`` (set in
 ``tests/conftest.py`` unless the caller set it) and compares each cell
 tagged ``nbval-check-output`` with its stored output (after ``notebooks/sanitize.cfg``). The stored
-outputs were made at 1 thread by ``notebooks/store.py``, which records the count in the
+outputs were made at 2 threads by ``notebooks/store.py``, which records the count in the
 notebook's metadata, so torch's CPU kernels sum in another order in the tests: a checked output
 that carries a rounding error's last digits, or a fit result that flips with the summation order,
 fails there rather than on a reader's machine. Here:
@@ -18,8 +18,8 @@ fails there rather than on a reader's machine. Here:
   To accept an intended change, regenerate the references with ``python notebooks/run.py --preset
   ci`` and copy ``build/figures-ci/*.png`` here.
 
-Each notebook is executed once by ``make test`` (it was twice, nbval and papermill, before the
-stored thread count was recorded: 3.5 minutes more on this 2-core machine).
+Each notebook is executed once by ``make test``; under its pytest-xdist workers a notebook's figure is
+compared on the worker that ran it (``tests/conftest.py`` groups them).
 """
 import configparser
 import json
@@ -60,18 +60,15 @@ def masked(text: str, rules) -> str:
     return text
 
 
-@pytest.fixture(scope="session")
-def runs(tmp_path_factory):
-    """The folder of the notebooks' figures: nbval's, and papermill's for those nbval did not make."""
-    folder = Path(os.environ["IFSLIB_FIGURES"])
-    missing = [path for path in NOTEBOOKS if path.stem in FIGURES and not (folder / f"{FIGURES[path.stem]}.png").exists()]
-    if missing:
+def figure_of(book: str, out: Path) -> Path:
+    """The figure nbval's run of notebook ``book`` saved, or (without that run: ``pytest tests/``) papermill's."""
+    figure = Path(os.environ["IFSLIB_FIGURES"]) / f"{FIGURES[book]}.png"
+    if not figure.exists():
         papermill = pytest.importorskip("papermill")
-        out = tmp_path_factory.mktemp("runs")
-        for path in missing:
-            papermill.execute_notebook(str(path), str(out / path.name), cwd=str(path.parent), kernel_name="python3",
-                                       parameters={"save_to": str(folder)}, progress_bar=False)
-    return folder
+        path = ROOT / "notebooks" / f"{book}.ipynb"
+        papermill.execute_notebook(str(path), str(out / path.name), cwd=str(path.parent), kernel_name="python3",
+                                   parameters={"save_to": str(figure.parent)}, progress_bar=False)
+    return figure
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
@@ -80,16 +77,16 @@ def test_stored_outputs_were_made_at_another_thread_count(path):
     assert stored is not None, f"{path.name}: no thread count recorded; store it with python notebooks/store.py"
     if str(stored) == os.environ["IFSLIB_THREADS"] and os.environ.get("IFSLIB_THREADS_SET_BY") != "conftest":
         pytest.skip(f"IFSLIB_THREADS={stored} was fixed by the caller, the count the outputs were stored at: this run "
-                    "compares them at the same count (the default run, at 2 threads, compares across counts)")
+                    "compares them at the same count (the default run, at 1 thread, compares across counts)")
     assert str(stored) != os.environ["IFSLIB_THREADS"], (
         f"{path.name} was stored at {stored} threads and nbval runs it at IFSLIB_THREADS={os.environ['IFSLIB_THREADS']}: its checked "
         "cells would not be compared across thread counts; run the tests at another count")
 
 
 @pytest.mark.parametrize("book", FIGURES)
-def test_figure_matches_reference(runs, book):
+def test_figure_matches_reference(book, tmp_path):
     name = FIGURES[book]
-    new, ref = gray(runs / f"{name}.png"), gray(REFERENCE / f"{name}.png")
+    new, ref = gray(figure_of(book, tmp_path)), gray(REFERENCE / f"{name}.png")
     assert new.shape == ref.shape, f"{name}: size changed from {ref.shape} to {new.shape}"
     score = structural_similarity(new, ref, data_range=1.0)
     assert score >= MIN_SSIM, f"{name}: SSIM {score:.3f} < {MIN_SSIM} against tests/reference/{name}.png"

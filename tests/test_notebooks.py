@@ -4,6 +4,7 @@ nbval re-executes them (see pyproject.toml); these tests check what nbval does n
 """
 import ast
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -83,6 +84,22 @@ def test_papermill_reads_every_parameter(path):
     assert set(inspection.inspect_notebook(str(path))) == set(parameters(load(path)))
 
 
+#: A tqdm bar as tqdm writes it (``40%|####  | 2/5 [...]``, or ``7it [00:01, 6.2it/s]`` without a total).
+PROGRESS_BAR = re.compile(r"\d+%\|[^\r\n]*\||\[\d+:\d\d(?::\d\d)?(?:<[^,\]]*)?, *[^\]]*(?:/s|s/\w+)[^\]]*\]")
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_no_progress_bar_is_stored(path):
+    """A stored tqdm widget shows "0%" (its state is not stored) and a stderr bar is its redraws: store.py drops both."""
+    for k, cell in enumerate(load(path)["cells"]):
+        for out in cell.get("outputs", []):
+            if out["output_type"] == "stream":
+                text = "".join(out["text"])
+            else:  # a tqdm widget's view has the bar as its text
+                text = "".join(out.get("data", {}).get("text/plain", ""))
+            assert not PROGRESS_BAR.search(text), f"{path.name}, cell {k}: a progress bar is stored: {text[:80]!r}"
+
+
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_each_notebook_opens_as_a_lesson(path):
     """What the reader will learn, what they need first, and how long it runs at both presets, measured."""
@@ -91,3 +108,16 @@ def test_each_notebook_opens_as_a_lesson(path):
         assert heading in first, f"{path.name}: its first cell has no {heading}"
     times = first[first.index("**How long it runs**"):]
     assert "ci preset" in times and "`make figures`" in times and times.count(" s") >= 2, times
+
+
+#: The book's column holds this many characters of code (docs/_static/ifslib.css; browser_tests/test_book.py
+#: checks in Chromium that no code cell scrolls sideways).
+CODE_WIDTH = 88
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "notebooks").glob("*.ipynb")), ids=lambda p: p.stem)
+def test_code_fits_the_books_column(path):
+    book = json.loads(path.read_text())
+    wide = [line for cell in book["cells"] if cell["cell_type"] == "code"
+            for line in "".join(cell["source"]).splitlines() if len(line) > CODE_WIDTH]
+    assert not wide, f"{path.name}: {len(wide)} code lines over {CODE_WIDTH} characters, e.g. {wide[0]!r}"

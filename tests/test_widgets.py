@@ -1,9 +1,8 @@
-"""The explorer driven programmatically, and the tutorial's exercise checks."""
+"""The explorer driven programmatically (the exercises' checks are in test_exercises.py)."""
 import numpy as np
 import pytest
 
 import ifslib
-from ifslib import exercises
 
 widgets = pytest.importorskip("ifslib.teaching.widgets")
 
@@ -76,30 +75,6 @@ def test_pattern_switch_and_json_file(explorer, tmp_path):
 def test_static_figure_of_the_state(explorer):
     fig = explorer.figure()
     assert len(fig.axes) == 1 and fig.axes[0].images
-
-
-def test_exercise_checks_accept_right_and_hint_on_wrong(capsys):
-    r3 = np.sqrt(3)
-    assert exercises.check_koch_map([[1 / 6, r3 / 6, 1 / 2], [-r3 / 6, 1 / 6, r3 / 6], [0, 0, 1]], 3)
-    assert not exercises.check_koch_map([[1 / 6, r3 / 6, 1 / 3], [-r3 / 6, 1 / 6, 0], [0, 0, 1]], 3)
-    assert "translation" in capsys.readouterr().out
-    assert not exercises.check_koch_map(None, 3)
-    assert "(3, 3)" in capsys.readouterr().out
-    assert exercises.check_leaf_count(8 ** 4, "carpet", 4) and not exercises.check_leaf_count(4 ** 8, "carpet", 4)
-    assert exercises.check_scaled_distance(0.1, 1 / 3, 0.3)
-    capsys.readouterr()
-    assert not exercises.check_scaled_distance(0.9, 1 / 3, 0.3)
-    assert "erratum" in capsys.readouterr().out
-    assert exercises.check_pixel_value(np.exp(-1)) and not exercises.check_pixel_value(0.5)
-    assert not exercises.check_initialization("koch", None)
-
-
-def test_exercise_checks_on_ifs_answers():
-    target = ifslib.load_target(ifslib.patterns.koch(depth=2), 32)
-    assert exercises.check_initialization(ifslib.initialize(ifslib.patterns.koch(depth=2), target), target)
-    assert not exercises.check_initialization(ifslib.patterns.koch_paper(1, depth=2), target)  # upright, not lying
-    assert exercises.check_fit(ifslib.patterns.koch(depth=2), target)
-    assert not exercises.check_fit(ifslib.patterns.koch_paper(1, depth=2), target)
 
 
 def test_affine_maps_in_the_explorer(explorer, tmp_path):

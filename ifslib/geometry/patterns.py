@@ -19,8 +19,9 @@ def koch(depth: int = 3, width: float = 0.8, radius: float = 0.0) -> IFS:
     """The Koch curve from five control points, as the paper builds it.
 
     Points ``p0 .. p4`` lie on the base segment from ``(-width/2, 0)`` to ``(width/2, 0)`` with the
-    peak ``p2`` at height ``width * sqrt(3) / 6``; rule ``i`` maps the segment ``p0 -> p4`` onto
-    ``p_i -> p_{i+1}``. The primitive is the segment ``p0 -> p4`` (a capsule when ``radius`` > 0).
+    peak ``p2`` at height ``width * sqrt(3) / 6``; the map ``T_i`` (``i = 1 .. 4``, ``rules[i - 1]``)
+    maps the segment ``p0 -> p4`` onto ``p_(i-1) -> p_i``. The primitive is the segment ``p0 -> p4``
+    (a capsule when ``radius`` > 0).
 
     With ``width = 1`` and the curve shifted to start at the origin these maps are the paper's
     Eq. (1), except that its printed ``T3`` translation ``(1/3, 0)`` must be ``(1/2, sqrt(3)/6)``.
@@ -77,7 +78,7 @@ def koch_paper(seed: int = 0, depth: int = 3, jitter: float = 0.1) -> IFS:
 
     Five control points evenly spaced on the vertical line ``x = 0.05`` from ``y = 0.4`` down to
     ``y = -0.4``, each coordinate jittered by ``U(-jitter, jitter)`` from ``numpy``'s generator seeded
-    with ``seed``; the four Koch segment rules; as primitives the four segments ``p_i -> p_{i+1}``
+    with ``seed``; the four Koch segment rules; as primitives the four segments ``p_(i-1) -> p_i`` (``i = 1 .. 4``)
     with radius 0.005 (each leaf's radius scales with its map).
     """
     rng = np.random.default_rng(seed)
@@ -110,8 +111,9 @@ def rosette(n: int = 6, depth: int = 3, radius: float = 0.4, inner: float = 0.05
 def koch_like(points, depth: int = 3, radius: float = 0.0, name: str = "koch_like") -> IFS:
     """A self-similar curve from any polyline, with the Koch curve's rules.
 
-    Rule ``i`` maps the base segment ``p0 -> p_{n-1}`` onto the polyline's segment ``p_i -> p_{i+1}``
-    (the similarity of the ``segment`` rule: no reflection); the primitive is the base segment. With
+    The map ``T_i`` (``i = 1 .. n - 1``, ``rules[i - 1]``) maps the base segment ``p0 -> p_(n-1)`` onto
+    the polyline's segment ``p_(i-1) -> p_i`` (the similarity of the ``segment`` rule: no reflection);
+    the primitive is the base segment. With
     the five points of `koch` this is the Koch curve; other polylines give its relatives (sharper or
     flatter peaks, asymmetric peaks, zig-zags). ``n`` points make ``n - 1`` rules.
 
