@@ -7,7 +7,7 @@ PRESET ?= paper
 IFSLIB_DATA ?= $(if $(wildcard ../shared/data/koch.png),$(abspath ../shared/data),)
 export IFSLIB_DATA
 
-.PHONY: setup test figures book slides student setup-browser test-browser bench clean
+.PHONY: setup test test-fast figures book slides student setup-browser test-browser bench clean
 
 # pyproject.toml declares ranges; constraints.txt pins the versions the tests ran with (torch==2.13.0:
 # this machine's local CPU wheel, never a multi-GB CUDA build from the index).
@@ -29,6 +29,10 @@ setup: $(VENV)/.installed $(VENV)/.installed-docs  ## create .venv and install i
 # its figure's comparison stay together on one worker
 test: $(VENV)/.installed  ## run the whole test suite
 	$(PY) -m pytest -q -n auto --dist loadscope
+
+# the inner loop of work: the library's tests without the notebooks' runs (nbval, papermill)
+test-fast: $(VENV)/.installed  ## the library's tests only, no notebook run (a minute or so)
+	$(PY) -m pytest tests -q -n auto --dist loadscope --ignore=tests/test_notebook_runs.py --ignore=tests/test_notebook_without_data.py
 
 figures: $(VENV)/.installed  ## run every notebook with papermill (paper preset; PRESET=ci for the quick run)
 	$(PY) notebooks/run.py --preset $(PRESET)
