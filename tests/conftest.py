@@ -72,6 +72,10 @@ def pattern_name(request):
 # stored outputs they are compared with were made at 2 (notebooks/store.py), so that a checked output
 # that depends on the summation order fails (tests/test_notebook_runs.py checks the two counts differ).
 # One thread also suits ``make test``'s two pytest-xdist workers on a 2-core machine.
+# The kernels draw as the stored outputs were drawn (notebooks/store.py drops it too): with a
+# backend chosen for scripts (CI exports MPLBACKEND=Agg) a figure cell would show no image, and a
+# checked cell that also draws would lose an output that nbval compares.
+os.environ.pop("MPLBACKEND", None)
 if "IFSLIB_THREADS" not in os.environ:
     os.environ["IFSLIB_THREADS"] = "1"
     os.environ["IFSLIB_THREADS_SET_BY"] = "conftest"  # the default run: tests/test_notebook_runs.py holds it to 1
