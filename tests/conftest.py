@@ -99,6 +99,20 @@ def notebook_scope(nodeid: str) -> str:
 
 
 @pytest.hookimpl(optionalhook=True)
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto``: as many workers as the cores hold at ``IFSLIB_THREADS`` threads each (one thread by default).
+
+    ``IFSLIB_THREADS=2 make test`` on 2 cores then runs one worker: two workers at two threads each
+    would oversubscribe the cores, and torch's waiting threads slow every test several times over.
+    """
+    from ifslib.threads import cores
+
+    value = os.environ.get("IFSLIB_THREADS", "")
+    threads = int(value) if value.strip().isdigit() else 1  # "auto" follows the free cores: one each
+    return max(1, cores() // max(1, threads))
+
+
+@pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
     """``--dist loadscope`` with `notebook_scope`'s units (pytest 9's node ids defeat xdist's ``loadgroup`` marks)."""
     if config.getvalue("dist") != "loadscope":
