@@ -318,6 +318,20 @@ def check_chaos_game(answer, n: int = 20_000) -> bool:
 
 # --- part 2: distances -------------------------------------------------------------------------------
 
+def _one_number(answer, library: str, name: str, *args) -> tuple[float | None, bool]:
+    """The student's function called (the library's ``library`` switched off), its result read as one number.
+
+    Returns ``(value, _)``, or ``(None, the check's answer)`` once the call or its result has been reported.
+    """
+    ok, value = _call(answer, library, name, *args)
+    if not ok:
+        return None, False
+    value = _number(np.asarray(value).item() if np.ndim(value) == 0 and value is not None else value)
+    if value is None:
+        return None, _report(False, name, "return one number.")
+    return value, True
+
+
 def check_hausdorff(answer) -> bool:
     """A function ``f(a, b) -> float``: the Hausdorff distance between point sets ``(N, 2)`` and ``(M, 2)``."""
     name = "Hausdorff distance"
@@ -327,12 +341,9 @@ def check_hausdorff(answer) -> bool:
     cases.append((a, np.vstack([a[:40] + rng.normal(0, 0.01, (40, 2)), [[0.9, 0.9]]])))  # b has an outlier
     cases.append((cases[1][1], cases[1][0]))
     for a, b in cases:
-        ok, value = _call(answer, "Hausdorff distance", name, a.copy(), b.copy())
-        if not ok:
-            return False
-        value = _number(np.asarray(value).item() if np.ndim(value) == 0 and value is not None else value)
+        value, failed = _one_number(answer, "Hausdorff distance", name, a.copy(), b.copy())
         if value is None:
-            return _report(False, name, "return one number.")
+            return failed
         ab, ba = _hausdorff(a, b)
         if math.isclose(value, max(ab, ba), rel_tol=1e-9, abs_tol=1e-12):
             continue
@@ -371,12 +382,9 @@ def check_collage_distance(answer) -> bool:
     name = "collage distance"
     for seed in range(2):
         maps, points = collage_maps(seed)
-        ok, value = _call(answer, "collage distance", name, maps.copy(), points.copy())
-        if not ok:
-            return False
-        value = _number(np.asarray(value).item() if np.ndim(value) == 0 and value is not None else value)
+        value, failed = _one_number(answer, "collage distance", name, maps.copy(), points.copy())
         if value is None:
-            return _report(False, name, "return one number.")
+            return failed
         truth = max(_hausdorff(points, _apply(maps, points)))
         if math.isclose(value, truth, rel_tol=1e-9):
             continue
