@@ -229,7 +229,7 @@ def test_leaf_map(capsys):
     not_yet(capsys, exercises.check_leaf_map(backwards), "reversed")
     zero_based = lambda maps, word: leaf_map(maps, [i + 1 if i < len(maps) else 1 for i in word])  # noqa: E731
     not_yet(capsys, exercises.check_leaf_map(zero_based))
-    not_yet(capsys, exercises.check_leaf_map(STUB), "3 x 3")
+    not_yet(capsys, exercises.check_leaf_map(STUB), "(3, 3)")
     not_yet(capsys, exercises.check_leaf_map(np.eye(3)), "function")
     not_yet(capsys, exercises.check_leaf_map(ifslib.expand), "ifslib's own")
 

@@ -293,14 +293,9 @@ def check_chaos_game(answer, n: int = 20_000) -> bool:
         _REFERENCE["chaos"] = reference_game(affine(maps), 200_000, seed=1)
     reference = _REFERENCE["chaos"]
     ok, value = _call(answer, "chaos game", name, maps.copy(), n, 0)
-    if not ok:
+    points = _matrix(value, (n, 2), name) if ok else None
+    if points is None:
         return False
-    try:
-        points = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        return _report(False, name, f"return an (n, 2) array of points, got {type(value).__name__}.")
-    if points.shape != (n, 2) or not np.isfinite(points).all():
-        return _report(False, name, f"return an ({n}, 2) array of finite points, got shape {points.shape}.")
     from scipy.spatial import cKDTree
 
     if "chaos tree" not in _REFERENCE:
@@ -546,14 +541,9 @@ def check_leaf_map(answer) -> bool:
     maps = word_maps()
     for word in ((2,), (1, 3), (3, 1, 2), (2, 2, 3, 1)):
         ok, value = _call(answer, "leaf map", name, maps.copy(), word)
-        if not ok:
+        value = _matrix(value, (3, 3), name) if ok else None
+        if value is None:
             return False
-        try:
-            value = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            return _report(False, name, f"return a 3 x 3 matrix, got {type(value).__name__}.")
-        if value.shape != (3, 3):
-            return _report(False, name, f"return a 3 x 3 matrix, got shape {value.shape}.")
         truth, backwards = np.eye(3), np.eye(3)
         for i in word:
             truth, backwards = truth @ maps[i - 1], maps[i - 1] @ backwards
