@@ -19,7 +19,7 @@ import time
 import torch
 
 import ifslib
-from ifslib.fitting.metrics import attractor_mask, depth_to_attractor, figure_mask
+from ifslib.scoring.metrics import attractor_mask, depth_to_attractor, figure_mask
 from ifslib.raster.chaos import chaos_field
 from ifslib.raster.distance import attractor_leaves_for
 

@@ -22,7 +22,7 @@ import itertools
 import time
 
 from ifslib.fitting.strategies import STRATEGIES
-from ifslib.fitting.sweep import Cell, Setup, summarize, sweep, table, write_csv
+from ifslib.studies.sweep import Cell, Setup, summarize, sweep, table, write_csv
 
 
 def main() -> None:

@@ -24,7 +24,7 @@ import numpy as np
 from PIL import Image
 
 import ifslib
-from ifslib.fitting import silhouettes
+from ifslib.targets import silhouettes
 from ifslib.paths import repo_root
 
 

@@ -2,10 +2,14 @@
 
 The paper's pipeline, one folder a stage::
 
-    geometry/  JSON / pattern -> IFS -> maps -> leaves
-    raster/    leaves -> nearest leaf -> distance -> render
-    fitting/   target, loss -> one Adam run -> strategies -> fit -> IFS
-    teaching/  what the notebooks show and ask
+    geometry/   JSON / pattern -> IFS -> maps -> leaves
+    raster/     leaves -> nearest leaf -> distance -> render
+    targets/    image -> Target (mask, distance transform, sizes)
+    scoring/    how close a drawing is: losses, metrics, the collage distance
+    discovery/  a start read from the image: curve, shape, or a fractal's maps
+    fitting/    one Adam run -> strategies -> fit -> FitResult
+    studies/    sweeps of many fits
+    teaching/   what the notebooks show and ask
 
 Data flows one way: a folder imports only from those above it in this list (and from the
 top-level helpers ``errors``, ``data``, ``paths``, ``threads``).
@@ -33,13 +37,16 @@ from .raster.distance import distance_field  # noqa: E402
 from .raster.nearest import nearest_leaf, pixel_centres  # noqa: E402
 from .raster.render import default_sigma, render  # noqa: E402
 from . import data  # noqa: E402
-from .fitting import auto, fractal, initialization, losses, metrics, strategies, sweep  # noqa: E402
+from .targets.target import Target, load_target  # noqa: E402
+from .scoring import losses, metrics  # noqa: E402
+from .scoring.losses import LOSSES, loss  # noqa: E402
+from .scoring.metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
+from .discovery import auto, fractal, initialization  # noqa: E402
+from .discovery.initialization import best_fit_line, initialize  # noqa: E402
+from .fitting import strategies  # noqa: E402
 from .fitting.batch import fit_many  # noqa: E402
 from .fitting.fit import FitResult, fit  # noqa: E402
-from .fitting.initialization import best_fit_line, initialize  # noqa: E402
-from .fitting.losses import LOSSES, loss  # noqa: E402
-from .fitting.metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
-from .fitting.targets import Target, load_target  # noqa: E402
+from .studies import sweep  # noqa: E402
 
 #: The teaching modules load matplotlib; they are imported on first use (``ifslib.figures``), so the
 #: command line and a fit without figures start half a second sooner.

@@ -7,7 +7,7 @@ import torch
 
 import ifslib
 from ifslib import figures, landscape, metrics
-from ifslib.fitting.initialization import is_curve
+from ifslib.discovery.initialization import is_curve
 
 
 def polyline_ifs(points):

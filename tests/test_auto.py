@@ -9,8 +9,8 @@ from PIL import Image
 
 import ifslib
 from ifslib.cli import main
-from ifslib.fitting import auto
-from ifslib.fitting.targets import target_from_mask
+from ifslib.discovery import auto
+from ifslib.targets.target import target_from_mask
 from ifslib.geometry.rules import singular_values
 
 
@@ -135,7 +135,7 @@ def test_cli_fits_any_image_with_pattern_auto(tmp_path, capsys):
 def test_silhouettes_are_centred_filled_and_keep_their_holes():
     from scipy import ndimage
 
-    from ifslib.fitting import silhouettes
+    from ifslib.targets import silhouettes
 
     a = silhouettes.letter("A", 64)
     holes = ndimage.binary_fill_holes(a) & ~a
@@ -154,7 +154,7 @@ def test_silhouettes_are_centred_filled_and_keep_their_holes():
 
 
 def test_collage_distance_is_lowest_for_the_true_maps_and_its_gradient_is_right():
-    from ifslib.fitting.collage import collage_distance, collage_prefit
+    from ifslib.scoring.collage import collage_distance, collage_prefit
 
     quarters = [[[0.5, 0.0, x], [0.0, 0.5, y]] for x in (-0.15, 0.15) for y in (-0.15, 0.15)]
     truth = ifslib.patterns.affine(quarters, depth=2, extent=0.6, dtype=torch.float64)  # copies tile the square

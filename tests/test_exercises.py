@@ -176,7 +176,7 @@ def test_collage(capsys):
     not_yet(capsys, exercises.check_collage_distance([1, 2]), "function")
     library = lambda maps, p: ifslib.metrics.hausdorff(p, np.concatenate([p @ M[:2, :2].T + M[:2, 2] for M in maps]))  # noqa: E731
     not_yet(capsys, exercises.check_collage_distance(library), "write it yourself")
-    not_yet(capsys, exercises.check_collage_distance(ifslib.fitting.collage.collage_distance), "ifslib's own")
+    not_yet(capsys, exercises.check_collage_distance(ifslib.scoring.collage.collage_distance), "ifslib's own")
 
 
 # --- part 3 ------------------------------------------------------------------------------------------

@@ -6,8 +6,9 @@ import torch
 
 import ifslib
 from ifslib.errors import IFSError
-from ifslib.fitting import auto, fractal, strategies
-from ifslib.fitting.targets import foreground_points, resize_target, target_from_mask
+from ifslib.discovery import auto, fractal
+from ifslib.fitting import strategies
+from ifslib.targets.target import foreground_points, resize_target, target_from_mask
 
 
 def fractal_target(maps=2, seed=4, size=64):

@@ -17,7 +17,7 @@ from PIL import Image, ImageDraw
 
 import ifslib
 from ifslib.cli import main
-from ifslib.fitting import targets
+from ifslib.targets import target as targets
 
 SIZE = 64
 

@@ -5,7 +5,7 @@ import torch
 
 import ifslib
 from ifslib.fitting.run import converged, run
-from ifslib.fitting.targets import pyramid_sizes, resize_target
+from ifslib.targets.target import pyramid_sizes, resize_target
 
 KOCH = ifslib.patterns.koch(depth=2)
 

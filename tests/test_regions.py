@@ -1,4 +1,4 @@
-"""Copies matched to uncovered regions (`ifslib.fitting.regions`) and the search's `region_swap`."""
+"""Copies matched to uncovered regions (`ifslib.discovery.regions`) and the search's `region_swap`."""
 import math
 
 import numpy as np
@@ -6,8 +6,8 @@ import pytest
 
 import ifslib
 from ifslib.errors import IFSError
-from ifslib.fitting import fractal, regions
-from ifslib.fitting.targets import foreground_points, resize_target, target_from_mask
+from ifslib.discovery import fractal, regions
+from ifslib.targets.target import foreground_points, resize_target, target_from_mask
 
 
 def _maps(ifs):

@@ -4,7 +4,7 @@ import math
 import pytest
 
 from ifslib import IFSError
-from ifslib.fitting.sweep import Cell, Setup, summarize, sweep, table, write_csv
+from ifslib.studies.sweep import Cell, Setup, summarize, sweep, table, write_csv
 
 SETUP = Setup(target="rendered", size=24, depth=2, steps=4)
 CELLS = [Cell("plain", "exact", "paper"), Cell("plain", "paper", "line"), Cell("coarse_to_fine", "exact", "line")]

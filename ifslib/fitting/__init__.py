@@ -1,3 +1,2 @@
-"""Fitting: the inverse problem. Targets, losses, initial points, one Adam run at the bottom,
-batched runs beside it, strategies above them, and the public `fit` on top; metrics and the
-parameter sweep. Imports from ``geometry`` and ``raster``."""
+"""Fitting: moving the control points. One Adam run at the bottom, batched runs beside it,
+strategies above them, and the public `fit` on top. Imports from every folder above it."""

@@ -30,9 +30,9 @@ from ..errors import IFSError, check_int
 from ..threads import refresh as refresh_threads
 from .run import FitResult
 from ..geometry.ifs import IFS, check_depth
-from .losses import loss as loss_fn
+from ..scoring.losses import loss as loss_fn
 from ..geometry.rules import MIN_LENGTH, MIN_SINGULAR, check_gradient_mode, rule_lengths, rule_maps, singular_values
-from .targets import Target
+from ..targets.target import Target
 
 #: Adam's constants, those of `torch.optim.Adam`'s defaults (which `ifslib.fitting.run.run` uses).
 BETAS = (0.9, 0.999)

@@ -13,7 +13,7 @@ from ..geometry.attractor import check_depth_or_attractor
 from ..geometry.ifs import IFS
 from .run import FitResult, check_stop, run
 from .strategies import DEFAULT_STRATEGY, check_strategy, run_strategy
-from .targets import Target
+from ..targets.target import Target
 
 #: The largest learning rate a fit takes: Adam's step is about ``lr`` plane units, and the frame is 1 wide.
 MAX_LR = 1.0

@@ -30,8 +30,8 @@ from ..threads import refresh as refresh_threads
 from ..geometry.attractor import check_depth_or_attractor
 from ..geometry.ifs import IFS
 from ..geometry.io import ifs_to_dict, load_ifs, save_ifs
-from .losses import loss as loss_fn
-from .targets import Target
+from ..scoring.losses import loss as loss_fn
+from ..targets.target import Target
 
 
 @dataclass

@@ -17,7 +17,7 @@ strategies compare per step spent:
     ``multistart``. Each stage spends at most ``min(steps, PYRAMID_STAGE_STEPS)`` steps (the
     attractor's, `ATTRACTOR_STAGE_STEPS`).
 ``auto``
-    For an automatic start (`ifslib.initialize("auto", target)`, `ifslib.fitting.auto`): a start
+    For an automatic start (`ifslib.initialize("auto", target)`, `ifslib.discovery.auto`): a start
     is built for each candidate number of maps, each is fitted at the coarsest size of the pyramid
     for the same number of steps (`AUTO_PROBE_STEPS`), and the one with the lowest loss goes on
     through the pyramid's stages as in ``pyramid``; a shape then gets a stage at full size
@@ -26,7 +26,7 @@ strategies compare per step spent:
     pixel loss for a shape): it fills the slivers of the attractor itself.
     ``history["auto"]`` lists the candidates (maps, loss, steps, seconds) and the one chosen, and
     the fitted IFS's ``meta["pattern"]`` says so. A fractal's start (``kind="fractal"``: its maps
-    and their number were chosen by `ifslib.fitting.fractal.search`) goes straight to the attractor
+    and their number were chosen by `ifslib.discovery.fractal.search`) goes straight to the attractor
     stage, of at most `FRACTAL_STAGE_STEPS` steps with the single-scale pixel loss (`FRACTAL_LOSS`: the
     distance loss trades the attractor's thin detail for its outline, and the pooled copies of the
     multiscale pixel loss blur it); ``history["auto"]["candidates"]`` is then the
@@ -67,11 +67,11 @@ from ..geometry.crossings import check_curve
 from ..raster.distance import attractor_leaves_for
 from ..geometry.ifs import IFS
 from ..progress import note
-from .auto import candidates
-from .initialization import initialize, is_curve
-from .metrics import evaluate, self_crossings
+from ..discovery.auto import candidates
+from ..discovery.initialization import initialize, is_curve
+from ..scoring.metrics import evaluate, self_crossings
 from .run import FitResult, run
-from .targets import Target, pyramid_sizes, resize_target
+from ..targets.target import Target, pyramid_sizes, resize_target
 
 STRATEGIES = ("pyramid", "auto", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
 
@@ -102,7 +102,7 @@ POLISH_LOSS = "multiscale_pixel"
 #: Early stop of each pyramid stage (see `ifslib.fitting.run.converged`) when the fit sets none.
 PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
 
-#: A fractal's start (maps found by `ifslib.fitting.fractal.search`) gets one attractor stage of at
+#: A fractal's start (maps found by `ifslib.discovery.fractal.search`) gets one attractor stage of at
 #: most this many steps: the search has placed its maps within a fraction of a pixel.
 FRACTAL_STAGE_STEPS = 100
 #: ... with this loss: the single-scale pixel loss scores what the fit is judged by (the attractor's IoU) better
@@ -275,7 +275,7 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
                        "ifslib.initialize('auto', target, depth=...)")
     sizes = pyramid_sizes(target.size, coarsest, PYRAMID_FACTOR)
     levels = {size: resize_target(target, size) for size in sizes}
-    # the candidates the start was chosen among (`ifslib.fitting.auto.choices`); the start stands in for its own
+    # the candidates the start was chosen among (`ifslib.discovery.auto.choices`); the start stands in for its own
     own = (pattern["maps"], ifs.depth)
     choices = [tuple(c) for c in pattern.get("choices", [own])]
     options = [ifs if c == own else candidates(target, [c], pattern.get("primitive", "box"), seed,
@@ -320,7 +320,7 @@ def _auto(ifs: IFS, target: Target, steps: int, seed: int, kwargs: dict, coarses
 
 def _auto_fractal(ifs: IFS, target: Target, steps: int, seed: int, lr: float, kwargs: dict,
                   end_on_attractor: bool) -> FitResult:
-    """``auto`` for a fractal's start: its maps were found by the search (`ifslib.fitting.fractal`), so
+    """``auto`` for a fractal's start: its maps were found by the search (`ifslib.discovery.fractal`), so
     only the attractor stage is left (at most `FRACTAL_STAGE_STEPS` steps), or, without
     ``end_on_attractor``, a run of the drawing at its depth."""
     pattern = ifs.meta["pattern"]

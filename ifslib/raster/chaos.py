@@ -115,7 +115,7 @@ def chaos_occupancy(maps: torch.Tensor, size: int, chains: int = 48, steps: int 
     attractor) for ``burn + steps`` steps in float32, and the pixels of the last ``steps`` points
     are marked: ``chains * steps`` points an IFS. Far fewer points than `chaos_game` draws, so a
     rarely visited part of an attractor may be missed: it ranks many IFSs against one another
-    (`ifslib.fitting.fractal.swap`), it does not score one.
+    (`ifslib.discovery.fractal.swap`), it does not score one.
 
     Parameters
     ----------

@@ -19,7 +19,7 @@ from tqdm.auto import tqdm
 from ..errors import IFSError
 from ..geometry.io import ifs_from_dict
 from ..raster.render import render
-from ..fitting.targets import Target
+from ..targets.target import Target
 
 GAP = 4  # pixels between the three panels
 

@@ -29,11 +29,11 @@ from typing import Callable, Iterator
 import numpy as np
 import torch
 
-from ..fitting.metrics import evaluate, self_crossings
+from ..scoring.metrics import evaluate, self_crossings
 from ..geometry.crossings import is_curve
 from ..geometry.ifs import IFS
 from ..geometry.patterns import affine, by_name, koch_like, koch_unit
-from ..fitting.targets import Target, load_target
+from ..targets.target import Target, load_target
 
 
 # --- reporting -------------------------------------------------------------------------------------
@@ -76,18 +76,18 @@ class WriteItYourself(RuntimeError):
 LIBRARY = {
     "chaos game": [("ifslib", "chaos_game"), ("ifslib.raster.chaos", "chaos_game"),
                    ("ifslib.geometry.attractor", "sample_attractor")],
-    "Hausdorff distance": [("ifslib.fitting.metrics", "hausdorff")],
-    "collage distance": [("ifslib.fitting.metrics", "hausdorff"), ("ifslib.fitting.collage", "collage_distance")],
+    "Hausdorff distance": [("ifslib.scoring.metrics", "hausdorff")],
+    "collage distance": [("ifslib.scoring.metrics", "hausdorff"), ("ifslib.scoring.collage", "collage_distance")],
     "contraction and fixed point": [("ifslib.geometry.rules", "singular_values"),
                                     ("ifslib.geometry.rules", "map_scales")],
-    "loss": [("ifslib", "loss"), ("ifslib.fitting.losses", "loss"), ("ifslib.fitting.losses", "mse"),
-             ("ifslib.fitting.losses", "multiscale_mse"), ("ifslib.fitting.losses", "pyramid")],
+    "loss": [("ifslib", "loss"), ("ifslib.scoring.losses", "loss"), ("ifslib.scoring.losses", "mse"),
+             ("ifslib.scoring.losses", "multiscale_mse"), ("ifslib.scoring.losses", "pyramid")],
     "best-fit-line start": [("ifslib", "initialize"), ("ifslib", "best_fit_line"),
-                            ("ifslib.fitting.initialization", "initialize"),
-                            ("ifslib.fitting.initialization", "best_fit_line"),
-                            ("ifslib.fitting.initialization", "_placed")],
+                            ("ifslib.discovery.initialization", "initialize"),
+                            ("ifslib.discovery.initialization", "best_fit_line"),
+                            ("ifslib.discovery.initialization", "_placed")],
     "leaf map": [("ifslib", "expand"), ("ifslib.geometry.leaves", "expand")],
-    "depth": [("ifslib.fitting.metrics", "depth_to_attractor")],
+    "depth": [("ifslib.scoring.metrics", "depth_to_attractor")],
 }
 
 
@@ -467,7 +467,7 @@ def check_best_fit_start(answer) -> bool:
     Evenly spaced, in index order, between the extreme projections of the target's foreground pixel
     centres on its principal axis (either end first).
     """
-    from ..fitting.initialization import _placed
+    from ..discovery.initialization import _placed
     from ..geometry.patterns import koch
 
     name = "best-fit-line start"

@@ -23,7 +23,7 @@ import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
 from ..geometry.ifs import IFS  # noqa: E402
-from ..fitting.metrics import crossing_points  # noqa: E402
+from ..scoring.metrics import crossing_points  # noqa: E402
 from ..raster.nearest import pixel_centres  # noqa: E402
 from ..raster.render import figure_mask, render  # noqa: E402
 

@@ -15,8 +15,8 @@ from tqdm.auto import tqdm
 from ..raster.distance import distance_field
 from ..errors import IFSError, check_int
 from ..geometry.ifs import IFS
-from ..fitting.losses import loss as loss_fn
-from ..fitting.targets import Target
+from ..scoring.losses import loss as loss_fn
+from ..targets.target import Target
 
 
 def gradient_field(ifs: IFS, target: Target, index: int, xs: np.ndarray, ys: np.ndarray,

@@ -31,11 +31,11 @@ from ..raster.distance import distance_field, pixel_size
 from ..errors import IFSError
 from ..geometry.ifs import IFS
 from ..geometry.io import load_ifs
-from ..fitting.losses import loss as loss_fn
-from ..fitting.metrics import iou
+from ..scoring.losses import loss as loss_fn
+from ..scoring.metrics import iou
 from ..geometry.patterns import by_name
 from ..raster.render import shade
-from ..fitting.targets import Target, load_target
+from ..targets.target import Target, load_target
 
 PATTERNS = ("koch", "koch_paper", "carpet", "grid3", "rosette6", "JSON file")
 TARGETS = ("none", "koch", "sierpinski", "apple", "flower")

@@ -21,7 +21,7 @@ from ..geometry.attractor import ATTRACTOR, is_attractor
 from ..geometry.crossings import is_curve, leaf_segments
 from ..geometry.ifs import IFS
 from ..raster.render import figure_mask
-from .targets import Target
+from ..targets.target import Target
 
 #: Tolerance in pixels of the attractor's distance when it is scored: a quarter pixel, so that a mask
 #: pixel (distance <= 0.83 px) is decided to within 0.25 px of its true distance.

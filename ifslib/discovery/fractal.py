@@ -28,7 +28,7 @@ target alone (no depth), then judges them by their attractor:
 5. **Matched to uncovered regions** (`region_swap`), when no number of maps reoriented draws an
    attractor of IoU `SWAP_BELOW`, for each of them, the best scoring first: for each map, the
    figure pixels the other maps' copies leave uncovered are matched by the figure's copy with the
-   same mean and covariance (`ifslib.fitting.regions`), which places a thin copy as well as a
+   same mean and covariance (`ifslib.discovery.regions`), which places a thin copy as well as a
    round one; one or two maps are replaced by such copies, ranked by a short chaos game, refined,
    and kept when the attractor's IoU rises, round after round.
 6. **Grown** (`region_grow`), when still none does: the best scoring number of maps gives the next
@@ -75,9 +75,9 @@ from tqdm.auto import tqdm
 from ..progress import draw_bars, note
 from ..raster.chaos import chaos_occupancy
 from ..raster.render import figure_mask
-from .metrics import chamfer, iou
+from ..scoring.metrics import chamfer, iou
 from .regions import region_maps, rotation, sqrtm_psd, uncovered_maps
-from .targets import Target, foreground_points, resize_target
+from ..targets.target import Target, foreground_points, resize_target
 
 #: The numbers of maps `search` compares when none is given ...
 FRACTAL_MAPS = tuple(range(2, 9))
@@ -598,7 +598,7 @@ def _best_trial(trials: np.ndarray, fine: Target, judge: Target, seed: int) -> t
 
 def region_swap(maps: np.ndarray, fine: Target, judge: Target, points: np.ndarray, top: int = REGION_TOP,
                 seed: int = 0, value: float | None = None) -> tuple[np.ndarray, float, bool]:
-    """One round of replacing a map, or two, by copies matched to the figure's uncovered regions (`ifslib.fitting.regions`).
+    """One round of replacing a map, or two, by copies matched to the figure's uncovered regions (`ifslib.discovery.regions`).
 
     For each map, the figure pixels the other maps' copies leave uncovered are matched by moments
     (`region_maps`, a few maps each); every IFS with one map, or two maps, replaced by such maps

@@ -27,12 +27,12 @@ from ..errors import IFSError, check_int
 from ..geometry import patterns
 from ..geometry.rules import check_gradient_mode
 from ..threads import cores, fixed_threads
-from .fit import fit
-from .initialization import initialize
-from .losses import LOSSES
-from .metrics import evaluate, point_error, self_crossings
-from .strategies import check_strategy
-from .targets import load_target
+from ..fitting.fit import fit
+from ..discovery.initialization import initialize
+from ..scoring.losses import LOSSES
+from ..scoring.metrics import evaluate, point_error, self_crossings
+from ..fitting.strategies import check_strategy
+from ..targets.target import load_target
 
 INITS = ("paper", "line")
 

@@ -24,7 +24,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import IFSError, check_int
 from ..geometry.ifs import IFS
-from .targets import Target, foreground_points
+from ..targets.target import Target, foreground_points
 
 
 def _sample(target: Target, n: int, seed: int) -> torch.Tensor:

@@ -18,7 +18,7 @@ import torch.nn.functional as F
 
 from ..errors import IFSError
 from ..raster.render import default_sigma, shade
-from .targets import Target
+from ..targets.target import Target
 
 LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
 

@@ -4,7 +4,7 @@ Segment patterns start with their points evenly spaced, in index order, along th
 of the target's foreground (its principal axis), between the extreme projections of the
 foreground pixels; square and grid patterns are stretched onto the foreground's bounding box.
 Optional seeded jitter ``U(-jitter, jitter)`` is added to every coordinate. The pattern
-``"auto"`` builds one from the image itself (`ifslib.fitting.auto`): any curve or shape.
+``"auto"`` builds one from the image itself (`ifslib.discovery.auto`): any curve or shape.
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from ..errors import MAX_SEED, IFSError, check_int
 from ..geometry.crossings import is_curve
 from ..geometry.ifs import IFS
 from .auto import auto_start
-from .targets import Target, foreground_points
+from ..targets.target import Target, foreground_points
 
 __all__ = ["initialize", "best_fit_line", "foreground_points", "is_curve"]
 
@@ -52,7 +52,7 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
         The pattern. A curve (see `is_curve`, as for the Koch curve) gets its points evenly spaced
         along the target's best-fit line, the paper's advice; any other pattern (grids, the carpet,
         rosettes) is stretched onto the target's bounding box. ``"auto"`` reads the target instead
-        (`ifslib.fitting.auto.auto_start`): curve or shape, the number of maps, maps whose copies
+        (`ifslib.discovery.auto.auto_start`): curve or shape, the number of maps, maps whose copies
         cover the target; fit it with the ``auto`` strategy to compare several numbers of maps.
     target : Target
     jitter : float
@@ -61,7 +61,7 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
         Seed of the jitter (and of the automatic start's k-means), from 0 to ``ifslib.errors.MAX_SEED``.
     maps, depth : int, optional
         ``"auto"`` only: fix the number of maps or the depth instead of choosing among candidates
-        (`ifslib.fitting.auto.choices`).
+        (`ifslib.discovery.auto.choices`).
 
     Returns
     -------

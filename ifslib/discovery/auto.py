@@ -17,7 +17,7 @@ copies of the target cover the target:
 
 * **Fractals** (a target of at least `FRACTAL_MIN_SIZE` pixels whose figure is porous: fewer than `POROUS_SHARE` of its pixels have all eight neighbours
   on it at 128², where a silhouette has over 0.88): the figure is searched for copies of itself
-  (`ifslib.fitting.fractal.search`: template matching, covers, the collage refined, 2 to 8 maps
+  (`ifslib.discovery.fractal.search`: template matching, covers, the collage refined, 2 to 8 maps
   compared by minimum description length). When the maps found draw an attractor within
   `FRACTAL_CHAMFER` pixels of the target, the start is those maps (``kind="fractal"``, an
   `ifslib.patterns.affine` IFS); else the figure is fitted as a shape, and ``meta["pattern"]``
@@ -38,8 +38,8 @@ from ..geometry import patterns
 from ..geometry.ifs import IFS, check_depth
 from ..raster.nearest import pixel_centres
 from . import fractal
-from .metrics import evaluate
-from .targets import Target, foreground_points, resize_target
+from ..scoring.metrics import evaluate
+from ..targets.target import Target, foreground_points, resize_target
 
 #: A figure whose area is below this many pixels per skeleton pixel is thin (a line 1-3 px wide) ...
 CURVE_WIDTH = 4.0
@@ -77,7 +77,7 @@ POROUS_SIZE = 128
 FRACTAL_MIN_PIXELS = 100
 #: ... and so is a target smaller than this: at 64² a random fractal's own true maps draw an attractor
 #: of IoU 0.77 against the target made from its 256² image, and a fine shape fit scores better.
-#: (`ifslib.fitting.fractal.search` itself takes any size.)
+#: (`ifslib.discovery.fractal.search` itself takes any size.)
 FRACTAL_MIN_SIZE = 128
 #: The fractal search's maps are the start when their attractor's symmetric Chamfer distance to the
 #: target (pixels, at the search's refining size) is at most this.
@@ -137,7 +137,7 @@ def interior_share(target: Target, size: int = POROUS_SIZE) -> float:
 
 def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
                   progress: bool = True) -> tuple[IFS | None, dict]:
-    """The maps of `ifslib.fitting.fractal.search` as a start, or None when their attractor does not fit.
+    """The maps of `ifslib.discovery.fractal.search` as a start, or None when their attractor does not fit.
 
     Returns
     -------

@@ -10,9 +10,9 @@ that send the figure's mean and covariance onto the region's are
 
 one for each rotation or reflection ``Q``; the ``Q`` whose copy overlaps the region most is
 kept. This places a thin copy (a singular value a tenth of the other, or less) as closely as a
-round one, where a grid of copies (`ifslib.fitting.fractal.copy_candidates`) places it only to
+round one, where a grid of copies (`ifslib.discovery.fractal.copy_candidates`) places it only to
 within its grid's step, and a thin map's attractor is recognised only very near the true map.
-`ifslib.fitting.fractal.region_swap` tries these maps in place of the search's.
+`ifslib.discovery.fractal.region_swap` tries these maps in place of the search's.
 """
 from __future__ import annotations
 

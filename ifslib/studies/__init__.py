@@ -1,0 +1,1 @@
+"""Studies: many fits run and summarized (the convergence sweep). Imports from every folder above."""
