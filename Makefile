@@ -30,9 +30,9 @@ setup: $(VENV)/.installed $(VENV)/.installed-docs  ## create .venv and install i
 test: $(VENV)/.installed  ## run the whole test suite
 	$(PY) -m pytest -q -n auto --dist loadscope
 
-# the inner loop of work: the library's tests without the notebooks' runs (nbval, papermill)
-test-fast: $(VENV)/.installed  ## the library's tests only, no notebook run (a minute or so)
-	$(PY) -m pytest tests -q -n auto --dist loadscope --ignore=tests/test_notebook_runs.py --ignore=tests/test_notebook_without_data.py
+# the inner loop of work: the library's quick tests, without the notebooks' runs and the slow searches
+test-fast: $(VENV)/.installed  ## the library's quick tests: no notebook, no whole fractal search (under a minute)
+	$(PY) -m pytest tests -q -n auto --dist loadscope -m "not notebook and not slow"
 
 figures: $(VENV)/.installed  ## run every notebook with papermill (paper preset; PRESET=ci for the quick run)
 	$(PY) notebooks/run.py --preset $(PRESET)

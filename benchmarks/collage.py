@@ -22,12 +22,13 @@ def main() -> None:
     print("|---|---|---|---|---|---|")
     for name, source in cases.items():
         target = ifslib.load_target(source, 128)
-        start = ifslib.initialize("auto", target, maps=24, depth=2)
+        plan = ifslib.initialize("auto", target, maps=24, depth=2)
+        start = plan.start
         t0 = time.perf_counter()
         pre, history = collage_prefit(start, target, steps=200, lr=0.003)
         prefit_s = time.perf_counter() - t0
         fits = []
-        for s in (start, pre):
+        for s in (plan, plan.with_start(pre)):  # the automatic fit of each start
             t0 = time.perf_counter()
             result = ifslib.fit(s, target, loss="multiscale_distance", progress=False)
             fits.append((ifslib.evaluate(result.best, target)["iou"], time.perf_counter() - t0))

@@ -37,7 +37,7 @@ def main() -> None:
                             strategy=args.strategy)
         seconds = time.perf_counter() - t0
         m = ifslib.evaluate(result.best, target)
-        print(f"| {image} | {pattern} | {seconds:.1f} | {1000 * seconds / max(result.history["cost"], 1):.1f} | {m['iou']:.3f} | "
+        print(f"| {image} | {pattern} | {seconds:.1f} | {1000 * seconds / max(result.history.cost, 1):.1f} | {m['iou']:.3f} | "
               f"{m['f1']:.3f} | {m['chamfer']:.2f} |", flush=True)
 
 

@@ -43,9 +43,12 @@ from .scoring.losses import LOSSES, loss  # noqa: E402
 from .scoring.metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
 from .discovery import auto, fractal, initialization  # noqa: E402
 from .discovery.initialization import best_fit_line, initialize  # noqa: E402
+from .discovery.plan import Plan, discover  # noqa: E402
 from .fitting import strategies  # noqa: E402
 from .fitting.batch import fit_many  # noqa: E402
-from .fitting.fit import FitResult, fit  # noqa: E402
+from .fitting.fit import fit  # noqa: E402
+from .fitting.options import Checkpoint, RunOptions, StrategyOptions  # noqa: E402
+from .fitting.result import FitResult, History, Stage  # noqa: E402
 from .studies import sweep  # noqa: E402
 
 #: The teaching modules load matplotlib; they are imported on first use (``ifslib.figures``), so the
@@ -65,7 +68,7 @@ def __getattr__(name: str):
 
 __version__ = "0.1.0"
 
-__all__ = ["FitResult", "IFS", "IFSError", "LOSSES", "Primitive", "Rule", "Target", "animate", "auto", "best_fit_line", "fractal",
+__all__ = ["Checkpoint", "FitResult", "History", "Plan", "RunOptions", "Stage", "StrategyOptions", "discover", "IFS", "IFSError", "LOSSES", "Primitive", "Rule", "Target", "animate", "auto", "best_fit_line", "fractal",
            "chamfer", "chaos_game", "configure_threads", "crossings", "data", "default_sigma", "distance_field", "evaluate",
            "exercises", "expand", "f1", "figures", "fit", "fit_many", "initialization", "initialize", "iou",
            "landscape", "load_ifs", "load_target", "loss", "losses", "metrics", "nearest_leaf", "patterns",

@@ -85,32 +85,30 @@ def cmd_render(args: argparse.Namespace) -> None:
     print(f"wrote {args.output}: {args.size}x{args.size}{window}, {what}")
 
 
-def _stage_text(stage: dict) -> str:
+def _stage_text(stage) -> str:
     """``256² 120`` for a stage of a drawing, ``256² attractor 80`` for one of the attractor."""
-    return f"{stage['size']}²{' attractor' if stage.get('depth') == 'attractor' else ''} {stage['steps']}"
+    return f"{stage.size}²{' attractor' if stage.depth == 'attractor' else ''} {stage.steps}"
 
 
-def _stages_text(history: dict) -> str:
+def _stages_text(history) -> str:
     """One line on how a strategy spent its steps (the pyramid's starts and stages, the automatic pattern's choice)."""
-    stages = history.get("stages")
-    if "auto" in history and history["auto"].get("kind") == "fractal":
-        auto = history["auto"]
+    stages, auto = history.stages, history.auto
+    if auto is not None and auto.get("kind") == "fractal":
         tried = ", ".join(f"{c['maps']} maps IoU {c['iou']:.3f}" for c in auto["candidates"])
-        return (f"{history['cost']} steps spent (auto: a fractal, {auto['chosen']} maps chosen by the search's rule, "
+        return (f"{history.cost} steps spent (auto: a fractal, {auto['chosen']} maps chosen by the search's rule, "
                 f"1 - attractor IoU plus a cost per map ({tried}); then "
                 f"{', '.join(_stage_text(s) for s in stages)} steps)")
-    if "auto" in history:
-        auto = history["auto"]
+    if auto is not None:
         tried = ", ".join(f"{c['maps']} maps {c['loss']:.3g}" for c in auto["candidates"])
         runs = ", ".join(_stage_text(s) for s in stages)
-        return (f"{history['cost']} steps spent (auto: a {auto['kind']}, {auto['chosen']} maps chosen by the loss "
-                f"after {auto['candidates'][0]['steps']} steps at {stages[0]['size']}² ({tried}); then {runs} steps)")
+        return (f"{history.cost} steps spent (auto: a {auto['kind']}, {auto['chosen']} maps chosen by the loss "
+                f"after {auto['candidates'][0]['steps']} steps at {stages[0].size}² ({tried}); then {runs} steps)")
     if not stages:
-        return f"{history['cost']} steps spent ({history.get('strategy', 'plain')})"
-    last = max(s["start"] for s in stages)
-    runs = ", ".join(_stage_text(s) for s in stages if s["start"] == last)
-    verdict = "recovered the target" if history.get("recovered") else "was the best"
-    return (f"{history['cost']} steps spent (pyramid: start {last + 1} of the {history['starts_tried']} tried "
+        return f"{history.cost} steps spent ({history.strategy or 'plain'})"
+    last = max(s.start for s in stages)
+    runs = ", ".join(_stage_text(s) for s in stages if s.start == last)
+    verdict = "recovered the target" if history.recovered else "was the best"
+    return (f"{history.cost} steps spent (pyramid: start {last + 1} of the {history.starts_tried} tried "
             f"{verdict}; its stages: {runs} steps)")
 
 
@@ -119,6 +117,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
     from . import evaluate, fit, initialize, load_target, save_ifs
     from .errors import IFSError
+    from .fitting.options import Checkpoint
 
     t0 = time.perf_counter()
     target = load_target(args.target, args.size, invert=args.invert)
@@ -139,9 +138,11 @@ def cmd_fit(args: argparse.Namespace) -> None:
         if args.depth is not None and not attractor:
             ifs.depth = args.depth
         start = initialize(ifs, target, jitter=args.jitter, seed=args.seed)
-    result = fit(start, target, steps=args.steps, lr=args.lr, loss=args.loss, seed=args.seed,
-                 checkpoint=args.checkpoint, resume=args.resume, progress=not args.quiet, strategy=args.strategy,
-                 tol=args.tol, depth="attractor" if attractor else None)
+    saved = None if args.checkpoint is None and args.resume is None else Checkpoint(args.checkpoint,
+                                                                                   resume=args.resume)
+    result = fit(start, target, steps=args.steps, strategy=args.strategy, seed=args.seed, progress=not args.quiet,
+                 checkpoint=saved, lr=args.lr, loss=args.loss, tol=args.tol,
+                 depth="attractor" if attractor else None)
     m = evaluate(result.best, target)
     result.best.meta["target"] = {"polarity": target.polarity, "inverted": target.inverted}
     result.best.meta["scores"] = {
@@ -151,7 +152,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
     print(f"wrote {args.output}: best loss {result.best_loss:.4g}; attractor: IoU {m['attractor_iou']:.3f}, "
           f"F1 {m['attractor_f1']:.3f}, Chamfer {m['attractor_chamfer']:.2f} px; drawn at depth {result.best.depth}: "
           f"IoU {m['iou']:.3f}, F1 {m['f1']:.3f}, Chamfer {m['chamfer']:.2f} px"
-          + (f"; {len(result.history['rollbacks'])} rolled-back steps" if result.history["rollbacks"] else "")
+          + (f"; {len(result.history.rollbacks)} rolled-back steps" if result.history.rollbacks else "")
           + f"; {_stages_text(result.history)}; {time.perf_counter() - t0:.1f} s")
 
 
@@ -188,6 +189,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"ifslib {__version__} (torch {_torch_version()}, "
                         f"Python {sys.version.split()[0]})")
     sub = parser.add_subparsers(dest="command", required=True, metavar="{render,fit,info}")
+    _render_parser(sub)
+    _fit_parser(sub)
+    _info_parser(sub)
+    return parser
+
+
+def _render_parser(sub) -> None:
+    """``render``'s options."""
     r = sub.add_parser("render", help="render an IFS (JSON file or pattern name) to a PNG")
     r.add_argument("spec", help="an ifslib/1 JSON file, or a pattern: koch, koch_paper, carpet, fern, gridN, rosetteN")
     r.add_argument("--size", type=int, default=512, help="pixels per side (default 512)")
@@ -202,6 +211,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--sigma", type=float, help="line width in plane units (default: one pixel)")
     r.add_argument("-o", "--output", required=True, help="PNG file to write")
     r.set_defaults(run=cmd_render)
+
+
+def _fit_parser(sub) -> None:
+    """``fit``'s options."""
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
     f.add_argument("target", help="target image (its figure found from its border: the background is the colour "
                    "that touches it; a transparent background makes the opaque part the figure), or "
@@ -237,11 +250,14 @@ def build_parser() -> argparse.ArgumentParser:
                    help="no progress output (by default: live bars on a terminal, one line per stage in a log)")
     f.add_argument("-o", "--output", required=True, help="JSON file for the fitted IFS")
     f.set_defaults(run=cmd_fit)
+
+
+def _info_parser(sub) -> None:
+    """``info``'s options."""
     i = sub.add_parser("info", help="print an IFS's maps, contraction factors and leaf count")
     i.add_argument("spec", help="an ifslib/1 JSON file, or a pattern name")
     i.add_argument("--depth", type=int, help="depth for the leaf count (default: the file's)")
     i.set_defaults(run=cmd_info)
-    return parser
 
 
 def _torch_version() -> str:

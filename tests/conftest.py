@@ -70,7 +70,7 @@ def pattern_name(request):
 
 # nbval's kernels inherit this environment. They run at 1 thread unless the caller chose a count: the
 # stored outputs they are compared with were made at 2 (notebooks/store.py), so that a checked output
-# that depends on the summation order fails (tests/test_notebook_runs.py checks the two counts differ).
+# that depends on the summation order fails (tests/notebooks/test_notebook_runs.py checks the two counts differ).
 # One thread also suits ``make test``'s two pytest-xdist workers on a 2-core machine.
 # The kernels draw as the stored outputs were drawn (notebooks/store.py drops it too): with a
 # backend chosen for scripts (CI exports MPLBACKEND=Agg) a figure cell would show no image, and a
@@ -78,14 +78,14 @@ def pattern_name(request):
 os.environ.pop("MPLBACKEND", None)
 if "IFSLIB_THREADS" not in os.environ:
     os.environ["IFSLIB_THREADS"] = "1"
-    os.environ["IFSLIB_THREADS_SET_BY"] = "conftest"  # the default run: tests/test_notebook_runs.py holds it to 1
+    os.environ["IFSLIB_THREADS_SET_BY"] = "conftest"  # the default run: tests/notebooks/test_notebook_runs.py holds it to 1
 
 
 def notebook_scope(nodeid: str) -> str:
     """The work unit of a test under ``make test``'s pytest-xdist workers (``-n auto --dist loadscope``).
 
     A notebook's cells share one kernel and must run in order on one worker; the comparison of its
-    figure (tests/test_notebook_runs.py) reads what that run saved, so it joins the same unit, after
+    figure (tests/notebooks/test_notebook_runs.py) reads what that run saved, so it joins the same unit, after
     the cells (pytest collects ``notebooks/`` first). Every other test is a unit of its own, so the
     workers stay evenly loaded.
     """
@@ -129,12 +129,21 @@ def pytest_xdist_make_scheduler(config, log):
 def pytest_configure(config):
     """Give nbval's kernels a folder for the notebooks' figures (``IFSLIB_FIGURES``), unless the caller chose one.
 
-    ``save_figure`` falls back on it when a notebook's ``save_to`` is empty; tests/test_notebook_runs.py
+    ``save_figure`` falls back on it when a notebook's ``save_to`` is empty; tests/notebooks/test_notebook_runs.py
     compares those figures with tests/reference/.
     """
     if not os.environ.get("IFSLIB_FIGURES"):
         config._ifslib_figures = tempfile.mkdtemp(prefix="ifslib-figures-")
         os.environ["IFSLIB_FIGURES"] = config._ifslib_figures
+
+
+def pytest_collection_modifyitems(config, items):
+    """Mark the notebooks' runs ``notebook`` (the cells nbval runs, and ``tests/notebooks/``), so that
+    ``make test-fast`` (``-m "not notebook and not slow"``) leaves them out."""
+    for item in items:
+        path = str(item.fspath)
+        if path.endswith(".ipynb") or f"{os.sep}tests{os.sep}notebooks{os.sep}" in path:
+            item.add_marker(pytest.mark.notebook)
 
 
 def pytest_unconfigure(config):

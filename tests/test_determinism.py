@@ -21,6 +21,7 @@ SEARCH = """
 import hashlib, json, sys
 import numpy as np
 import ifslib
+from dataclasses import replace
 from ifslib.discovery import fractal
 from ifslib.targets.target import resize_target, target_from_mask
 truth = ifslib.patterns.random_ifs(2, 4)
@@ -29,7 +30,7 @@ speck = np.zeros((32, 32), bool)
 speck[10, 10:12] = True
 out = {}
 for name, target in (("fractal", resize_target(target_from_mask(mask), 32)), ("speck", target_from_mask(speck))):
-    found = fractal.search(target, maps=2, progress=False, again=0)
+    found = fractal.search(target, maps=2, progress=False, config=replace(fractal.DEFAULT, again=0))
     out[name] = {"maps": found.maps.tolist(), "table": [{k: v for k, v in row.items() if k != "seconds"}
                                                        for row in found.table]}
 print(json.dumps(out))
@@ -54,6 +55,7 @@ def _without_timings(value):
     return value
 
 
+@pytest.mark.slow
 def test_a_koch_fit_writes_the_same_file_at_1_and_2_threads(tmp_path):
     out = {t: tmp_path / f"koch{t}.json" for t in (1, 2)}
     _side_by_side({t: ["-m", "ifslib", "fit", "koch", "--size", "64", "--steps", "40", "--quiet", "-o", str(path)]
@@ -63,6 +65,7 @@ def test_a_koch_fit_writes_the_same_file_at_1_and_2_threads(tmp_path):
     assert files[0] == files[1]
 
 
+@pytest.mark.slow
 def test_the_fractal_search_finds_the_same_maps_at_1_and_2_threads():
     found = [json.loads(out) for out in _side_by_side({1: ["-c", SEARCH], 2: ["-c", SEARCH]}).values()]
     assert found[0]["fractal"]["table"][0].get("reoriented")  # the search made its moves, each a discrete choice

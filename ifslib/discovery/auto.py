@@ -38,7 +38,6 @@ from ..geometry import patterns
 from ..geometry.ifs import IFS, check_depth
 from ..raster.nearest import pixel_centres
 from . import fractal
-from ..scoring.metrics import evaluate
 from ..targets.target import Target, foreground_points, resize_target
 
 #: A figure whose area is below this many pixels per skeleton pixel is thin (a line 1-3 px wide) ...
@@ -61,7 +60,7 @@ PRIMITIVES = ("box", "disk")
 
 
 #: An automatic start has at most this many maps (each brings three control points and a copy of the figure).
-MAX_MAPS = 64
+MAX_START_MAPS = 64
 #: A figure of fewer pixels than this is too small to read a curve or a shape from.
 MIN_PIXELS = 4
 
@@ -262,8 +261,8 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None) -> lis
         check_depth(depth)
     if maps is not None:
         check_int(maps, "number of maps", 1 if kind == "shape" else 2)
-        if maps > MAX_MAPS:
-            raise IFSError(f"number of maps must be at most {MAX_MAPS}, got {maps}")
+        if maps > MAX_START_MAPS:
+            raise IFSError(f"number of maps must be at most {MAX_START_MAPS}, got {maps}")
         return [(maps, DEFAULT_DEPTH if depth is None else depth)]
     if kind == "shape" and depth is None:
         return list(SHAPE_CHOICES)
@@ -272,41 +271,8 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None) -> lis
 
 def candidates(target: Target, options: list[tuple[int, int]], primitive: str = "box", seed: int = 0,
                kind: str | None = None) -> list[IFS]:
-    """One automatic start for each ``(maps, depth)`` of ``options`` (see `choices`); each records them all
-    in ``meta["pattern"]["choices"]``, so that the ``auto`` strategy can compare them again. ``kind``
-    (``"curve"`` or ``"shape"``) is `classify`'s answer, computed unless the caller has it."""
+    """One automatic start for each ``(maps, depth)`` of ``options`` (see `choices`). ``kind`` (``"curve"``
+    or ``"shape"``) is `classify`'s answer, computed unless the caller has it."""
     kind = classify(target) if kind is None else kind
-    starts = [curve_start(target, k, d) if kind == "curve" else shape_start(target, k, d, primitive, seed)
-              for k, d in options]
-    for start in starts:
-        start.meta["pattern"]["choices"] = [list(c) for c in options]
-    return starts
-
-
-def auto_start(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
-               seed: int = 0) -> IFS:
-    """The automatic start for ``target``: a fractal's maps when the figure is porous and the search finds them
-    (`fractal_start`), else among the (maps, depth) pairs of `choices`, the one whose start is nearest.
-
-    Without fitting, "nearest" is the collage theorem's measure: the start drawn at the target's
-    size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
-    strategy compares the same candidates by fitting them instead.
-    """
-    kind = classify(target)
-    wanted = choices(kind, maps, depth)  # checks maps and depth before any search
-    searched = None
-    if (kind == "shape" and target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS
-            and interior_share(target) < POROUS_SHARE and (maps is None or maps <= fractal.MAX_MAPS)):
-        start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed)
-        if start is not None:
-            return start
-    options = candidates(target, wanted, primitive, seed, kind=kind)
-    if searched is not None:
-        for o in options:
-            o.meta["pattern"]["fractal_search"] = searched
-    if len(options) == 1:
-        return options[0]
-    scores = [evaluate(o, target, attractor=False) for o in options]
-    if options[0].meta["pattern"]["kind"] == "curve":
-        return options[int(np.argmin([s["chamfer"] for s in scores]))]
-    return options[int(np.argmax([s["iou"] for s in scores]))]
+    return [curve_start(target, k, d) if kind == "curve" else shape_start(target, k, d, primitive, seed)
+            for k, d in options]

@@ -4,17 +4,17 @@ Segment patterns start with their points evenly spaced, in index order, along th
 of the target's foreground (its principal axis), between the extreme projections of the
 foreground pixels; square and grid patterns are stretched onto the foreground's bounding box.
 Optional seeded jitter ``U(-jitter, jitter)`` is added to every coordinate. The pattern
-``"auto"`` builds one from the image itself (`ifslib.discovery.auto`): any curve or shape.
+``"auto"`` reads one from the image itself (`ifslib.discovery.plan.discover`): a curve, a shape or a
+fractal's maps, with the candidates an automatic fit compares.
 """
 from __future__ import annotations
 
 import numpy as np
-import torch
 
 from ..errors import MAX_SEED, IFSError, check_int
 from ..geometry.crossings import is_curve
 from ..geometry.ifs import IFS
-from .auto import auto_start
+from .plan import Plan, discover
 from ..targets.target import Target, foreground_points
 
 __all__ = ["initialize", "best_fit_line", "foreground_points", "is_curve"]
@@ -43,7 +43,7 @@ def best_fit_line(target: Target) -> tuple[np.ndarray, np.ndarray, float, float]
 
 
 def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: int | None = None, *,
-               maps: int | None = None, depth: int | None = None) -> IFS:
+               maps: int | None = None, depth: int | None = None) -> IFS | Plan:
     """A start for fitting ``target``: a pattern's points placed on the target, or an automatic start.
 
     Parameters
@@ -52,8 +52,8 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
         The pattern. A curve (see `is_curve`, as for the Koch curve) gets its points evenly spaced
         along the target's best-fit line, the paper's advice; any other pattern (grids, the carpet,
         rosettes) is stretched onto the target's bounding box. ``"auto"`` reads the target instead
-        (`ifslib.discovery.auto.auto_start`): curve or shape, the number of maps, maps whose copies
-        cover the target; fit it with the ``auto`` strategy to compare several numbers of maps.
+        (`ifslib.discovery.plan.discover`): curve, shape or fractal, the number of maps, maps whose
+        copies cover the target; `ifslib.fit` fits the plan by comparing its candidates.
     target : Target
     jitter : float
         Half-width of the uniform jitter added to every free coordinate (plane units, from 0 to 1).
@@ -65,7 +65,9 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
 
     Returns
     -------
-    IFS
+    IFS or Plan
+        The placed pattern; for ``"auto"`` a `ifslib.discovery.plan.Plan`, whose ``start`` is the
+        IFS chosen without fitting (jittered when ``jitter`` is set).
     """
     if isinstance(jitter, bool) or not isinstance(jitter, (int, float)) or not 0 <= jitter <= 1:
         raise IFSError(f"jitter must be a number from 0 to 1 (plane units: the frame is 1 wide), got {jitter!r}")
@@ -74,17 +76,11 @@ def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: in
     if isinstance(pattern, str):
         if pattern != "auto":
             raise IFSError(f"initialize takes an IFS or 'auto', got {pattern!r} (patterns by name: ifslib.patterns.by_name)")
-        base = auto_start(target, maps, depth, seed=seed or 0)
-        new = base.points.detach().double().numpy()
-    else:
-        if maps is not None or depth is not None:
-            raise IFSError("maps and depth are for initialize('auto', ...); set a pattern's depth on the pattern")
-        base, new = pattern, _placed(pattern, target)
-    if jitter:
-        rng = np.random.default_rng(seed)
-        free = [i for i in range(base.n_points) if i not in base.fixed]
-        new[free] = new[free] + rng.uniform(-jitter, jitter, size=(len(free), 2))
-    return base.clone(torch.as_tensor(new, dtype=base.points.dtype))
+        plan = discover(target, maps, depth, seed=seed or 0)
+        return plan.with_start(plan.start.jittered(jitter, np.random.default_rng(seed)))
+    if maps is not None or depth is not None:
+        raise IFSError("maps and depth are for initialize('auto', ...); set a pattern's depth on the pattern")
+    return pattern.clone(_placed(pattern, target)).jittered(jitter, np.random.default_rng(seed))
 
 
 def _placed(ifs: IFS, target: Target) -> np.ndarray:

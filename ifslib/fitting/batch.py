@@ -15,7 +15,6 @@ little there (docs/results/fit-many.md); the default strategy runs its starts on
 """
 from __future__ import annotations
 
-import copy
 import math
 import time
 import warnings
@@ -28,7 +27,8 @@ from tqdm.auto import tqdm
 from ..raster.distance import distance_fields, resolve_device
 from ..errors import IFSError, check_int
 from ..threads import refresh as refresh_threads
-from .run import FitResult
+from .options import RunOptions, split_settings
+from .result import FitResult, History
 from ..geometry.ifs import IFS, check_depth
 from ..scoring.losses import loss as loss_fn
 from ..geometry.rules import MIN_LENGTH, MIN_SINGULAR, check_gradient_mode, rule_lengths, rule_maps, singular_values
@@ -44,14 +44,7 @@ def _starts(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], seeds: list[int], j
     if callable(ifs) and not isinstance(ifs, IFS):
         starts = [ifs(seed) for seed in seeds]
     elif isinstance(ifs, IFS):
-        starts = []
-        for seed in seeds:
-            pts = ifs.points.detach().double().numpy().copy()
-            if jitter:
-                free = [i for i in range(len(pts)) if i not in ifs.fixed]
-                noise = np.random.default_rng(seed).uniform(-jitter, jitter, size=pts.shape)
-                pts[free] += noise[free]
-            starts.append(ifs.clone(torch.as_tensor(pts, dtype=ifs.points.dtype)))
+        starts = [ifs.jittered(jitter, np.random.default_rng(seed)) for seed in seeds]
     else:
         starts = list(ifs)
         if len(starts) != len(seeds):
@@ -78,10 +71,9 @@ def _valid(pattern: IFS, points: torch.Tensor, depth: int, gradient: str) -> tor
     return ok
 
 
-def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, seeds: Sequence[int] = range(8),
-             steps: int = 1500, lr: float = 0.003, loss: str | Callable = "multiscale_pixel", depth: int | None = None,
-             sigma: float | None = None, levels: int = 5, device: str = "auto", gradient: str = "exact",
-             max_rollbacks: int = 20, jitter: float = 0.0, progress: bool = True) -> list[FitResult]:
+def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, *, seeds: Sequence[int] = range(8),
+             steps: int = 1500, options: RunOptions | None = None, jitter: float = 0.0, progress: bool = True,
+             **settings) -> list[FitResult]:
     """Fit many seeded starts of one pattern at once, with a leading batch dimension.
 
     Parameters
@@ -92,10 +84,14 @@ def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, se
     target : Target
     seeds : sequence of int
         One fit per seed; the seed picks the start (and seeds torch, as in `ifslib.fit`).
-    steps, lr, loss, depth, sigma, levels, gradient, max_rollbacks
-        As in `ifslib.fit` (method ``"fast"``).
-    device : {"auto", "cpu", "cuda"}
-        Where the batch is computed; ``"auto"`` uses CUDA when present.
+    steps : int
+        As in `ifslib.fit`.
+    options : RunOptions, optional
+        As in `ifslib.fit`, of which a batch uses ``lr``, ``loss``, ``depth`` (an integer),
+        ``sigma``, ``levels``, ``gradient``, ``max_rollbacks`` and ``device`` (``"auto"`` uses CUDA
+        when present); the others must keep their defaults.
+    **settings
+        Those fields by name, over ``options``.
     jitter : float
         With one IFS: half-width of the uniform jitter ``U(-jitter, jitter)`` added to its free
         points, drawn from ``numpy.random.default_rng(seed)``.
@@ -118,112 +114,138 @@ def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, se
     if not seeds:
         raise IFSError("fit_many needs at least one seed")
     check_int(steps, "steps", 0)
+    options, _ = split_settings(settings, options, None)
+    _check_batchable(options)
     refresh_threads()  # in auto mode: the cores free now (see ifslib.threads)
-    check_int(max_rollbacks, "max_rollbacks", 1)
-    check_gradient_mode(gradient)
-    if not (isinstance(lr, (int, float)) and lr > 0 and math.isfinite(lr)):
-        raise IFSError(f"lr must be a finite number > 0, got {lr!r}")
+    check_gradient_mode(options.gradient)
+    lr, loss, sigma, levels, gradient = options.lr, options.loss, options.sigma, options.levels, options.gradient
+    max_rollbacks = options.max_rollbacks
     starts = _starts(ifs, seeds, jitter)
     pattern = starts[0]
-    depth = pattern.depth if depth is None else check_depth(depth)
-    dev = resolve_device(device)
+    depth = pattern.depth if options.depth is None else check_depth(options.depth)
+    dev = resolve_device(options.device)
     n = len(seeds)
     torch.manual_seed(seeds[0])
 
-    points = torch.stack([s.points.detach() for s in starts]).to(dev)
-    exp_avg, exp_avg_sq = torch.zeros_like(points), torch.zeros_like(points)
-    count = torch.zeros(n, dtype=torch.float64, device=dev)          # Adam's step count per item
-    rates = torch.full((n,), float(lr), dtype=torch.float64, device=dev)
-    previous = [points.clone(), exp_avg.clone(), exp_avg_sq.clone(), count.clone()]
-    best_loss = torch.full((n,), math.inf, dtype=torch.float64, device=dev)
-    best_step = torch.full((n,), -1, dtype=torch.long, device=dev)
-    best_points = points.clone()
-    active = torch.ones(n, dtype=torch.bool, device=dev)
-    consecutive = torch.zeros(n, dtype=torch.long, device=dev)
-    histories = [{"step": [], "loss": [], "seconds": [], "rollbacks": []} for _ in seeds]
-    fixed = list(pattern.fixed)
-    beta1, beta2 = BETAS
-
+    state = _Batch(torch.stack([s.points.detach() for s in starts]).to(dev), lr)
+    histories = [History() for _ in seeds]
     bar = tqdm(total=steps, disable=not progress, desc=f"fit_many ({n})", unit="step")
     for step in range(steps):
-        if not bool(active.any()):
+        if not bool(state.active.any()):
             break
         t0 = time.perf_counter()
         with torch.no_grad():
-            valid = _valid(pattern, points, depth, gradient)
+            valid = _valid(pattern, state.points, depth, gradient)
         # items whose points are invalid are evaluated at their last good points, then rolled back
-        work = torch.where(valid[:, None, None], points, previous[0]).requires_grad_(True)
+        work = torch.where(valid[:, None, None], state.points, state.previous[0]).requires_grad_(True)
         field = distance_fields(pattern, work, target.size, depth, gradient=gradient)
         values = loss_fn(field, target, loss, sigma=sigma, levels=levels)
         finite = torch.isfinite(values)
         torch.where(finite, values, 0).sum().backward()
-        grad = work.grad
-        ok = active & valid & finite & torch.isfinite(grad).flatten(1).all(dim=1)
-        fail = active & ~ok
+        ok = state.active & valid & finite & torch.isfinite(work.grad).flatten(1).all(dim=1)
+        fail = state.active & ~ok
         with torch.no_grad():
-            if bool(fail.any()):
-                # roll back to the points before the step that led here, and halve the learning rate
-                f = fail[:, None, None]
-                points = torch.where(f, previous[0], points)
-                exp_avg = torch.where(f, previous[1], exp_avg)
-                exp_avg_sq = torch.where(f, previous[2], exp_avg_sq)
-                count = torch.where(fail, previous[3], count)
-                rates = torch.where(fail, rates * 0.5, rates)
-                consecutive = torch.where(fail, consecutive + 1, consecutive)
-            consecutive = torch.where(ok, 0, consecutive)
-            current = values.detach().double()
-            better = ok & (current < best_loss)
-            best_loss = torch.where(better, current, best_loss)
-            best_step = torch.where(better, step, best_step)
-            best_points = torch.where(better[:, None, None], points, best_points)
-            k = ok[:, None, None]
-            previous = [torch.where(k, points, previous[0]), torch.where(k, exp_avg, previous[1]),
-                        torch.where(k, exp_avg_sq, previous[2]), torch.where(ok, count, previous[3])]
-            grad = torch.where(k, grad, 0)
-            if fixed:
-                grad[:, fixed] = 0
-            # Adam, item by item, in the order of operations of torch.optim.Adam (single-tensor path)
-            new_count = count + 1
-            new_avg = exp_avg.lerp(grad, 1 - beta1)
-            new_avg_sq = exp_avg_sq.mul(beta2).addcmul(grad, grad, value=1 - beta2)
-            step_size = (rates / (1 - beta1 ** new_count)).to(points.dtype)[:, None, None]
-            root = ((1 - beta2 ** new_count) ** 0.5).to(points.dtype)[:, None, None]
-            moved = points - step_size * new_avg / (new_avg_sq.sqrt() / root + EPS)
-            points = torch.where(k, moved, points)
-            exp_avg = torch.where(k, new_avg, exp_avg)
-            exp_avg_sq = torch.where(k, new_avg_sq, exp_avg_sq)
-            count = torch.where(ok, new_count, count)
-        seconds = (time.perf_counter() - t0) / n
-        values_list, ok_list, fail_list = current.tolist(), ok.tolist(), fail.tolist()
-        for i in range(n):
-            if ok_list[i]:
-                histories[i]["step"].append(step)
-                histories[i]["loss"].append(values_list[i])
-                histories[i]["seconds"].append(seconds)
-            elif fail_list[i]:
-                reason = ("a rule became degenerate or non-contractive" if not bool(valid[i]) else
-                          f"loss is {values_list[i]}" if not bool(finite[i]) else "gradient is not finite")
-                histories[i]["rollbacks"].append({"step": step, "reason": reason, "lr": float(rates[i])})
-        stopped = fail & (consecutive >= max_rollbacks)
+            current = state.step(step, values.detach().double(), work.grad, ok, fail, list(pattern.fixed))
+        _record(histories, step, current, ok, fail, valid, finite, state.rates, (time.perf_counter() - t0) / n)
+        stopped = fail & (state.consecutive >= max_rollbacks)
         for i in stopped.nonzero().flatten().tolist():
             warnings.warn(f"fit_many: seed {seeds[i]} stopped at step {step}: {max_rollbacks} consecutive "
                           "rolled-back steps")
-        active &= ~stopped
+        state.active &= ~stopped
         if progress and step % 10 == 0 and bool(ok.any()):
             bar.set_postfix(median_loss=f"{current[ok].median().item():.3g}")
         bar.update(1)
     bar.close()
-
     results = []
     for i, start in enumerate(starts):
         history = histories[i]
-        history["cost"] = len(history["step"]) + len(history["rollbacks"])
-        best = start.clone(best_points[i].cpu())
-        best.meta["history"] = copy.deepcopy(history)
-        final = start.clone(points[i].cpu())
-        final.meta["history"] = copy.deepcopy(history)
-        results.append(FitResult(best, final, history, float(best_loss[i]), int(best_step[i])))
+        history.cost = len(history.step) + len(history.rollbacks)
+        best, final = start.clone(state.best_points[i].cpu()), start.clone(state.points[i].cpu())
+        results.append(FitResult(best, final, history, float(state.best_loss[i]), int(state.best_step[i])).record())
     return results
+
+
+class _Batch:
+    """The points, Adam's state and the best points of ``B`` fits, each item on its own."""
+
+    def __init__(self, points: torch.Tensor, lr: float):
+        n, dev = len(points), points.device
+        self.points = points
+        self.exp_avg, self.exp_avg_sq = torch.zeros_like(points), torch.zeros_like(points)
+        self.count = torch.zeros(n, dtype=torch.float64, device=dev)          # Adam's step count per item
+        self.rates = torch.full((n,), float(lr), dtype=torch.float64, device=dev)
+        self.previous = [points.clone(), self.exp_avg.clone(), self.exp_avg_sq.clone(), self.count.clone()]
+        self.best_loss = torch.full((n,), math.inf, dtype=torch.float64, device=dev)
+        self.best_step = torch.full((n,), -1, dtype=torch.long, device=dev)
+        self.best_points = points.clone()
+        self.active = torch.ones(n, dtype=torch.bool, device=dev)
+        self.consecutive = torch.zeros(n, dtype=torch.long, device=dev)
+
+    def step(self, step: int, current: torch.Tensor, grad: torch.Tensor, ok: torch.Tensor, fail: torch.Tensor,
+             fixed: list[int]) -> torch.Tensor:
+        """Roll back the failed items, keep the best points, take Adam's step on the others; returns ``current``."""
+        if bool(fail.any()):
+            self.rollback(fail)
+        self.consecutive = torch.where(ok, 0, self.consecutive)
+        better = ok & (current < self.best_loss)
+        self.best_loss = torch.where(better, current, self.best_loss)
+        self.best_step = torch.where(better, step, self.best_step)
+        self.best_points = torch.where(better[:, None, None], self.points, self.best_points)
+        k = ok[:, None, None]
+        self.previous = [torch.where(k, self.points, self.previous[0]), torch.where(k, self.exp_avg, self.previous[1]),
+                         torch.where(k, self.exp_avg_sq, self.previous[2]), torch.where(ok, self.count, self.previous[3])]
+        grad = torch.where(k, grad, 0)
+        if fixed:
+            grad[:, fixed] = 0
+        self.adam(grad, ok)
+        return current
+
+    def rollback(self, fail: torch.Tensor) -> None:
+        """The failed items back to the points before the step that led there, at half their learning rate."""
+        f = fail[:, None, None]
+        self.points = torch.where(f, self.previous[0], self.points)
+        self.exp_avg = torch.where(f, self.previous[1], self.exp_avg)
+        self.exp_avg_sq = torch.where(f, self.previous[2], self.exp_avg_sq)
+        self.count = torch.where(fail, self.previous[3], self.count)
+        self.rates = torch.where(fail, self.rates * 0.5, self.rates)
+        self.consecutive = torch.where(fail, self.consecutive + 1, self.consecutive)
+
+    def adam(self, grad: torch.Tensor, ok: torch.Tensor) -> None:
+        """Adam, item by item, in the order of operations of torch.optim.Adam (single-tensor path)."""
+        beta1, beta2 = BETAS
+        k = ok[:, None, None]
+        new_count = self.count + 1
+        new_avg = self.exp_avg.lerp(grad, 1 - beta1)
+        new_avg_sq = self.exp_avg_sq.mul(beta2).addcmul(grad, grad, value=1 - beta2)
+        step_size = (self.rates / (1 - beta1 ** new_count)).to(self.points.dtype)[:, None, None]
+        root = ((1 - beta2 ** new_count) ** 0.5).to(self.points.dtype)[:, None, None]
+        moved = self.points - step_size * new_avg / (new_avg_sq.sqrt() / root + EPS)
+        self.points = torch.where(k, moved, self.points)
+        self.exp_avg = torch.where(k, new_avg, self.exp_avg)
+        self.exp_avg_sq = torch.where(k, new_avg_sq, self.exp_avg_sq)
+        self.count = torch.where(ok, new_count, self.count)
+
+
+def _record(histories: list[History], step: int, current, ok, fail, valid, finite, rates, seconds: float) -> None:
+    """Each item's step in its history: its loss, or why it was rolled back."""
+    values_list, ok_list, fail_list = current.tolist(), ok.tolist(), fail.tolist()
+    for i, history in enumerate(histories):
+        if ok_list[i]:
+            history.step.append(step)
+            history.loss.append(values_list[i])
+            history.seconds.append(seconds)
+        elif fail_list[i]:
+            reason = ("a rule became degenerate or non-contractive" if not bool(valid[i]) else
+                      f"loss is {values_list[i]}" if not bool(finite[i]) else "gradient is not finite")
+            history.rollbacks.append({"step": step, "reason": reason, "lr": float(rates[i])})
+
+
+def _check_batchable(options: RunOptions) -> None:
+    """Refuse the settings a batch does not carry (a batch renders at a fixed depth with the fast method)."""
+    unsupported = {name: getattr(options, name) for name in ("method", "keep_every", "crossing_weight", "tol", "patience")
+                   if getattr(options, name) != getattr(RunOptions(), name)}
+    if unsupported:
+        raise IFSError(f"fit_many does not take {', '.join(unsupported)}: fit those starts one by one with ifslib.fit")
 
 
 __all__ = ["fit_many"]

@@ -30,10 +30,17 @@ composition ``T_{w_1} o ... o T_{w_k}`` of a word ``w``, and let ``c`` be any po
    window point has ``d(x, A) <= U = min_w (|m - p_w| + e_w) + h`` (``m`` the window's centre, ``h``
    its half-diagonal, the minimum over the current cover). A node whose ball ``B(p_w, e_w)`` lies
    farther than ``U`` from the window holds no window point's nearest point of ``A``, so its branch
-   is dropped and the bound of 3 still holds at every point of the window. This is what lets a
-   64x zoom refine only the leaves near the window.
+   is dropped and the bound of 3 still holds at every point of the window. The same holds block by
+   block (`ifslib.geometry.reach`): each block ``b`` of the window has its own bound ``U_b``, and
+   a node is dropped when it lies farther than ``U_b + 2ε`` (beyond its ball) from every block. A
+   leaf of such a node lies within ``e_w + ε`` of ``p_w``, so it is farther than ``U_b + ε`` from
+   every pixel, while the leaf that covers the pixel's nearest point of ``A`` is within
+   ``d(x, A) + ε <= U_b + ε``: it wins no pixel, and the field is the same as without the blocks,
+   bit for bit. The leaves then follow the window's pixels (about 2.4 million for a 256² window of
+   the fern at any zoom from 10x to 1000x), not the whole attractor's at the window's scale.
 
-The expansion runs with no autograd and keeps each leaf's word (`AttractorLeaves.words`);
+The expansion runs with no autograd and keeps each leaf's word as a link to its parent
+(`ifslib.geometry.words.WordTree`; `AttractorLeaves.words` spells them out);
 `leaf_points` recomputes the points of the few leaves that win some pixel with autograd, so the
 gradient is exact (that of ``|x - T_w(c)|`` through the winner) and memory is O(pixels + leaves).
 """
@@ -47,6 +54,8 @@ import torch
 
 from ..errors import IFSError, LeafBudgetError, check_positive
 from .ifs import IFS, check_depth
+from .reach import WindowReach
+from .words import DenseWords, WordTree
 from .rules import rule_maps, singular_values
 
 #: The name of the depth that means "the attractor itself" (instead of an integer K).
@@ -201,9 +210,8 @@ class AttractorLeaves:
         ``(L, 2)`` leaf points ``T_w(c)``, no gradient (for the nearest-leaf search).
     error : torch.Tensor
         ``(L,)`` each leaf's bound ``e_w = ||L_w|| R``: ``T_w(A)`` lies within ``e_w`` of its point.
-    words : torch.Tensor
-        ``(L, K)`` uint8 (int16 above 255 maps): each leaf's word, padded with ``m`` (the identity)
-        to the longest word's length ``K``.
+    tree : DenseWords or WordTree
+        Each leaf's word (`words` spells them all out; `leaf_points` only those it needs).
     maps : torch.Tensor
         ``(m, 3, 3)`` the rules' maps, with autograd (what `leaf_points` differentiates).
     centre : torch.Tensor
@@ -216,7 +224,7 @@ class AttractorLeaves:
 
     points: torch.Tensor
     error: torch.Tensor
-    words: torch.Tensor
+    tree: DenseWords | WordTree
     maps: torch.Tensor
     centre: torch.Tensor
     radius: float
@@ -226,17 +234,23 @@ class AttractorLeaves:
         return self.points.shape[0]
 
     @property
+    def words(self) -> torch.Tensor:
+        """``(L, K)`` uint8 (int16 above 255 maps): each leaf's word, padded with ``m`` (the identity) to the
+        longest word's length ``K``."""
+        return self.tree.all()
+
+    @property
     def depth(self) -> int:
         """The longest word's length."""
-        return self.words.shape[1]
+        return self.tree.length
 
 
-def _to_window(points: torch.Tensor, window: tuple[float, float, float, float]) -> torch.Tensor:
-    """Distance from each of ``(N, 2)`` points to the box ``window`` (0 inside): ``(N,)``."""
-    x0, y0, x1, y1 = window
-    dx = torch.clamp(torch.maximum(x0 - points[:, 0], points[:, 0] - x1), min=0)
-    dy = torch.clamp(torch.maximum(y0 - points[:, 1], points[:, 1] - y1), min=0)
-    return torch.hypot(dx, dy)
+def _budget_error(tolerance: float, budget: int, level: int, open_nodes: int, m: int) -> LeafBudgetError:
+    return LeafBudgetError(
+        f"the attractor at a tolerance of {tolerance:.3g} plane units needs more than {budget:,} leaves "
+        f"(at word length {level + 1}, {open_nodes:,} branches of {m} maps are still coarser than "
+        f"it): raise max_leaves (or IFSLIB_MAX_LEAVES) or the tolerance, draw fewer pixels, or draw "
+        f"sampled leaves of the cut (method='sampled'), as fits of overlapping copies do")
 
 
 def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, float, float, float] | None = None,
@@ -269,56 +283,50 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     if window is not None:
         window = check_window(window)
     work, _, centre_grad, radius = _prepare(maps, rules)
-    m, dtype = work.shape[0], work.dtype
+    m, dtype, device = work.shape[0], work.dtype, work.device
     with torch.no_grad():
         centre = centre_grad.detach()
-        word_dtype = torch.uint8 if m < 255 else torch.int16
-        nodes = torch.eye(3, dtype=dtype, device=work.device)[None, :2]
-        words = torch.empty((1, 0), dtype=word_dtype, device=work.device)
-        digits = torch.arange(m, dtype=word_dtype, device=work.device)
-        done_pts, done_err, done_words = [], [], []
-        n_leaves = 0
-        if window is not None:
-            mid = torch.tensor([(window[0] + window[2]) / 2, (window[1] + window[3]) / 2], dtype=dtype,
-                               device=work.device)
-            half = math.hypot(window[2] - window[0], window[3] - window[1]) / 2
-            reach = math.inf  # U - h: the smallest |mid - p_w| + e_w seen so far
-        if radius <= tolerance:  # the whole attractor is within ε of c
+        tree = WordTree(m, torch.uint8 if m < 255 else torch.int16)
+        digits = torch.arange(m, dtype=tree.dtype, device=device)
+        nodes = torch.eye(3, dtype=dtype, device=device)[None, :2]
+        done_pts, done_err, done_level, done_node = [], [], [], []
+        blocks = None if window is None else WindowReach(window, 2 * tolerance, dtype, device)
+        if radius <= tolerance:  # the whole attractor is within ε of c: one leaf, the empty word
             nodes = nodes[:0]
-            done_pts.append(centre[None]), done_err.append(torch.tensor([radius], dtype=dtype)), done_words.append(words)
-            n_leaves = 1
-        level = 0
+            done_pts.append(centre[None]), done_err.append(torch.tensor([radius], dtype=dtype))
+            done_level.append(torch.zeros(1, dtype=torch.long, device=device))
+            done_node.append(torch.zeros(1, dtype=torch.long, device=device))
+        n_leaves, level, parents = len(done_pts), 0, torch.zeros(1, dtype=torch.long, device=device)
         while nodes.shape[0]:
             # Every branch still open has error > ε, so it ends in at least m leaves: the count is known
             # to exceed the budget before the next level is allocated.
             if n_leaves + nodes.shape[0] * m > budget:
-                raise LeafBudgetError(
-                    f"the attractor at a tolerance of {tolerance:.3g} plane units needs more than {budget:,} leaves "
-                    f"(at word length {level + 1}, {nodes.shape[0]:,} branches of {m} maps are still coarser than "
-                    f"it): raise max_leaves (or IFSLIB_MAX_LEAVES) or the tolerance, draw fewer pixels, or draw "
-                    f"sampled leaves of the cut (method='sampled'), as fits of overlapping copies do")
+                raise _budget_error(tolerance, budget, level, nodes.shape[0], m)
             level += 1
             children = _compose(nodes, work)
-            words = torch.cat([words.repeat_interleave(m, 0), digits.repeat(nodes.shape[0])[:, None]], 1)
+            parent, digit = parents.repeat_interleave(m), digits.repeat(nodes.shape[0])
             err = singular_values(children)[1] * radius
             pts = _apply(children, centre)
-            if window is not None:
-                reach = min(reach, float(((pts - mid).norm(dim=1) + err).min()))
-                keep = (_to_window(pts, window) - err <= reach + half).nonzero().flatten()
-                children, words, err, pts = children[keep], words[keep], err[keep], pts[keep]
+            if blocks is not None:
+                blocks.update(pts, err)
+                keep = blocks.keep(pts, err).nonzero().flatten()
+                children, parent, digit, err, pts = children[keep], parent[keep], digit[keep], err[keep], pts[keep]
+            tree.parents.append(parent), tree.digits.append(digit)
             leaf = err <= tolerance
             if leaf.any():
-                done_pts.append(pts[leaf]), done_err.append(err[leaf]), done_words.append(words[leaf])
-                n_leaves += int(leaf.sum())
-            open_ = ~leaf
-            nodes, words = children[open_], words[open_]
-        depth = max(w.shape[1] for w in done_words)
-        words = torch.cat([torch.nn.functional.pad(w, (0, depth - w.shape[1]), value=m) for w in done_words])
+                ids = leaf.nonzero().flatten()
+                done_pts.append(pts[ids]), done_err.append(err[ids]), done_node.append(ids)
+                done_level.append(torch.full_like(ids, level))
+                n_leaves += ids.numel()
+            parents = (~leaf).nonzero().flatten()
+            nodes = children[parents]
+        tree.level, tree.node = torch.cat(done_level), torch.cat(done_node)
+        tree.longest = int(tree.level.max())
         points, error = torch.cat(done_pts), torch.cat(done_err)
-        if window is not None:  # the final reach drops the early leaves that cannot win in the window
-            keep = (_to_window(points, window) - error <= reach + half).nonzero().flatten()
-            points, error, words = points[keep], error[keep], words[keep]
-    return AttractorLeaves(points, error, words, maps, centre_grad, radius, float(tolerance))
+        if blocks is not None:  # the final bounds drop the early leaves that cannot win in the window
+            keep = blocks.keep(points, error).nonzero().flatten()
+            points, error, tree = points[keep], error[keep], tree.subset(keep)
+    return AttractorLeaves(points, error, tree, maps, centre_grad, radius, float(tolerance))
 
 
 def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, float, float] | None = None, *,
@@ -340,8 +348,8 @@ def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, flo
     device, dtype, gradient
         As in `ifslib.geometry.leaves.expand`.
     samples : int, optional
-        Draw this many leaves of the cut at random (`sample_attractor`) instead of the whole cut
-        (then ``window`` and ``max_leaves`` play no part).
+        Draw this many leaves of the cut at random (`sample_attractor`, confined to ``window`` when
+        given) instead of the whole cut (then ``max_leaves`` plays no part).
 
     Returns
     -------
@@ -351,106 +359,23 @@ def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, flo
     points = ifs.points.to(device=device, dtype=dtype or ifs.points.dtype)
     maps = rule_maps(points, ifs.rules, gradient)
     if samples is not None:
-        return sample_attractor(maps, tolerance, samples, rules=ifs.rules)
+        from .sampled import sample_attractor  # built on this module's cut
+
+        return sample_attractor(maps, tolerance, samples, rules=ifs.rules, window=window)
     return attractor_leaves(maps, tolerance, window, max_leaves, ifs.rules)
 
 
-_UNIFORMS: dict = {}
-#: `sample_attractor` refuses maps whose walkers would need longer words than this (a scale near 1:
-#: ``n`` walkers keep ``n`` uniforms per letter).
-MAX_WORD_LENGTH = 512
-
-
-def _uniforms(seed: int, n: int, cols: int) -> torch.Tensor:
-    """``(n, cols)`` float64 uniforms, the same for the same ``(seed, n)`` whatever was asked before.
-
-    Cached (a fit asks every step), and drawn column by column (walker ``i``'s uniform for letter ``j`` is the
-    generator's number ``j * n + i``), so a cache grown for longer words keeps the columns it had: drawn row by row,
-    growing it changed every uniform, and a fit's sampled leaves depended on the fits run before it in the process.
-    """
-    cached = _UNIFORMS.get((seed, n))
-    if cached is None or cached.shape[1] < cols:
-        generator = torch.Generator().manual_seed(seed)
-        cached = torch.rand(max(cols, 16), n, dtype=torch.float64, generator=generator).T.contiguous()
-        if len(_UNIFORMS) > 8:
-            _UNIFORMS.clear()
-        _UNIFORMS[(seed, n)] = cached
-    return cached[:, :cols]
-
-
-def _compose_rows(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-    """Row by row ``a[i] o b[i]``: ``(N, 2, 3)`` maps after ``(N, 3, 3)`` maps, ``(N, 2, 3)`` (elementwise, no batched matmul)."""
-    a0, a1 = a[:, :, 0:1], a[:, :, 1:2]  # (N, 2, 1)
-    return a0 * b[:, None, 0, :] + a1 * b[:, None, 1, :] + torch.nn.functional.pad(a[:, :, 2:3], (2, 0))
-
-
-def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0, rules=None) -> AttractorLeaves:
-    """``n`` leaves of the cut of `attractor_leaves`, drawn at random: a chaos game on the word tree.
-
-    Each of ``n`` walkers descends the word tree from the root, choosing map ``i`` with the chaos
-    game's probability (`chaos_probabilities`: in proportion to
-    ``|det L_i|``, with a floor), and stops at the first word with ``||L_w|| R <= tolerance``: it
-    ends on a leaf of the certified cut. So every sampled leaf is within ``tolerance`` of the
-    attractor (the field from them is never below ``d(x, A) - tolerance``), and, where the
-    walkers have come, the attractor is within ``tolerance`` of them; unlike the full cut, the
-    number of leaves is ``n`` however much the copies overlap (24 overlapping maps of a silhouette
-    need millions of leaves for the certified cut at a pixel's tolerance, and 65,536 samples
-    cover it several times per pixel). This is how Tu et al. (AAAI 2023) and Djeacoumar et al.
-    (CGF 2025) fit attractors; here every leaf keeps its word, so the gradient is exact for the
-    sampled points.
-
-    Parameters
-    ----------
-    maps : torch.Tensor
-        ``(m, 3, 3)`` contracting maps, with or without autograd.
-    tolerance : float
-        ``ε`` in plane units.
-    n : int
-        Number of walkers (leaves; some may repeat).
-    seed : int
-        Seeds the walkers' choices: the same seed gives the same digits, so leaves move smoothly
-        with the maps from one fit step to the next.
-    rules : sequence of Rule, optional
-        The rules the maps come from, named in the message of a map that does not contract.
-
-    Returns
-    -------
-    AttractorLeaves
-    """
-    tolerance = _plane_tolerance(tolerance)
-    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-        raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")
-    work, largest, centre_grad, radius = _prepare(maps, rules)
-    m, dtype, device = work.shape[0], work.dtype, work.device
-    with torch.no_grad():
-        centre = centre_grad.detach()
-        # the deepest a walker can go: every step shrinks its error by at least the largest scale
-        longest = max(1, math.ceil(math.log(tolerance / radius) / math.log(float(largest.max())))) if radius > tolerance else 0
-        if longest > MAX_WORD_LENGTH:
-            raise IFSError(f"a map contracts too slowly (largest scale {float(largest.max()):.6f}): sampled leaves would "
-                           f"need words of {longest} maps, more than {MAX_WORD_LENGTH}")
-        # inverse-CDF draws from fixed uniforms: the same seed gives the same words while the maps move
-        cdf = chaos_probabilities(work).cumsum(0)
-        digits = torch.searchsorted(cdf[:-1].contiguous(), _uniforms(int(seed), n, max(longest, 1)).contiguous()).to(device)
-        word_dtype = torch.uint8 if m < 255 else torch.int16
-        current = torch.eye(3, dtype=dtype, device=device)[None, :2].repeat(n, 1, 1)
-        length = torch.zeros(n, dtype=torch.long, device=device)
-        active = torch.full((n,), radius > tolerance, dtype=torch.bool, device=device)
-        error = torch.full((n,), radius, dtype=dtype, device=device)
-        for k in range(longest):
-            idx = active.nonzero().flatten()
-            if not idx.numel():
-                break
-            composed = _compose_rows(current[idx], work[digits[idx, k]])
-            current[idx] = composed
-            length[idx] = k + 1
-            error[idx] = singular_values(composed)[1] * radius
-            active[idx] = error[idx] > tolerance
-        depth = int(length.max())
-        steps = torch.arange(depth, device=device)
-        words = torch.where(steps[None] < length[:, None], digits[:, :depth], m).to(word_dtype)
-        points = _apply(current, centre)
-    return AttractorLeaves(points, error, words, maps, centre_grad, radius, float(tolerance))
+def _word_maps(maps: torch.Tensor, words: torch.Tensor) -> torch.Tensor:
+    """The maps ``T_w`` ``(N, 2, 3)`` of words ``(N, K)`` (padded with ``m``, the identity), from ``(m, 3, 3)`` maps."""
+    eye = torch.eye(3, dtype=maps.dtype, device=maps.device)[None]
+    table = torch.cat([maps, eye])  # word digit m is the identity (padding)
+    digits = words.long()
+    if digits.shape[1] == 0:
+        return eye[:, :2].expand(words.shape[0], 2, 3)
+    composed = table.index_select(0, digits[:, 0])[:, :2]
+    for j in range(1, digits.shape[1]):
+        composed = composed @ table.index_select(0, digits[:, j])
+    return composed
 
 
 def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
@@ -462,18 +387,12 @@ def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
         ``(N, 2)``: the same values as ``leaves.points[index]`` (up to rounding), differentiable
         in the control points the maps were built from.
     """
-    maps = leaves.maps
-    eye = torch.eye(3, dtype=maps.dtype, device=maps.device)[None]
-    table = torch.cat([maps, eye])  # word digit m is the identity (padding)
-    digits = leaves.words.index_select(0, index).long()
+    digits = leaves.tree.select(index)
     if digits.shape[1] == 0:
         return leaves.centre.expand(index.numel(), 2)
-    composed = table.index_select(0, digits[:, 0])[:, :2]
-    for j in range(1, digits.shape[1]):
-        composed = composed @ table.index_select(0, digits[:, j])
-    return _apply(composed, leaves.centre)
+    return _apply(_word_maps(leaves.maps, digits), leaves.centre)
 
 
 __all__ = ["ATTRACTOR", "AttractorLeaves", "CHAOS_FLOOR", "chaos_probabilities", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
            "attractor_ball", "attractor_leaves", "check_contractive_maps", "check_depth_or_attractor",
-           "check_tolerance", "check_window", "expand_attractor", "is_attractor", "leaf_points", "sample_attractor"]
+           "check_tolerance", "check_window", "expand_attractor", "is_attractor", "leaf_points"]

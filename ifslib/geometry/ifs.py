@@ -8,6 +8,7 @@ from __future__ import annotations
 import copy
 from typing import Any, Iterable, Sequence
 
+import numpy as np
 import torch
 
 from ..errors import IFSError, check_int, check_positive
@@ -161,6 +162,13 @@ class IFS:
         new.meta = copy.deepcopy(self.meta)
         new.validate()
         return new
+
+    def jittered(self, jitter: float, rng: np.random.Generator) -> "IFS":
+        """A copy with each free point (not in ``fixed``) moved by ``U(-jitter, jitter)`` per coordinate, drawn from ``rng``."""
+        points = self.points.detach().double().numpy().copy()
+        free = [i for i in range(self.n_points) if i not in self.fixed]
+        points[free] += rng.uniform(-jitter, jitter, size=(len(free), 2))
+        return self.clone(torch.as_tensor(points, dtype=self.points.dtype))
 
     def to(self, dtype: torch.dtype) -> "IFS":
         """A copy whose points have floating type ``dtype``."""

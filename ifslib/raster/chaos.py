@@ -18,8 +18,10 @@ import numpy as np
 import torch
 
 from ..errors import IFSError, check_int
-from ..geometry.attractor import chaos_probabilities, check_contractive_maps
+from ..geometry.attractor import attractor_ball, chaos_probabilities, check_contractive_maps, check_window
 from ..geometry.ifs import IFS
+from ..geometry.reach import to_window
+from ..geometry.rules import singular_values
 from ..geometry.leaves import check_bytes
 from .nearest import nearest_point, pixel_centres
 
@@ -28,6 +30,18 @@ CHAINS = 1024
 
 #: Points of the chaos game a picture uses by default.
 DEFAULT_POINTS = 1_000_000
+
+#: A window's chaos game keeps the points of the window grown by this share of its size on each side,
+#: so that a pixel near its edge still finds the points just outside.
+WINDOW_MARGIN = 0.25
+
+#: A window's chaos game maps its points into copies whose balls are this share of the window's
+#: half-diagonal: smaller copies waste fewer points outside the window (1,000,000 points of a 1000x window
+#: of the fern in 0.5 s of CPU, against 0.9 s with copies of the whole half-diagonal).
+COPY_SHARE = 0.25
+
+#: A window's chaos game draws at most this many rounds of points before it returns what it has.
+MAX_ROUNDS = 64
 
 # Rough bytes per point (the float64 points, their copy for the KD-tree, the tree) and per pixel
 # (its centre, its nearest point's index and distance), rounded up.
@@ -85,8 +99,85 @@ def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
     return out.reshape(-1, 2)[:n]
 
 
+def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
+    """The copies ``T_w(A)`` of the attractor that may meet ``window``, each a small share of its size.
+
+    The words are expanded from the root while their ball ``B(T_w(c), ||L_w|| R)`` (which holds
+    ``T_w(A)``; `ifslib.geometry.attractor.attractor_ball`) meets the window and is wider than
+    `COPY_SHARE` of the window's half-diagonal (small copies waste fewer points outside the window):
+    a branch whose ball misses the window holds no point of it. The words kept form
+    a cut of every branch that meets the window, so the invariant measure restricted to the window
+    is that of the mixture of ``T_w`` applied to chaos-game points, ``T_w`` chosen with the word's
+    probability.
+
+    Returns
+    -------
+    maps : numpy.ndarray
+        ``(K, 2, 3)`` float64 composed maps ``T_w`` (K may be 0: the window misses the attractor).
+    weight : numpy.ndarray
+        ``(K,)`` each word's probability under `chaos_probabilities`.
+    """
+    window = check_window(window)
+    with torch.no_grad():
+        maps = ifs.to(torch.float64).maps()
+        check_contractive_maps(maps, ifs.rules)
+        centre, radius = attractor_ball(maps)
+        p = chaos_probabilities(maps)
+        scale = COPY_SHARE * math.hypot(window[2] - window[0], window[3] - window[1]) / 2
+        nodes, weight = torch.eye(3, dtype=torch.float64)[None, :2], torch.ones(1, dtype=torch.float64)
+        done_maps, done_weight = [], []
+        while nodes.shape[0]:
+            err = singular_values(nodes)[1] * radius
+            meets = to_window((nodes[..., :2] @ centre) + nodes[..., 2], window) <= err
+            small = meets & (err <= scale)
+            done_maps.append(nodes[small]), done_weight.append(weight[small])
+            grow = meets & ~small
+            nodes = (nodes[grow][:, None] @ maps[None]).reshape(-1, 2, 3)
+            weight = (weight[grow][:, None] * p[None]).reshape(-1)
+        return torch.cat(done_maps).numpy(), torch.cat(done_weight).numpy()
+
+
+def chaos_window(ifs: IFS, n: int, window, seed: int = 0) -> np.ndarray:
+    """Up to ``n`` points of the attractor inside ``window``, by the chaos game mapped into the copies that meet it.
+
+    Each round maps chaos-game points (`chaos_game`) by copies ``T_w`` of `window_copies`, chosen
+    with their words' probabilities, and keeps those inside the window: points of the attractor
+    (up to float64 rounding), spread as the chaos game's own points are, however small the window.
+    Stops at ``n`` points or after `MAX_ROUNDS` rounds (a window that barely meets the attractor).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(k, 2)`` float64 points, ``k <= n`` (0 when the window misses the attractor).
+    """
+    check_int(n, "the number of chaos-game points", 1)
+    _check_memory(n)
+    window = check_window(window)
+    maps, weight = window_copies(ifs, window)
+    if not len(maps):
+        return np.empty((0, 2))
+    rng = np.random.default_rng(seed)
+    out, count = [], 0
+    for k in range(MAX_ROUNDS):
+        points = chaos_game(ifs, n, seed + 1 + k)
+        pick = maps[rng.choice(len(maps), size=n, p=weight / weight.sum())]
+        mapped = np.einsum("nij,nj->ni", pick[:, :, :2], points) + pick[:, :, 2]
+        inside = ((mapped >= window[:2]) & (mapped <= window[2:])).all(1)
+        out.append(mapped[inside])
+        count += int(inside.sum())
+        if count >= n:
+            break
+    return np.concatenate(out)[:n]
+
+
+def _grown(window, share: float) -> tuple[float, float, float, float]:
+    x0, y0, x1, y1 = check_window(window)
+    dx, dy = share * (x1 - x0), share * (y1 - y0)
+    return x0 - dx, y0 - dy, x1 + dx, y1 + dy
+
+
 def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, window=None) -> torch.Tensor:
-    """Distance from every pixel centre to the nearest of ``n`` chaos-game points: ``(size, size)`` float64, no gradient.
+    """Distance from every pixel centre to the nearest of ``n`` chaos-game points: ``(size, size)`` float64.
 
     Every chaos-game point lies on the attractor, so this is never below the distance to the
     attractor; it exceeds it only where the points have not yet come near (rarely visited parts).
@@ -98,11 +189,14 @@ def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, win
     n, seed
         As in `chaos_game`.
     window : (x0, y0, x1, y1), optional
-        The box of the plane the picture covers (the frame when None).
+        The box of the plane the picture covers (the frame when None). Its ``n`` points are those
+        of the window grown by `WINDOW_MARGIN` (`chaos_window`), so that a deep zoom gets as many
+        as the frame; where the window misses the attractor, the whole attractor's.
     """
     check_int(n, "the number of chaos-game points", 1)
     _check_memory(n, check_int(size, "size", 1) ** 2)
-    points = torch.from_numpy(chaos_game(ifs, n, seed))
+    found = np.empty((0, 2)) if window is None else chaos_window(ifs, n, _grown(window, WINDOW_MARGIN), seed)
+    points = torch.from_numpy(found if len(found) else chaos_game(ifs, n, seed))
     x, y = pixel_centres(size, dtype=torch.float64, window=window)
     return nearest_point(points, x, y)[1].view(size, size)
 
@@ -164,4 +258,5 @@ def chaos_occupancy(maps: torch.Tensor, size: int, chains: int = 48, steps: int 
     return marked[:, :-1].view(count, size, size) > 0
 
 
-__all__ = ["CHAINS", "DEFAULT_POINTS", "chaos_field", "chaos_game", "chaos_occupancy", "chaos_probabilities"]
+__all__ = ["CHAINS", "DEFAULT_POINTS", "MAX_ROUNDS", "WINDOW_MARGIN", "chaos_field", "chaos_game", "chaos_occupancy",
+           "chaos_probabilities", "chaos_window", "window_copies"]

@@ -37,6 +37,11 @@ FRAME = (-0.5, -0.5, 0.5, 0.5)
 
 METHODS = ("fast", "brute", "sampled")
 
+#: Below this pixel side (plane units), a float32 field of the attractor is computed in float64 and returned
+#: in float32: at a 100x zoom of 256² (pixels of 4e-5), float32's rounding through the words' maps already
+#: moves the field by 1/100 of a pixel, and by 7/100 at 1000x.
+FLOAT32_PIXEL = 1e-4
+
 #: Working memory of one brute-force chunk, in bytes.
 BRUTE_CHUNK_BYTES = 64 * 2**20
 
@@ -93,19 +98,25 @@ def attractor_leaves_for(ifs: IFS, size: int, window=None, tolerance: float = DE
     """The attractor's leaves for a ``size x size`` picture of ``window``: ``tolerance`` pixels of it, in plane units.
 
     ``sampled``: ``samples`` random leaves of the cut (two per pixel, between 16,384 and
-    `ifslib.geometry.attractor.DEFAULT_SAMPLES`, when None) instead of the whole cut.
+    `ifslib.geometry.attractor.DEFAULT_SAMPLES`, when None) instead of the whole cut, confined to
+    ``window`` when one is given.
     """
     size = check_size(size)
+    given = window
     window = FRAME if window is None else check_window(window)
     eps = check_tolerance(tolerance) * pixel_size(size, window)
-    if sampled and samples is None:
-        samples = min(DEFAULT_SAMPLES, max(1 << 14, 2 * size * size))
-    return expand_attractor(ifs, eps, window, max_leaves=max_leaves, device=device, dtype=dtype, gradient=gradient,
-                            samples=samples if sampled else None)
+    if sampled:
+        samples = min(DEFAULT_SAMPLES, max(1 << 14, 2 * size * size)) if samples is None else samples
+        return expand_attractor(ifs, eps, given, device=device, dtype=dtype, gradient=gradient, samples=samples)
+    return expand_attractor(ifs, eps, window, max_leaves=max_leaves, device=device, dtype=dtype, gradient=gradient)
 
 
 def _attractor_field(ifs: IFS, size: int, method: str, window, tolerance: float, dev: torch.device, dtype: torch.dtype,
                      gradient: str, max_leaves: int | None, samples: int | None) -> torch.Tensor:
+    if dtype == torch.float32 and window is not None and pixel_size(size, window) < FLOAT32_PIXEL:
+        # float32 rounds a leaf's point to about 1e-7 of the plane: a fair share of such a pixel
+        return _attractor_field(ifs, size, method, window, tolerance, dev, torch.float64, gradient, max_leaves,
+                                samples).to(dtype)
     leaves = attractor_leaves_for(ifs, size, window, tolerance, device=dev, dtype=dtype, gradient=gradient,
                                   max_leaves=max_leaves, sampled=method == "sampled", samples=samples)
     x, y = pixel_centres(size, dev, dtype, window)
@@ -141,8 +152,9 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
         ``"fast"`` (default): exact nearest-leaf search, then autograd through the winner only.
         ``"brute"``: every leaf at every pixel (the paper's algorithm), the reference.
         ``"sampled"`` (attractor only): ``samples`` leaves of the certified cut drawn at random
-        (`ifslib.geometry.attractor.sample_attractor`), for attractors of many overlapping maps
-        whose certified cut has millions of leaves.
+        (`ifslib.geometry.sampled.sample_attractor`; confined to ``window`` when given), for
+        attractors of many overlapping maps whose certified cut has millions of leaves, and for
+        deep zooms into them.
     device : {"auto", "cpu", "cuda"} or torch.device
         ``"auto"`` uses CUDA when present.
     dtype : torch.dtype, optional
@@ -156,7 +168,9 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
     window : (x0, y0, x1, y1), optional
         For the attractor: the box of the plane the picture covers (the frame ``[-0.5, 0.5]^2``
         when None); its leaves are refined for its own pixels, so a small window shows detail
-        the frame's pixels cannot.
+        the frame's pixels cannot, at a cost that follows its pixels, not the zoom (the whole
+        window is certified within ``tolerance``; see `ifslib.geometry.attractor`, step 4).
+        Pixels smaller than `FLOAT32_PIXEL` are computed in float64 whatever ``dtype``.
     max_leaves : int, optional
         For the attractor: the leaf budget (`ifslib.geometry.attractor.DEFAULT_MAX_LEAVES`).
     samples : int, optional

@@ -111,7 +111,7 @@ def _fit_cell(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
         rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
                      "chamfer": m["chamfer"], "iou": m["iou"], "crossings": self_crossings(result.best),
                      "point_error": point_error(result.best, patterns.koch()),
-                     "steps": result.history["cost"], "seconds": seconds,
+                     "steps": result.history.cost, "seconds": seconds,
                      "points": result.best.points.detach().tolist()})
     return rows
 

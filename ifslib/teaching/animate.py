@@ -20,6 +20,7 @@ from ..errors import IFSError
 from ..geometry.io import ifs_from_dict
 from ..raster.render import render
 from ..targets.target import Target
+from ..fitting.result import History
 
 GAP = 4  # pixels between the three panels
 
@@ -41,13 +42,14 @@ def frame(image: np.ndarray, target: np.ndarray, label: str = "") -> np.ndarray:
     return out
 
 
-def animate(history: dict, target: Target, path: str | os.PathLike, fps: int = 10, progress: bool = True) -> Path:
+def animate(history: History | dict, target: Target, path: str | os.PathLike, fps: int = 10, progress: bool = True) -> Path:
     """Write a fit's progress as an animation.
 
     Parameters
     ----------
-    history : dict
-        ``FitResult.history`` of a fit run with ``keep_every`` (it holds the pattern and the kept points).
+    history : History or dict
+        ``FitResult.history`` of a fit run with ``keep_every`` (it holds the pattern and the kept
+        points), or a saved fit's ``meta["history"]``.
     target : Target
         The fit's target; frames are rendered at its size.
     path : path
@@ -61,17 +63,19 @@ def animate(history: dict, target: Target, path: str | os.PathLike, fps: int = 1
     -------
     pathlib.Path
     """
-    if "snapshots" not in history or "pattern" not in history:
+    if isinstance(history, dict):
+        history = History.from_dict(history)
+    if history.snapshots is None or history.pattern is None:
         raise IFSError("this history holds no snapshots: run fit(..., keep_every=N) to keep them")
     path = Path(path)
     if path.suffix.lower() not in (".gif", ".mp4"):
         raise IFSError(f"animate writes .gif or .mp4 files, got {path.name!r}")
     if not (isinstance(fps, int) and fps > 0):
         raise IFSError(f"fps must be a positive integer, got {fps!r}")
-    pattern = ifs_from_dict(history["pattern"])
+    pattern = ifs_from_dict(history.pattern)
     truth = target.image.cpu().numpy().astype(float)
     frames = []
-    snaps = history["snapshots"]
+    snaps = history.snapshots
     for step, points in tqdm(list(zip(snaps["step"], snaps["points"])), desc="frames", disable=not progress):
         with torch.no_grad():
             image = render(pattern.clone(torch.tensor(points, dtype=pattern.points.dtype)), target.size).numpy()

@@ -1,13 +1,15 @@
 """The explorer: move an IFS's control points with sliders and watch the fractal, its maps and its fit.
 
-``Explorer()`` shows, for a pattern (Koch, the paper's Koch start, the carpet, a grid, a rosette or an
-``ifslib/1`` JSON file): the render, the outlines of the copies that make it up, every map's matrix
+``Explorer()`` shows, for a pattern (Koch, the paper's Koch start, the carpet, a grid, a rosette, the fern
+or an ``ifslib/1`` JSON file): the render, the outlines of the copies that make it up, every map's matrix
 with its contraction factor and, when a target is chosen, the loss and IoU, all redrawn when a
 slider moves. The ``attractor`` box draws the attractor itself instead of the drawing at the depth,
-and ``zoom`` (with its centre, ``zoom x`` and ``zoom y``) magnifies it up to 64 times, its leaves
-refined for the window's own pixels (`ifslib.render`'s ``window``). An invalid state (a zero-length segment, a map that does not contract) shows a
-readable warning instead of a traceback. Without a frontend (papermill, nbval) nothing waits for
-input: `Explorer.figure` draws the current state as a static matplotlib figure.
+and ``zoom`` (with its centre, ``zoom x`` and ``zoom y``) magnifies it up to 1024 times, its leaves
+refined for the window's own pixels (`ifslib.render`'s ``window``: certified within half a pixel, at a
+cost that follows the pixels; where overlapping copies make that cut exceed the leaf budget, the chaos
+game confined to the window draws it instead). An invalid state (a zero-length segment, a map that
+does not contract) shows a readable warning instead of a traceback. Without a frontend (papermill,
+nbval) nothing waits for input: `Explorer.figure` draws the current state as a static matplotlib figure.
 
 Needs ``ipywidgets`` (installed with ``pip install -e '.[dev]'``).
 """
@@ -28,7 +30,8 @@ except ImportError as exc:  # pragma: no cover - depends on the environment
 
 from . import figures
 from ..raster.distance import distance_field, pixel_size
-from ..errors import IFSError
+from ..errors import IFSError, LeafBudgetError
+from ..raster.chaos import chaos_field
 from ..geometry.ifs import IFS
 from ..geometry.io import load_ifs
 from ..scoring.losses import loss as loss_fn
@@ -37,7 +40,10 @@ from ..geometry.patterns import by_name
 from ..raster.render import shade
 from ..targets.target import Target, load_target
 
-PATTERNS = ("koch", "koch_paper", "carpet", "grid3", "rosette6", "JSON file")
+PATTERNS = ("koch", "koch_paper", "carpet", "grid3", "rosette6", "fern", "JSON file")
+
+#: The deepest zoom, a power of 2: a 256² window of the fern at 1024x has about 3 million leaves.
+MAX_ZOOM_POWER = 10
 TARGETS = ("none", "koch", "sierpinski", "apple", "flower")
 
 
@@ -82,9 +88,10 @@ class Explorer:
         self.target = w.Dropdown(options=TARGETS, value=target, description="target")
         self.show_outlines = w.Checkbox(value=True, description="copy outlines")
         self.attractor = w.Checkbox(value=False, description="attractor")
-        self.zoom = w.FloatLogSlider(value=1.0, base=2, min=0, max=6, step=0.5, description="zoom")
-        self.zoom_x = w.FloatSlider(value=0.0, min=-0.5, max=0.5, step=0.005, description="zoom x")
-        self.zoom_y = w.FloatSlider(value=0.0, min=-0.5, max=0.5, step=0.005, description="zoom y")
+        self.zoom = w.FloatLogSlider(value=1.0, base=2, min=0, max=MAX_ZOOM_POWER, step=0.5, description="zoom")
+        # a 1024x window is 0.001 wide: its centre moves by a hundredth of it
+        self.zoom_x = w.FloatSlider(value=0.0, min=-0.5, max=0.5, step=1e-5, readout_format=".5f", description="zoom x")
+        self.zoom_y = w.FloatSlider(value=0.0, min=-0.5, max=0.5, step=1e-5, readout_format=".5f", description="zoom y")
         self.image = w.Image(format="png", width=size, height=size)
         self.info = w.HTML()
         self.warning = w.HTML()
@@ -195,8 +202,13 @@ class Explorer:
         limit = self.attractor.value or window is not None  # the attractor itself, possibly zoomed
         try:
             with torch.no_grad():
+                drawn_by = "the attractor's certified leaves" if limit else f"depth {ifs.depth}"
                 if limit:
-                    dist = distance_field(ifs, self.size, "attractor", window=window)
+                    try:
+                        dist = distance_field(ifs, self.size, "attractor", window=window)
+                    except LeafBudgetError:  # overlapping copies: the cut outgrows the budget, the chaos game does not
+                        dist = chaos_field(ifs, self.size, window=window).float()
+                        drawn_by = "the chaos game (the certified cut needs more leaves than the budget)"
                 else:
                     dist = distance_field(ifs, self.size)
                 image = shade(dist, self.sigma.value * pixel_size(self.size, window)).numpy()
@@ -204,7 +216,7 @@ class Explorer:
                             if self.show_outlines.value and ifs.depth > 0 and window is None else None)
                 target = None if window is not None else self._target()
                 state = {"image": image, "scales": ifs.scales().numpy(), "warning": None, "window": window,
-                         "attractor": limit}
+                         "attractor": limit, "drawn_by": drawn_by}
                 text = _maps_table(ifs)
                 if target is not None:
                     state["loss"] = float(loss_fn(dist, target, "multiscale_distance"))
@@ -215,7 +227,8 @@ class Explorer:
             return self.last
         self.image.value = self._png(image, outlines)
         state["seconds"] = time.perf_counter() - started
-        self.info.value = text + f"<p style='color:gray'>redrawn in {1000 * state['seconds']:.0f} ms</p>"
+        note = f" from {html.escape(drawn_by)}" if drawn_by.startswith("the chaos") else ""
+        self.info.value = text + f"<p style='color:gray'>redrawn in {1000 * state['seconds']:.0f} ms{note}</p>"
         self.warning.value = ""
         self.last = state
         return state

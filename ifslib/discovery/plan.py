@@ -1,0 +1,89 @@
+"""What discovery hands fitting: a `Plan`, the start read from the image and the candidates an
+automatic fit compares, made by `discover`.
+
+Fitting takes the plan as it is (`ifslib.fit` fits a plan with the ``auto`` strategy) and never
+calls back into discovery; the plan's ``pattern`` is the description the JSON file keeps.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..geometry.ifs import IFS
+from ..scoring.metrics import evaluate
+from ..targets.target import Target
+from . import fractal
+from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, candidates, choices,
+                   classify, fractal_start, interior_share)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A start read from an image, and what an automatic fit chooses among.
+
+    Attributes
+    ----------
+    start : IFS
+        The start chosen without fitting (the nearest candidate, or the fractal search's maps).
+    candidates : tuple of IFS
+        The starts the ``auto`` strategy probes and compares, ``start`` among them (a fractal's
+        plan has the start alone: its number of maps was chosen by the search).
+    kind : str
+        ``"curve"``, ``"shape"`` or ``"fractal"``.
+    pattern : dict
+        What ``start.meta["pattern"]`` records for the JSON file (kind, maps, depth; for a fractal
+        the search's table, rule and verdict; for a shape whose search failed, ``fractal_search``).
+    """
+
+    start: IFS
+    candidates: tuple[IFS, ...]
+    kind: str
+    pattern: dict
+
+    def with_start(self, start: IFS) -> Plan:
+        """The plan with ``start`` (the same pattern, moved: a jittered start) in place of its start."""
+        swapped = tuple(start if c is self.start else c for c in self.candidates)
+        return dataclasses.replace(self, start=start, candidates=swapped)
+
+    @property
+    def depth(self) -> int:
+        return self.start.depth
+
+
+def _searchable(target: Target, kind: str, maps: int | None) -> bool:
+    """Whether the figure is searched as a fractal first: a porous shape, large enough (`ifslib.discovery.auto`)."""
+    return (kind == "shape" and target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS
+            and interior_share(target) < POROUS_SHARE and (maps is None or maps <= fractal.DEFAULT.max_maps))
+
+
+def discover(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
+             seed: int = 0) -> Plan:
+    """The plan for ``target``: a fractal's maps when the figure is porous and the search finds them
+    (`ifslib.discovery.auto.fractal_start`), else the curve or shape starts of the (maps, depth)
+    pairs of `ifslib.discovery.auto.choices`, the nearest one the start.
+
+    Without fitting, "nearest" is the collage theorem's measure: the start drawn at the target's
+    size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
+    strategy compares the same candidates by fitting them instead.
+    """
+    kind = classify(target)
+    wanted = choices(kind, maps, depth)  # checks maps and depth before any search
+    searched = None
+    if _searchable(target, kind, maps):
+        start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed)
+        if start is not None:
+            return Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
+    options = candidates(target, wanted, primitive, seed, kind=kind)
+    if searched is not None:
+        for o in options:
+            o.meta["pattern"]["fractal_search"] = searched
+    if len(options) == 1:
+        start = options[0]
+    else:
+        scores = [evaluate(o, target, attractor=False) for o in options]
+        best = (np.argmin([s["chamfer"] for s in scores]) if kind == "curve"
+                else np.argmax([s["iou"] for s in scores]))
+        start = options[int(best)]
+    return Plan(start, tuple(options), kind, dict(start.meta["pattern"]))

@@ -1,0 +1,107 @@
+"""The ``auto`` strategy: a plan read from the image (`ifslib.discovery.plan.Plan`) fitted by
+comparing its candidates, coarse to fine (`ifslib.fitting.pyramid`).
+
+Each candidate start is fitted at the coarsest size of the pyramid for the same number of steps
+(`AUTO_PROBE_STEPS`), and the one with the lowest loss goes on through the pyramid's stages; a
+shape then gets a stage at full size with the pixel loss (`POLISH_LOSS`), which fills the slivers
+between copies, or, ending on the attractor (the default), the attractor stage with that loss. A
+fractal's plan (its maps and their number chosen by the search) goes straight to the attractor
+stage (`FRACTAL_STAGE_STEPS`, `FRACTAL_LOSS`). The plan is taken as it is: nothing here calls
+discovery again.
+"""
+from __future__ import annotations
+
+import time
+
+from ..errors import IFSError
+from ..discovery.plan import Plan
+from .options import RunOptions
+from .pyramid import PYRAMID_STAGE_STEPS, Climb, attractor_stage, climb, with_early_stop
+from .result import FitResult, Stage
+
+#: Steps each candidate gets at the coarsest size before they are compared.
+AUTO_PROBE_STEPS = 150
+#: A shape's last stage: the pixel loss counts every uncovered pixel, where the distance loss hardly
+#: sees the slivers between copies (apple at 256²: IoU 0.89 -> 0.97, docs/results/any-shape.md).
+POLISH_LOSS = "multiscale_pixel"
+#: A fractal's plan (maps placed by `ifslib.discovery.fractal.search` within a fraction of a pixel)
+#: gets one attractor stage of at most this many steps ...
+FRACTAL_STAGE_STEPS = 100
+#: ... with this loss: the single-scale pixel loss scores what the fit is judged by (the attractor's IoU) better
+#: than the multiscale pixel or a soft IoU loss, and quicker (docs/results/fractals.md).
+FRACTAL_LOSS = "pixel"
+
+
+def fit_plan(plan: Plan, frame: Climb, options: RunOptions, end_on_attractor: bool = True) -> FitResult:
+    """Fit ``plan`` (see the module docstring); ``history.auto`` lists the candidates and the one chosen.
+
+    The fitted IFSs' ``meta["pattern"]`` is the chosen candidate's description with ``chosen``.
+    """
+    if options.depth not in (None, plan.depth):
+        raise IFSError("an automatic start's candidates have depths of their own: fix the depth with "
+                       "ifslib.initialize('auto', target, depth=...)")
+    options = with_early_stop(options.replace(depth=None))
+    if plan.kind == "fractal":
+        return _fit_fractal(plan, frame, options, end_on_attractor)
+    tried = [_probe(frame, candidate, options) for candidate in plan.candidates]
+    # the lowest loss after the same number of steps; fewer maps win a tie
+    winner, chosen = min(tried, key=lambda rc: (rc[1]["loss"], rc[1]["maps"]))
+    label = f"{chosen['maps']} maps"
+    options = options.replace(depth=chosen["depth"])
+    result, stages = climb(frame, winner.best, options, label)
+    shape = plan.kind == "shape"
+    if shape and options.loss != POLISH_LOSS and not end_on_attractor:
+        # The distance loss brings the copies over the figure from afar, but it hardly sees the
+        # one-pixel slivers left between them; the pixel loss counts each uncovered pixel fully.
+        target = frame.target
+        result = frame.run(result.best, target, min(frame.steps, PYRAMID_STAGE_STEPS),
+                           options.replace(loss=POLISH_LOSS), f"{label} · {target.size}² · {POLISH_LOSS}")
+        stages.append(Stage(size=target.size, loss=POLISH_LOSS, steps=result.history.cost,
+                            stopped=result.history.stopped, best_loss=result.best_loss))
+    if end_on_attractor:
+        result, stage = attractor_stage(frame, result.best, options.replace(loss=POLISH_LOSS) if shape else options,
+                                        label)
+        stages.append(stage)
+    # the chosen candidate's own description, for the file (it decides nothing here)
+    choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}
+    return _finish(result, choice, stages, sum(c["steps"] for _, c in tried) + sum(s.steps for s in stages))
+
+
+def _probe(frame: Climb, candidate, options: RunOptions) -> tuple[FitResult, dict]:
+    """A candidate fitted at the coarsest size for `AUTO_PROBE_STEPS` steps, and its row in ``history.auto``."""
+    k, coarse = len(candidate.rules), frame.sizes[0]
+    t0 = time.perf_counter()
+    result = frame.run(candidate, frame.levels[coarse], min(frame.steps, AUTO_PROBE_STEPS),
+                       options.replace(lr=options.lr * frame.target.size / coarse),
+                       f"{k} maps, depth {candidate.depth} · {coarse}²")
+    return result, {"maps": k, "depth": candidate.depth, "loss": result.best_loss, "steps": result.history.cost,
+                    "seconds": time.perf_counter() - t0}
+
+
+def _fit_fractal(plan: Plan, frame: Climb, options: RunOptions, end_on_attractor: bool) -> FitResult:
+    """A fractal's plan: its maps were found by the search, so only the attractor stage is left (at most
+    `FRACTAL_STAGE_STEPS` steps), or, without ``end_on_attractor``, a run of the drawing at its depth."""
+    pattern, start = plan.pattern, plan.start
+    label = f"{pattern['maps']} maps"
+    budget = min(frame.steps, FRACTAL_STAGE_STEPS)
+    if end_on_attractor:
+        result, stage = attractor_stage(frame, start, options.replace(loss=FRACTAL_LOSS), label, steps=budget)
+    else:
+        result = frame.run(start, frame.target, budget, options.replace(depth=start.depth),
+                           f"{label} · {frame.target.size}²")
+        stage = Stage(size=frame.target.size, steps=result.history.cost, stopped=result.history.stopped,
+                      best_loss=result.best_loss)
+    choice = {**{k: v for k, v in pattern.items() if k != "search"}, "candidates": pattern.get("search", []),
+              "chosen": pattern["maps"]}
+    return _finish(result, choice, [stage], stage.steps)
+
+
+def _finish(result: FitResult, choice: dict, stages: list[Stage], cost: int) -> FitResult:
+    """The history's account of the choice, and the fitted IFSs' description for the file."""
+    for stage in stages:
+        stage.maps = choice["chosen"]
+    h = result.history
+    h.cost, h.stages, h.auto = cost, stages, choice
+    for ifs in (result.best, result.final):
+        ifs.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
+    return result

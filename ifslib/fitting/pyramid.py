@@ -1,0 +1,121 @@
+"""Coarse to fine in pixels: the one driver the ``pyramid`` and ``auto`` strategies climb with, and
+the attractor stage that ends them.
+
+A start is fitted at the coarsest size of the target's pyramid (64² for a 256² target), then at
+each finer size (`PYRAMID_FACTOR` times larger) up to the target's own, each stage from the last
+one's best points and ending when its loss has converged. The learning rate grows with the pixel
+size (``lr * size / stage_size``), so a coarse step moves the points as far, in pixels, as a fine one.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+from ..errors import LeafBudgetError
+from ..geometry.attractor import ATTRACTOR
+from ..geometry.ifs import IFS
+from ..raster.distance import attractor_leaves_for
+from ..targets.target import Target, pyramid_sizes, resize_target
+from .options import RunOptions
+from .result import FitResult, Stage
+from .run import run
+
+#: The pyramid's coarsest size in pixels: below it a Koch curve of depth 3 blurs into its own gaps.
+COARSEST = 64
+#: Each pyramid stage is this many times the size of the one before (4: 64² then 256²; a middle
+#: 128² stage costs more time than it saves at 256², docs/results/fits-in-seconds.md).
+PYRAMID_FACTOR = 4
+#: At most this many steps in one pyramid stage (or ``steps``, when smaller): enough for the stages of starts
+#: that recover, while a start that crawls on for a thousand steps ends stalled and is better replaced.
+PYRAMID_STAGE_STEPS = 500
+#: Early stop of each pyramid stage (see `ifslib.fitting.run.converged`) when the fit sets none.
+PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
+#: The last stage fits the attractor itself at the target's size (what the inverse problem asks for: a
+#: drawing at depth K can match the target while its attractor does not), of at most this many steps ...
+ATTRACTOR_STAGE_STEPS = 300
+#: ... with the certified cut (`ifslib.distance_field` with ``depth="attractor"``) when it has at most this
+#: many leaves, else with sampled leaves of it (``method="sampled"``: overlapping copies of a shape).
+FIT_MAX_LEAVES = 300_000
+
+
+@dataclass(frozen=True)
+class Climb:
+    """One fit's frame for its stages: the target, its pyramid, the budget and what every run shares."""
+
+    target: Target
+    levels: dict
+    steps: int
+    seed: int
+    progress: bool = True
+    callback: Callable | None = None
+
+    @classmethod
+    def of(cls, target: Target, coarsest: int, steps: int, seed: int, progress: bool = True,
+           callback: Callable | None = None) -> Climb:
+        sizes = pyramid_sizes(target.size, coarsest, PYRAMID_FACTOR)
+        return cls(target, {size: resize_target(target, size) for size in sizes}, steps, seed, progress, callback)
+
+    @property
+    def sizes(self) -> list[int]:
+        return list(self.levels)
+
+    def run(self, start: IFS, target: Target, steps: int, options: RunOptions, desc: str) -> FitResult:
+        return run(start, target, steps=steps, options=options, seed=self.seed, callback=self.callback,
+                   progress=self.progress, desc=desc)
+
+
+def with_early_stop(options: RunOptions) -> RunOptions:
+    """``options`` with the pyramid's own early stop where the fit set none."""
+    return options.replace(tol=PYRAMID_TOL if options.tol is None else options.tol,
+                           patience=PYRAMID_PATIENCE if options.patience is None else options.patience)
+
+
+def climb(frame: Climb, start: IFS, options: RunOptions, label: str, sizes: list[int] | None = None
+          ) -> tuple[FitResult, list[Stage]]:
+    """Fit ``start`` at each size of the pyramid (or of ``sizes``) in turn, each stage from the last one's best points."""
+    stages, current, result = [], start, None
+    for size in frame.sizes if sizes is None else sizes:
+        staged = options.replace(lr=options.lr * frame.target.size / size)
+        result = frame.run(current, frame.levels[size], min(frame.steps, PYRAMID_STAGE_STEPS), staged,
+                           f"{label} · {size}²")
+        stages.append(Stage(size=size, steps=result.history.cost, stopped=result.history.stopped,
+                            best_loss=result.best_loss))
+        current = result.best
+    return result, stages
+
+
+def attractor_method(ifs: IFS, size: int) -> str:
+    """``"fast"`` when the certified cut of ``ifs``'s attractor at ``size`` has at most `FIT_MAX_LEAVES` leaves, else ``"sampled"``."""
+    try:
+        attractor_leaves_for(ifs, size, max_leaves=FIT_MAX_LEAVES)
+    except LeafBudgetError:
+        return "sampled"
+    return "fast"
+
+
+def attractor_stage(frame: Climb, ifs: IFS, options: RunOptions, label: str, steps: int | None = None
+                    ) -> tuple[FitResult, Stage]:
+    """Fit the attractor of ``ifs`` at the target's size: the last stage of ``pyramid`` and ``auto``.
+
+    At most ``min(steps, ATTRACTOR_STAGE_STEPS)`` steps (``steps`` is the frame's budget when None).
+    Returns the run's result and its stage record.
+    """
+    target = frame.target
+    method = attractor_method(ifs, target.size)
+    budget = min(frame.steps if steps is None else steps, ATTRACTOR_STAGE_STEPS)
+    fallback = None
+    try:
+        result = frame.run(ifs, target, budget, options.replace(depth=ATTRACTOR, method=method),
+                           f"{label} · {target.size}² · attractor")
+    except LeafBudgetError as exc:
+        if method != "fast":
+            raise
+        # the maps grew on the way until the certified cut outgrew the leaf budget: the stage again, from its start,
+        # with sampled leaves of the cut (whose number does not grow with the maps)
+        method = "sampled"
+        fallback = f"the certified cut outgrew the leaf budget during the stage ({exc}); run again with sampled leaves"
+        result = frame.run(ifs, target, budget, options.replace(depth=ATTRACTOR, method=method),
+                           f"{label} · {target.size}² · attractor (sampled)")
+    loss = options.loss if isinstance(options.loss, str) else "custom"
+    return result, Stage(size=target.size, depth=ATTRACTOR, method=method, loss=loss, steps=result.history.cost,
+                         stopped=result.history.stopped, best_loss=result.best_loss, fallback=fallback)

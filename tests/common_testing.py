@@ -1,0 +1,15 @@
+"""Brute-force references the tests share (independent formulas, not the library's)."""
+
+
+def point_segment(p, a, b):
+    ab, ap = b - a, p - a
+    h = ((ap @ ab) / (ab @ ab)).clamp(0, 1)
+    return (ap - h * ab).norm()
+
+
+def polygon_sdf(p, corners):
+    """Signed distance to a convex polygon given counter-clockwise, from its edges (independent formula)."""
+    edges = [(corners[i], corners[(i + 1) % len(corners)]) for i in range(len(corners))]
+    dist = min(point_segment(p, a, b) for a, b in edges)
+    inside = all(((b - a)[0] * (p - a)[1] - (b - a)[1] * (p - a)[0]) > 0 for a, b in edges)
+    return -dist if inside else dist

@@ -1,0 +1,187 @@
+"""The student edition (``notebooks/student.py``) and the book's folded solutions, without a kernel.
+
+The transformation is checked on small notebooks built here, in nbgrader's form, and on the real
+notebooks as they are: their student edition must hold none of their solution lines. ``make
+student`` executes the real edition; these tests run in well under a second.
+"""
+import importlib.util
+import sys
+from pathlib import Path
+
+import nbformat
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+v4 = nbformat.v4
+
+
+def _load(name, path):
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, path)
+        sys.modules[name] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]
+
+
+student = _load("ifslib_student_edition", ROOT / "notebooks" / "student.py")
+book_build = _load("ifslib_docs_build", ROOT / "docs" / "build.py")
+
+GRADER = {"grade": True, "solution": True, "locked": False, "points": 1, "grade_id": "koch_map",
+          "schema_version": 3}
+MATRIX = """T3 = None   # your answer: a 3 x 3 list or array
+### BEGIN SOLUTION
+r3 = np.sqrt(3)
+T3 = [[1 / 6, r3 / 6, 1 / 2], [-r3 / 6, 1 / 6, r3 / 6], [0, 0, 1]]
+### END SOLUTION
+ifslib.exercises.check_koch_map(T3, 3);"""
+FUNCTION = """def my_loss(image, target):
+    \"\"\"The mean squared difference.\"\"\"
+    ### BEGIN SOLUTION
+    difference = image - target
+    return (difference ** 2).mean()
+    ### END SOLUTION
+ifslib.exercises.check_loss(my_loss);"""
+LOOP = """total = 0
+for k in range(3):
+    if k:
+        ### BEGIN SOLUTION
+        total += k
+        ### END SOLUTION
+    ### BEGIN SOLUTION
+    total *= 2
+    ### END SOLUTION
+print(total)"""
+
+
+def exercise(source, grade_id="koch_map"):
+    meta = {"tags": ["exercise", "nbval-check-output"], "nbgrader": {**GRADER, "grade_id": grade_id}}
+    cell = v4.new_code_cell(source, metadata=meta, execution_count=3)
+    cell.outputs = [v4.new_output("stream", name="stdout", text="T3: correct.\n")]
+    return cell
+
+
+def notebook(*cells):
+    book = v4.new_notebook(cells=[v4.new_markdown_cell("# A lesson"),
+                                  v4.new_code_cell("import numpy as np", execution_count=1), *cells])
+    book.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    return book
+
+
+def test_marked_block_becomes_one_stub_and_the_rest_stays():
+    assert student.student_source(MATRIX) == ("T3 = None   # your answer: a 3 x 3 list or array\n"
+                                              "...  # YOUR CODE HERE\n"
+                                              "ifslib.exercises.check_koch_map(T3, 3);")
+
+
+def test_stub_keeps_the_blocks_indentation_and_compiles():
+    function = student.student_source(FUNCTION)
+    assert '    """The mean squared difference."""\n    ...  # YOUR CODE HERE\nifslib' in function
+    loop = student.student_source(LOOP)
+    assert "        ...  # YOUR CODE HERE\n    ...  # YOUR CODE HERE\nprint(total)" in loop
+    for source in (MATRIX, FUNCTION, LOOP):
+        compile(student.student_source(source), "<cell>", "exec")
+    namespace = {}
+    exec(function.split("ifslib")[0], namespace)
+    assert namespace["my_loss"](1, 2) is None  # the check then answers "not yet", no traceback
+
+
+def test_a_cell_without_markers_is_left_as_it_is():
+    for source in ("x = 1\n", "x = 1", "# BEGIN SOLUTION is said in a comment here\nx = 1", ""):
+        assert student.student_source(source) == source
+
+
+def test_edition_clears_outputs_and_keeps_metadata():
+    instructor = notebook(exercise(MATRIX), exercise(FUNCTION, "loss"), v4.new_code_cell("x = 1", execution_count=5))
+    edition = student.student_notebook(instructor, "lesson.ipynb")
+    nbformat.validate(edition)
+    code = [c for c in edition.cells if c.cell_type == "code"]
+    assert all(c.outputs == [] and c.execution_count is None for c in code)
+    assert code[1].metadata == instructor.cells[2].metadata  # tags and nbgrader's schema 3, unchanged
+    assert code[2].metadata["nbgrader"]["grade_id"] == "loss"
+    assert [c.get("id") for c in edition.cells] == [c.get("id") for c in instructor.cells]
+    for cell in code:
+        compile(cell.source, "<cell>", "exec")
+    assert "BEGIN SOLUTION" not in nbformat.writes(edition)
+    assert instructor.cells[2].outputs and "r3 = np.sqrt(3)" in instructor.cells[2].source  # a copy was changed
+    assert not student.surviving_solutions(instructor, edition)
+    assert student.solution_lines(instructor) >= {"r3 = np.sqrt(3)", "return (difference ** 2).mean()"}
+
+
+@pytest.mark.parametrize("source, message", [
+    ("a = 1\n### BEGIN SOLUTION\na = 2", "line 2: BEGIN SOLUTION without END SOLUTION"),
+    ("a = 1\n### END SOLUTION", "line 2: END SOLUTION without BEGIN SOLUTION"),
+    ("### BEGIN SOLUTION\n### BEGIN SOLUTION\na\n### END SOLUTION\n### END SOLUTION",
+     "line 2: BEGIN SOLUTION inside the block opened at line 1"),
+])
+def test_unbalanced_markers_are_refused_naming_notebook_and_cell(source, message):
+    bad = exercise(source)
+    bad.id = "broken"
+    instructor = notebook(exercise(MATRIX), bad)
+    with pytest.raises(student.MarkerError) as raised:
+        student.student_notebook(instructor, "lesson.ipynb")
+    assert str(raised.value) == f"lesson.ipynb, cell 3 (id broken): {message}"
+
+
+def test_write_edition_rewrites_exercise_notebooks_copies_the_rest_and_refuses_bad_ones(tmp_path, capsys):
+    source, out = tmp_path / "notebooks", tmp_path / "student"
+    source.mkdir()
+    nbformat.write(notebook(exercise(MATRIX)), source / "00_tutorial.ipynb")
+    plain = notebook(v4.new_code_cell("x = 1", execution_count=2))
+    nbformat.write(plain, source / "01_plain.ipynb")
+    assert student.write_edition(out, source) == [out / "00_tutorial.ipynb"]
+    assert (out / "01_plain.ipynb").read_bytes() == (source / "01_plain.ipynb").read_bytes()
+    assert "YOUR CODE HERE" in (out / "00_tutorial.ipynb").read_text()
+    nbformat.write(notebook(exercise("### BEGIN SOLUTION\nx = 1")), source / "02_bad.ipynb")
+    (out / "00_tutorial.ipynb").unlink()
+    assert student.main([str(out), "--source", str(source)]) == 2
+    assert "02_bad.ipynb, cell 2" in capsys.readouterr().err
+    assert not (out / "00_tutorial.ipynb").exists()  # nothing written when one notebook is refused
+
+
+def test_book_folds_each_solution_into_a_hidden_cell(tmp_path):
+    instructor = notebook(exercise(MATRIX), exercise(FUNCTION, "loss"))
+    nbformat.write(instructor, tmp_path / "in.ipynb")
+    assert book_build.fold_solutions(tmp_path / "in.ipynb", tmp_path / "out.ipynb") == 2
+    folded = nbformat.read(tmp_path / "out.ipynb", as_version=4)
+    nbformat.validate(folded)
+    pieces = folded.cells[2:]
+    assert [("hide-input" in c.metadata["tags"]) for c in pieces] == [False, True, False] * 2
+    assert pieces[1].source == "r3 = np.sqrt(3)\nT3 = [[1 / 6, r3 / 6, 1 / 2], [-r3 / 6, 1 / 6, r3 / 6], [0, 0, 1]]"
+    assert pieces[1].metadata["mystnb"]["code_prompt_show"] == "Show the solution"
+    assert [bool(c.outputs) for c in pieces] == [False, False, True] * 2  # the verdict under the check
+    assert pieces[0].source == "T3 = None   # your answer: a 3 x 3 list or array"
+    assert "BEGIN SOLUTION" not in nbformat.writes(folded)
+    assert len({c.id for c in folded.cells}) == len(folded.cells)
+
+
+REAL = sorted((ROOT / "notebooks").glob("*.ipynb"))
+
+
+@pytest.mark.parametrize("path", REAL, ids=lambda p: p.stem)
+def test_real_notebooks_student_edition_holds_no_solution_line(path):
+    instructor = nbformat.read(path, as_version=4)
+    edition = student.student_notebook(instructor, path.name)
+    assert not student.surviving_solutions(instructor, edition)
+    assert not any(student.has_solution(c) for c in edition.cells)
+    for before, after in zip(instructor.cells, edition.cells):
+        if after.cell_type == "code" and student.has_solution(before):
+            compile(after.source, f"{path.name}: {after.get('id')}", "exec")
+
+
+def test_check_fails_on_a_notebook_that_checks_answers_but_marks_none(tmp_path, capsys):
+    source = tmp_path / "notebooks"
+    source.mkdir()
+    worked = notebook(v4.new_code_cell("T3 = [[1, 0, 0]]\nassert ifslib.exercises.check_koch_map(T3, 3)"))
+    nbformat.write(worked, source / "00_tutorial.ipynb")
+    assert student.main([str(tmp_path / "student"), "--source", str(source), "--check"]) == 1  # no kernel started
+    assert "00_tutorial.ipynb: FAILED: calls ifslib.exercises" in capsys.readouterr().out
+
+
+def test_book_check_finds_a_solution_shown_outside_a_fold(tmp_path):
+    nbformat.write(notebook(exercise(MATRIX)), tmp_path / "lesson.ipynb")
+    page = book_build.ROOT / "build" / "lesson.html"  # only named in the messages
+    folded = "<p>T3 = None</p><details><summary>Show</summary><pre>r3 = np.sqrt(3)</pre></details>"
+    assert book_build.check_folded(tmp_path / "lesson.ipynb", page, folded) == []
+    shown = ('<pre><span class="n">r3</span> <span class="o">=</span> <span class="n">np</span><span class="o">.'
+             '</span><span class="n">sqrt</span><span class="p">(</span><span class="mi">3</span>)</pre>')
+    assert "r3 = np.sqrt(3)" in book_build.check_folded(tmp_path / "lesson.ipynb", page, shown)[0]
