@@ -209,7 +209,7 @@ def test_best_fit_start(capsys):
 
 
 def test_koch_fit(capsys):
-    correct(capsys, exercises.check_koch_fit(exercises._koch_truth()))
+    correct(capsys, exercises.check_koch_fit(exercises.tutorial._koch_truth()))
     not_yet(capsys, exercises.check_koch_fit(ifslib.patterns.koch()), "px")   # the library's own curve
     not_yet(capsys, exercises.check_koch_fit(ifslib.patterns.koch_paper(1)))
     not_yet(capsys, exercises.check_koch_fit(None), "IFS")
@@ -249,7 +249,7 @@ def test_depth_needed(capsys):
 # --- notebooks 05 and 07 -------------------------------------------------------------------------------
 
 def test_carpet_fit(capsys):
-    correct(capsys, exercises.check_carpet_fit(exercises._carpet_truth()))
+    correct(capsys, exercises.check_carpet_fit(exercises.lessons._carpet_truth()))
     carpet = ifslib.patterns.sierpinski_carpet()
     not_yet(capsys, exercises.check_carpet_fit(carpet), "IoU")     # the library's own carpet
     not_yet(capsys, exercises.check_carpet_fit(ifslib.initialize(carpet, exercises.carpet_target(64))), "IoU")
@@ -258,7 +258,7 @@ def test_carpet_fit(capsys):
 
 
 def test_two_maps(capsys):
-    correct(capsys, exercises.check_two_maps(exercises._two_map_truth()))
+    correct(capsys, exercises.check_two_maps(exercises.lessons._two_map_truth()))
     not_yet(capsys, exercises.check_two_maps(ifslib.patterns.random_ifs(2, seed=0)), "IoU")
     not_yet(capsys, exercises.check_two_maps(ifslib.patterns.random_ifs(3, seed=0)), "2 maps")
     not_yet(capsys, exercises.check_two_maps(None), "IFS")
