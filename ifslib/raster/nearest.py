@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import torch
 
@@ -151,91 +152,165 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS,
         When some pixel ends with no leaf, which only a non-finite distance can cause.
     """
     leaves = leaves.detach()
-    device, dtype = leaves.inverse.device, leaves.inverse.dtype
-    slack = 1e-5 if dtype == torch.float32 else 1e-12
-    n_leaves = len(leaves)
-    n_items = leaves.n_items
-    per_item = n_leaves // n_items
-    side = 1 << max(size - 1, 0).bit_length()  # the quadtree covers the next power of two
-    top = side.bit_length() - 1
-    best_leaf = torch.full((n_items * size * size,), -1, dtype=torch.long, device=device)
-    best_dist = torch.full((n_items * size * size,), math.inf, dtype=dtype, device=device)
-    quad_r = torch.tensor([0, 0, 1, 1], device=device)
-    quad_c = torch.tensor([0, 1, 0, 1], device=device)
-
-    def centres(rows, cols, block):
-        off = (block - 1) / 2 + 0.5
-        return -0.5 + (cols.to(dtype) * block + off) / size, 0.5 - (rows.to(dtype) * block + off) / size
-
-    start = 0
-    while start < top and 4 ** (start + 1) * per_item <= START_PAIRS:
-        start += 1
-    grid = torch.arange(1 << start, device=device)
-    rows, cols = grid.repeat_interleave(1 << start), grid.repeat(1 << start)
-    inside = (rows * (side >> start) < size) & (cols * (side >> start) < size)
-    rows, cols = rows[inside].repeat(n_items), cols[inside].repeat(n_items)
-    # every block belongs to one item (one point set of a batch) and pairs only with its leaves
-    items = torch.arange(n_items, device=device).repeat_interleave(rows.numel() // n_items)
-    # a task: (level, block items, block rows, block cols, pair -> block, pair -> leaf)
-    stack = [(start, items, rows, cols, torch.arange(rows.numel(), device=device).repeat_interleave(per_item),
-              (items[:, None] * per_item + torch.arange(per_item, device=device)).flatten())]
-    table = leaf_table(leaves)
-    ceiling = None if upper is None else _max_pyramid(upper.detach().to(dtype), n_items, size, side, start, top)
-
-    def distances(x, y, leaf):
-        if table is None:
-            return sdf_pairs(leaves, x, y, leaf)
-        return sdf_table(table, leaves.kinds[0], x, y, leaf)
-
-    evaluated = 0
+    tree = _quadtree(leaves, size, upper)
+    n_pixels = tree.n_items * size * size
+    best_leaf = torch.full((n_pixels,), -1, dtype=torch.long, device=tree.device)
+    best_dist = torch.full((n_pixels,), math.inf, dtype=tree.dtype, device=tree.device)
+    stack, evaluated = [_first_task(tree)], 0
     while stack:
-        level, items, rows, cols, pair_block, pair_leaf = stack.pop()
-        block = side >> level
-        bx, by = centres(rows, cols, block)
-        d = distances(bx.index_select(0, pair_block), by.index_select(0, pair_block), pair_leaf)
+        task = stack.pop()
+        d, dmin, best = _block_minimum(tree, task)
         evaluated += d.numel()
-        dmin = torch.full((rows.numel(),), math.inf, dtype=dtype, device=device)
-        dmin = dmin.scatter_reduce(0, pair_block, d, "amin")
-        # the smallest leaf id at the minimum of each block (at a pixel: its nearest leaf)
-        best = torch.full((rows.numel(),), n_leaves, dtype=torch.long, device=device)
-        best = best.scatter_reduce(0, pair_block, torch.where(d <= dmin.index_select(0, pair_block), pair_leaf, n_leaves), "amin")
-        if level == top:
-            pix = (items * size + rows) * size + cols
+        if task.level == tree.top:
+            pix = (task.items * size + task.rows) * size + task.cols
             best_leaf[pix], best_dist[pix] = best, dmin
-            continue
-        # Children that overlap the image. For child c of block b, the block's best leaf j0 gives
-        # an upper bound U_c = d_j0(c) + h_c on every pixel's nearest distance in c, and any leaf's
-        # distance over c is at least d_j(b) - h_b (1-Lipschitz; h = centre-to-farthest-pixel
-        # distance). So (b, j) passes to c only if d_j(b) - h_b <= U_c.
-        child = block // 2
-        half_diag, child_half_diag = [(n - 1) / 2 * math.sqrt(2) / size for n in (block, child)]
-        child_items = items.repeat_interleave(4)
-        child_rows = (2 * rows[:, None] + quad_r).flatten()
-        child_cols = (2 * cols[:, None] + quad_c).flatten()
-        inside = (child_rows * child < size) & (child_cols * child < size)
-        cx, cy = centres(child_rows, child_cols, child)
-        bound = distances(cx, cy, best.repeat_interleave(4)) + child_half_diag
-        if ceiling is not None:
-            bound = torch.minimum(bound, ceiling[level + 1][child_items, child_rows, child_cols])
-        bound = torch.where(inside, bound, -math.inf).view(-1, 4)
-        lower = d - half_diag - slack
-        passes = lower[:, None] <= bound.index_select(0, pair_block)  # (pairs, 4)
-        child_id = torch.where(inside, torch.cumsum(inside.long(), 0) - 1, -1).view(-1, 4)
-        hit = passes.view(-1).nonzero().squeeze(1)  # pair * 4 + quadrant of every pair that passes
-        pair = torch.div(hit, 4, rounding_mode="floor")
-        new_block = child_id.view(-1).index_select(0, pair_block.index_select(0, pair) * 4 + (hit - pair * 4))
-        new_leaf = pair_leaf.index_select(0, pair)
-        child_items, child_rows, child_cols = child_items[inside], child_rows[inside], child_cols[inside]
-        # split into chunks of children when there are too many pairs (keeps memory bounded)
-        n_chunks = max(1, math.ceil(new_block.numel() / max_pairs))
-        bounds = torch.linspace(0, child_rows.numel(), n_chunks + 1).round().long().tolist()
-        for lo, hi in zip(bounds[:-1], bounds[1:]):
-            sel = ((new_block >= lo) & (new_block < hi)) if n_chunks > 1 else slice(None)
-            stack.append((level + 1, child_items[lo:hi], child_rows[lo:hi], child_cols[lo:hi], new_block[sel] - lo,
-                          new_leaf[sel]))
-    lost = ((best_leaf < 0) | (best_leaf >= n_leaves)).sum().item()
+        else:
+            stack += _children(tree, task, d, best, max_pairs)
+    lost = ((best_leaf < 0) | (best_leaf >= tree.n_leaves)).sum().item()
     if lost:
         # only a distance that is not finite (or not 1-Lipschitz) can leave a pixel without a leaf
         raise IFSError(f"the nearest-leaf search found no leaf for {lost} pixel(s): a leaf's distance is not "
                        "finite there (a degenerate map?)")
     return NearestResult(best_leaf, best_dist, evaluated)
+
+
+class _Task(NamedTuple):
+    """Blocks of one level of the quadtree and their candidate leaves, as (block, leaf) pairs."""
+
+    level: int
+    items: torch.Tensor  # (blocks,) the batch item each block belongs to
+    rows: torch.Tensor  # (blocks,) the block's row and column at its level
+    cols: torch.Tensor
+    pair_block: torch.Tensor  # (pairs,) each pair's block
+    pair_leaf: torch.Tensor  # (pairs,) each pair's leaf id
+
+
+@dataclass(frozen=True)
+class _Quadtree:
+    """What every step of the walk shares: the leaves, the image and the quadtree over it."""
+
+    leaves: Leaves
+    size: int
+    side: int  # the quadtree covers the next power of two
+    top: int  # the level whose blocks are single pixels
+    start: int  # the level the walk starts at
+    n_leaves: int
+    n_items: int
+    per_item: int
+    slack: float  # absorbs float32 rounding in the pruning test
+    quad_r: torch.Tensor  # (4,) each child's row and column offset in its parent
+    quad_c: torch.Tensor
+    table: torch.Tensor | None  # `leaf_table`, None for mixed primitives
+    ceiling: dict | None  # the warm start's max pyramid, per level
+
+    @property
+    def device(self) -> torch.device:
+        return self.leaves.inverse.device
+
+    @property
+    def dtype(self) -> torch.dtype:
+        return self.leaves.inverse.dtype
+
+
+def _quadtree(leaves: Leaves, size: int, upper: torch.Tensor | None) -> _Quadtree:
+    """The search's frame for ``leaves`` (detached) at ``size``, with the warm start ``upper`` if any."""
+    device, dtype = leaves.inverse.device, leaves.inverse.dtype
+    n_items = leaves.n_items
+    per_item = len(leaves) // n_items
+    side = 1 << max(size - 1, 0).bit_length()
+    top = side.bit_length() - 1
+    start = 0
+    while start < top and 4 ** (start + 1) * per_item <= START_PAIRS:
+        start += 1
+    ceiling = None if upper is None else _max_pyramid(upper.detach().to(dtype), n_items, size, side, start, top)
+    return _Quadtree(leaves=leaves, size=size, side=side, top=top, start=start, n_leaves=len(leaves),
+                     n_items=n_items, per_item=per_item, slack=1e-5 if dtype == torch.float32 else 1e-12,
+                     quad_r=torch.tensor([0, 0, 1, 1], device=device),
+                     quad_c=torch.tensor([0, 1, 0, 1], device=device),
+                     table=leaf_table(leaves), ceiling=ceiling)
+
+
+def _centres(tree: _Quadtree, rows: torch.Tensor, cols: torch.Tensor, block: int
+             ) -> tuple[torch.Tensor, torch.Tensor]:
+    """The plane coordinates ``x, y`` of the centres of the blocks ``(rows, cols)``, ``block`` pixels a side."""
+    off = (block - 1) / 2 + 0.5
+    size, dtype = tree.size, tree.dtype
+    return -0.5 + (cols.to(dtype) * block + off) / size, 0.5 - (rows.to(dtype) * block + off) / size
+
+
+def _distances(tree: _Quadtree, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
+    """The signed distance of leaf ``leaf[i]`` at ``(x[i], y[i])``."""
+    if tree.table is None:
+        return sdf_pairs(tree.leaves, x, y, leaf)
+    return sdf_table(tree.table, tree.leaves.kinds[0], x, y, leaf)
+
+
+def _first_task(tree: _Quadtree) -> _Task:
+    """The blocks of the starting level that overlap the image, each paired with every leaf of its item."""
+    device, start, side, size = tree.device, tree.start, tree.side, tree.size
+    grid = torch.arange(1 << start, device=device)
+    rows, cols = grid.repeat_interleave(1 << start), grid.repeat(1 << start)
+    inside = (rows * (side >> start) < size) & (cols * (side >> start) < size)
+    rows, cols = rows[inside].repeat(tree.n_items), cols[inside].repeat(tree.n_items)
+    # every block belongs to one item (one point set of a batch) and pairs only with its leaves
+    items = torch.arange(tree.n_items, device=device).repeat_interleave(rows.numel() // tree.n_items)
+    per_item = tree.per_item
+    return _Task(start, items, rows, cols, torch.arange(rows.numel(), device=device).repeat_interleave(per_item),
+                 (items[:, None] * per_item + torch.arange(per_item, device=device)).flatten())
+
+
+def _block_minimum(tree: _Quadtree, task: _Task) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    """The distances at the blocks' centres: each pair's ``(pairs,)``, and each block's least one and the
+    smallest leaf id at it ``(blocks,)``."""
+    n_blocks, device, dtype = task.rows.numel(), tree.device, tree.dtype
+    bx, by = _centres(tree, task.rows, task.cols, tree.side >> task.level)
+    d = _distances(tree, bx.index_select(0, task.pair_block), by.index_select(0, task.pair_block), task.pair_leaf)
+    dmin = torch.full((n_blocks,), math.inf, dtype=dtype, device=device)
+    dmin = dmin.scatter_reduce(0, task.pair_block, d, "amin")
+    # the smallest leaf id at the minimum of each block (at a pixel: its nearest leaf)
+    best = torch.full((n_blocks,), tree.n_leaves, dtype=torch.long, device=device)
+    at_min = torch.where(d <= dmin.index_select(0, task.pair_block), task.pair_leaf, tree.n_leaves)
+    best = best.scatter_reduce(0, task.pair_block, at_min, "amin")
+    return d, dmin, best
+
+
+def _children(tree: _Quadtree, task: _Task, d: torch.Tensor, best: torch.Tensor, max_pairs: int) -> list[_Task]:
+    """The next level's tasks: each block's children that overlap the image, with the pairs that pass the pruning."""
+    level, items, rows, cols, pair_block, pair_leaf = task
+    size, block = tree.size, tree.side >> level
+    # Children that overlap the image. For child c of block b, the block's best leaf j0 gives
+    # an upper bound U_c = d_j0(c) + h_c on every pixel's nearest distance in c, and any leaf's
+    # distance over c is at least d_j(b) - h_b (1-Lipschitz; h = centre-to-farthest-pixel
+    # distance). So (b, j) passes to c only if d_j(b) - h_b <= U_c.
+    child = block // 2
+    half_diag, child_half_diag = [(n - 1) / 2 * math.sqrt(2) / size for n in (block, child)]
+    child_items = items.repeat_interleave(4)
+    child_rows = (2 * rows[:, None] + tree.quad_r).flatten()
+    child_cols = (2 * cols[:, None] + tree.quad_c).flatten()
+    inside = (child_rows * child < size) & (child_cols * child < size)
+    cx, cy = _centres(tree, child_rows, child_cols, child)
+    bound = _distances(tree, cx, cy, best.repeat_interleave(4)) + child_half_diag
+    if tree.ceiling is not None:
+        bound = torch.minimum(bound, tree.ceiling[level + 1][child_items, child_rows, child_cols])
+    bound = torch.where(inside, bound, -math.inf).view(-1, 4)
+    lower = d - half_diag - tree.slack
+    passes = lower[:, None] <= bound.index_select(0, pair_block)  # (pairs, 4)
+    child_id = torch.where(inside, torch.cumsum(inside.long(), 0) - 1, -1).view(-1, 4)
+    hit = passes.view(-1).nonzero().squeeze(1)  # pair * 4 + quadrant of every pair that passes
+    pair = torch.div(hit, 4, rounding_mode="floor")
+    new_block = child_id.view(-1).index_select(0, pair_block.index_select(0, pair) * 4 + (hit - pair * 4))
+    new_leaf = pair_leaf.index_select(0, pair)
+    children = _Task(level + 1, child_items[inside], child_rows[inside], child_cols[inside], new_block, new_leaf)
+    return _chunks(children, max_pairs)
+
+
+def _chunks(task: _Task, max_pairs: int) -> list[_Task]:
+    """``task`` split into runs of consecutive blocks when it has more than ``max_pairs`` pairs (bounds memory)."""
+    level, items, rows, cols, new_block, new_leaf = task
+    n_chunks = max(1, math.ceil(new_block.numel() / max_pairs))
+    bounds = torch.linspace(0, rows.numel(), n_chunks + 1).round().long().tolist()
+    out = []
+    for lo, hi in zip(bounds[:-1], bounds[1:]):
+        sel = ((new_block >= lo) & (new_block < hi)) if n_chunks > 1 else slice(None)
+        out.append(_Task(level, items[lo:hi], rows[lo:hi], cols[lo:hi], new_block[sel] - lo, new_leaf[sel]))
+    return out
