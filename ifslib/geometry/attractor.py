@@ -53,10 +53,10 @@ from dataclasses import dataclass
 import torch
 
 from ..errors import IFSError, LeafBudgetError, check_positive
-from .ifs import IFS, check_depth
+from .ifs import check_depth
 from .reach import WindowReach
 from .words import DenseWords, WordTree
-from .rules import rule_maps, singular_values
+from .rules import singular_values
 
 #: The name of the depth that means "the attractor itself" (instead of an integer K).
 ATTRACTOR = "attractor"
@@ -329,42 +329,6 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     return AttractorLeaves(points, error, tree, maps, centre_grad, radius, float(tolerance))
 
 
-def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, float, float] | None = None, *,
-                     max_leaves: int | None = None, device: torch.device | str = "cpu",
-                     dtype: torch.dtype | None = None, gradient: str = "exact",
-                     samples: int | None = None) -> AttractorLeaves:
-    """The attractor's point leaves of an IFS (see `attractor_leaves`), differentiable through `leaf_points`.
-
-    Parameters
-    ----------
-    ifs : IFS
-        Its rules must contract (largest singular value < 1); its primitives play no part.
-    tolerance : float
-        ``ε`` in plane units.
-    window : (x0, y0, x1, y1), optional
-        The box whose points matter (see `attractor_leaves`).
-    max_leaves : int, optional
-        Leaf budget; `DEFAULT_MAX_LEAVES` when None.
-    device, dtype, gradient
-        As in `ifslib.geometry.leaves.expand`.
-    samples : int, optional
-        Draw this many leaves of the cut at random (`sample_attractor`, confined to ``window`` when
-        given) instead of the whole cut (then ``max_leaves`` plays no part).
-
-    Returns
-    -------
-    AttractorLeaves
-    """
-    ifs.validate()
-    points = ifs.points.to(device=device, dtype=dtype or ifs.points.dtype)
-    maps = rule_maps(points, ifs.rules, gradient)
-    if samples is not None:
-        from .sampled import sample_attractor  # built on this module's cut
-
-        return sample_attractor(maps, tolerance, samples, rules=ifs.rules, window=window)
-    return attractor_leaves(maps, tolerance, window, max_leaves, ifs.rules)
-
-
 def _word_maps(maps: torch.Tensor, words: torch.Tensor) -> torch.Tensor:
     """The maps ``T_w`` ``(N, 2, 3)`` of words ``(N, K)`` (padded with ``m``, the identity), from ``(m, 3, 3)`` maps."""
     eye = torch.eye(3, dtype=maps.dtype, device=maps.device)[None]
@@ -395,4 +359,4 @@ def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
 
 __all__ = ["ATTRACTOR", "AttractorLeaves", "CHAOS_FLOOR", "chaos_probabilities", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
            "attractor_ball", "attractor_leaves", "check_contractive_maps", "check_depth_or_attractor",
-           "check_tolerance", "check_window", "expand_attractor", "is_attractor", "leaf_points"]
+           "check_tolerance", "check_window", "is_attractor", "leaf_points"]

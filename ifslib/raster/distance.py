@@ -27,7 +27,8 @@ from torch.utils.checkpoint import checkpoint
 
 from ..errors import IFSError, check_int
 from ..geometry.attractor import (DEFAULT_SAMPLES, DEFAULT_TOLERANCE, AttractorLeaves, check_depth_or_attractor,
-                                  check_tolerance, check_window, expand_attractor, is_attractor, leaf_points)
+                                  check_tolerance, check_window, is_attractor, leaf_points)
+from ..geometry.expand import expand_attractor
 from ..geometry.ifs import IFS
 from ..geometry.leaves import Leaves, check_budget, expand, expand_batch, sdf_dense, sdf_pairs
 from .nearest import nearest_leaf, nearest_point, pixel_centres

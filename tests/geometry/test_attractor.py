@@ -9,7 +9,8 @@ import torch
 
 import ifslib
 import ifslib.cli
-from ifslib.geometry.attractor import attractor_ball, expand_attractor, leaf_points
+from ifslib.geometry.attractor import attractor_ball, leaf_points
+from ifslib.geometry.expand import expand_attractor
 from ifslib.raster.chaos import chaos_field, chaos_game
 from ifslib.raster.distance import distance_field
 

@@ -7,7 +7,8 @@ import torch
 import ifslib
 import ifslib.geometry.reach
 from ifslib.geometry import patterns
-from ifslib.geometry.attractor import attractor_leaves, expand_attractor, leaf_points
+from ifslib.geometry.attractor import attractor_leaves, leaf_points
+from ifslib.geometry.expand import expand_attractor
 from ifslib.geometry.rules import rule_maps
 from ifslib.raster.chaos import chaos_field, chaos_game, chaos_window, window_copies
 from ifslib.raster.distance import attractor_leaves_for, distance_field, pixel_size

@@ -54,7 +54,8 @@ class WriteItYourself(RuntimeError):
 #: (module, attribute), every place a student could reach it from.
 LIBRARY = {
     "chaos game": [("ifslib", "chaos_game"), ("ifslib.raster.chaos", "chaos_game"),
-                   ("ifslib.geometry.sampled", "sample_attractor")],
+                   ("ifslib.geometry.sampled", "sample_attractor"),
+                   ("ifslib.geometry.expand", "sample_attractor")],
     "Hausdorff distance": [("ifslib.scoring.metrics", "hausdorff")],
     "collage distance": [("ifslib.scoring.metrics", "hausdorff"), ("ifslib.scoring.collage", "collage_distance")],
     "contraction and fixed point": [("ifslib.geometry.rules", "singular_values"),
