@@ -16,7 +16,8 @@ import time
 from ..errors import IFSError
 from ..discovery.plan import Plan
 from .options import RunOptions
-from .pyramid import PYRAMID_STAGE_STEPS, Climb, attractor_stage, climb, with_early_stop
+from .frame import Frame
+from .pyramid import PYRAMID_STAGE_STEPS, attractor_stage, climb, with_early_stop
 from .result import FitResult, Stage
 
 #: Steps each candidate gets at the coarsest size before they are compared.
@@ -32,7 +33,7 @@ FRACTAL_STAGE_STEPS = 100
 FRACTAL_LOSS = "pixel"
 
 
-def fit_plan(plan: Plan, frame: Climb, options: RunOptions, end_on_attractor: bool = True) -> FitResult:
+def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor: bool = True) -> FitResult:
     """Fit ``plan`` (see the module docstring); ``history.auto`` lists the candidates and the one chosen.
 
     The fitted IFSs' ``meta["pattern"]`` is the chosen candidate's description with ``chosen``.
@@ -54,8 +55,8 @@ def fit_plan(plan: Plan, frame: Climb, options: RunOptions, end_on_attractor: bo
         # The distance loss brings the copies over the figure from afar, but it hardly sees the
         # one-pixel slivers left between them; the pixel loss counts each uncovered pixel fully.
         target = frame.target
-        result = frame.run(result.best, target, min(frame.steps, PYRAMID_STAGE_STEPS),
-                           options.replace(loss=POLISH_LOSS), f"{label} · {target.size}² · {POLISH_LOSS}")
+        result = frame.run(result.best, min(frame.steps, PYRAMID_STAGE_STEPS), options.replace(loss=POLISH_LOSS),
+                           desc=f"{label} · {target.size}² · {POLISH_LOSS}")
         stages.append(Stage(size=target.size, loss=POLISH_LOSS, steps=result.history.cost,
                             stopped=result.history.stopped, best_loss=result.best_loss))
     if end_on_attractor:
@@ -67,18 +68,18 @@ def fit_plan(plan: Plan, frame: Climb, options: RunOptions, end_on_attractor: bo
     return _finish(result, choice, stages, sum(c["steps"] for _, c in tried) + sum(s.steps for s in stages))
 
 
-def _probe(frame: Climb, candidate, options: RunOptions) -> tuple[FitResult, dict]:
+def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, dict]:
     """A candidate fitted at the coarsest size for `AUTO_PROBE_STEPS` steps, and its row in ``history.auto``."""
     k, coarse = len(candidate.rules), frame.sizes[0]
     t0 = time.perf_counter()
-    result = frame.run(candidate, frame.levels[coarse], min(frame.steps, AUTO_PROBE_STEPS),
-                       options.replace(lr=options.lr * frame.target.size / coarse),
-                       f"{k} maps, depth {candidate.depth} · {coarse}²")
+    result = frame.run(candidate, min(frame.steps, AUTO_PROBE_STEPS),
+                       options.replace(lr=options.lr * frame.target.size / coarse), target=frame.levels[coarse],
+                       desc=f"{k} maps, depth {candidate.depth} · {coarse}²")
     return result, {"maps": k, "depth": candidate.depth, "loss": result.best_loss, "steps": result.history.cost,
                     "seconds": time.perf_counter() - t0}
 
 
-def _fit_fractal(plan: Plan, frame: Climb, options: RunOptions, end_on_attractor: bool) -> FitResult:
+def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bool) -> FitResult:
     """A fractal's plan: its maps were found by the search, so only the attractor stage is left (at most
     `FRACTAL_STAGE_STEPS` steps), or, without ``end_on_attractor``, a run of the drawing at its depth."""
     pattern, start = plan.pattern, plan.start
@@ -87,8 +88,7 @@ def _fit_fractal(plan: Plan, frame: Climb, options: RunOptions, end_on_attractor
     if end_on_attractor:
         result, stage = attractor_stage(frame, start, options.replace(loss=FRACTAL_LOSS), label, steps=budget)
     else:
-        result = frame.run(start, frame.target, budget, options.replace(depth=start.depth),
-                           f"{label} · {frame.target.size}²")
+        result = frame.run(start, budget, options.replace(depth=start.depth), desc=f"{label} · {frame.target.size}²")
         stage = Stage(size=frame.target.size, steps=result.history.cost, stopped=result.history.stopped,
                       best_loss=result.best_loss)
     choice = {**{k: v for k, v in pattern.items() if k != "search"}, "candidates": pattern.get("search", []),

@@ -2,29 +2,21 @@
 the attractor stage that ends them.
 
 A start is fitted at the coarsest size of the target's pyramid (64² for a 256² target), then at
-each finer size (`PYRAMID_FACTOR` times larger) up to the target's own, each stage from the last
-one's best points and ending when its loss has converged. The learning rate grows with the pixel
-size (``lr * size / stage_size``), so a coarse step moves the points as far, in pixels, as a fine one.
+each finer size (`ifslib.fitting.frame.PYRAMID_FACTOR` times larger) up to the target's own, each
+stage from the last one's best points and ending when its loss has converged. The learning rate
+grows with the pixel size (``lr * size / stage_size``), so a coarse step moves the points as far,
+in pixels, as a fine one.
 """
 from __future__ import annotations
-
-from dataclasses import dataclass
-from typing import Callable
 
 from ..errors import LeafBudgetError
 from ..geometry.attractor import ATTRACTOR
 from ..geometry.ifs import IFS
 from ..raster.distance import attractor_leaves_for
-from ..targets.target import Target, pyramid_sizes, resize_target
+from .frame import Frame
 from .options import RunOptions
 from .result import FitResult, Stage
-from .run import run
 
-#: The pyramid's coarsest size in pixels: below it a Koch curve of depth 3 blurs into its own gaps.
-COARSEST = 64
-#: Each pyramid stage is this many times the size of the one before (4: 64² then 256²; a middle
-#: 128² stage costs more time than it saves at 256², docs/results/fits-in-seconds.md).
-PYRAMID_FACTOR = 4
 #: At most this many steps in one pyramid stage (or ``steps``, when smaller): enough for the stages of starts
 #: that recover, while a start that crawls on for a thousand steps ends stalled and is better replaced.
 PYRAMID_STAGE_STEPS = 500
@@ -38,46 +30,20 @@ ATTRACTOR_STAGE_STEPS = 300
 FIT_MAX_LEAVES = 300_000
 
 
-@dataclass(frozen=True)
-class Climb:
-    """One fit's frame for its stages: the target, its pyramid, the budget and what every run shares."""
-
-    target: Target
-    levels: dict
-    steps: int
-    seed: int
-    progress: bool = True
-    callback: Callable | None = None
-
-    @classmethod
-    def of(cls, target: Target, coarsest: int, steps: int, seed: int, progress: bool = True,
-           callback: Callable | None = None) -> Climb:
-        sizes = pyramid_sizes(target.size, coarsest, PYRAMID_FACTOR)
-        return cls(target, {size: resize_target(target, size) for size in sizes}, steps, seed, progress, callback)
-
-    @property
-    def sizes(self) -> list[int]:
-        return list(self.levels)
-
-    def run(self, start: IFS, target: Target, steps: int, options: RunOptions, desc: str) -> FitResult:
-        return run(start, target, steps=steps, options=options, seed=self.seed, callback=self.callback,
-                   progress=self.progress, desc=desc)
-
-
 def with_early_stop(options: RunOptions) -> RunOptions:
     """``options`` with the pyramid's own early stop where the fit set none."""
     return options.replace(tol=PYRAMID_TOL if options.tol is None else options.tol,
                            patience=PYRAMID_PATIENCE if options.patience is None else options.patience)
 
 
-def climb(frame: Climb, start: IFS, options: RunOptions, label: str, sizes: list[int] | None = None
+def climb(frame: Frame, start: IFS, options: RunOptions, label: str, *, sizes: list[int] | None = None
           ) -> tuple[FitResult, list[Stage]]:
     """Fit ``start`` at each size of the pyramid (or of ``sizes``) in turn, each stage from the last one's best points."""
     stages, current, result = [], start, None
     for size in frame.sizes if sizes is None else sizes:
         staged = options.replace(lr=options.lr * frame.target.size / size)
-        result = frame.run(current, frame.levels[size], min(frame.steps, PYRAMID_STAGE_STEPS), staged,
-                           f"{label} · {size}²")
+        result = frame.run(current, min(frame.steps, PYRAMID_STAGE_STEPS), staged, target=frame.levels[size],
+                           desc=f"{label} · {size}²")
         stages.append(Stage(size=size, steps=result.history.cost, stopped=result.history.stopped,
                             best_loss=result.best_loss))
         current = result.best
@@ -93,7 +59,7 @@ def attractor_method(ifs: IFS, size: int) -> str:
     return "fast"
 
 
-def attractor_stage(frame: Climb, ifs: IFS, options: RunOptions, label: str, steps: int | None = None
+def attractor_stage(frame: Frame, ifs: IFS, options: RunOptions, label: str, *, steps: int | None = None
                     ) -> tuple[FitResult, Stage]:
     """Fit the attractor of ``ifs`` at the target's size: the last stage of ``pyramid`` and ``auto``.
 
@@ -105,8 +71,8 @@ def attractor_stage(frame: Climb, ifs: IFS, options: RunOptions, label: str, ste
     budget = min(frame.steps if steps is None else steps, ATTRACTOR_STAGE_STEPS)
     fallback = None
     try:
-        result = frame.run(ifs, target, budget, options.replace(depth=ATTRACTOR, method=method),
-                           f"{label} · {target.size}² · attractor")
+        result = frame.run(ifs, budget, options.replace(depth=ATTRACTOR, method=method),
+                           desc=f"{label} · {target.size}² · attractor")
     except LeafBudgetError as exc:
         if method != "fast":
             raise
@@ -114,8 +80,8 @@ def attractor_stage(frame: Climb, ifs: IFS, options: RunOptions, label: str, ste
         # with sampled leaves of the cut (whose number does not grow with the maps)
         method = "sampled"
         fallback = f"the certified cut outgrew the leaf budget during the stage ({exc}); run again with sampled leaves"
-        result = frame.run(ifs, target, budget, options.replace(depth=ATTRACTOR, method=method),
-                           f"{label} · {target.size}² · attractor (sampled)")
+        result = frame.run(ifs, budget, options.replace(depth=ATTRACTOR, method=method),
+                           desc=f"{label} · {target.size}² · attractor (sampled)")
     loss = options.loss if isinstance(options.loss, str) else "custom"
     return result, Stage(size=target.size, depth=ATTRACTOR, method=method, loss=loss, steps=result.history.cost,
                          stopped=result.history.stopped, best_loss=result.best_loss, fallback=fallback)

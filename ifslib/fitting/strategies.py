@@ -7,9 +7,9 @@ strategies compare per step spent:
 ``pyramid``
     The default. Coarse to fine in pixels, and starts tried one after another until one recovers
     the target. Each start runs at the coarsest size of the target's pyramid (64² for a 256²
-    target), then at each finer size (4 times larger, `PYRAMID_FACTOR`) up to the target's own,
-    every stage ending when its loss has converged (``tol``, ``patience``), by the one
-    coarse-to-fine driver of `ifslib.fitting.pyramid`.
+    target), then at each finer size (4 times larger, `ifslib.fitting.frame.PYRAMID_FACTOR`) up
+    to the target's own, every stage ending when its loss has converged (``tol``, ``patience``),
+    by the one coarse-to-fine driver of `ifslib.fitting.pyramid`.
     Each start then ends with a stage that fits its **attractor** at the full size
     (`attractor_stage`), and is judged by the attractor's symmetric Chamfer distance to the target;
     once it is at most ``success`` pixels, no more starts are tried. The starts are those of
@@ -71,9 +71,9 @@ from ..scoring.metrics import evaluate, self_crossings
 from ..targets.target import Target
 from .automatic import fit_plan
 from .options import RunOptions, StrategyOptions
-from .pyramid import Climb, attractor_stage, climb, with_early_stop
+from .frame import Frame
+from .pyramid import attractor_stage, climb, with_early_stop
 from .result import FitResult
-from .run import run
 
 STRATEGIES = ("pyramid", "auto", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
 
@@ -93,24 +93,16 @@ def check_strategy(strategy: str) -> str:
 
 @dataclass(frozen=True)
 class _Job:
-    """What every run of one strategy shares: the target, the budget, the seed and the settings."""
+    """One strategy's work: its runs' frame, and the run and strategy settings."""
 
-    target: Target
-    steps: int
-    seed: int
+    frame: Frame
     options: RunOptions
     settings: StrategyOptions
-    progress: bool
-    callback: Callable | None
 
-    def run(self, start: IFS, steps: int, desc: str | None = None, **changes) -> FitResult:
+    def run(self, start: IFS, steps: int, *, desc: str | None = None, **changes) -> FitResult:
         """One run of ``start`` at the target's size with the options changed by ``changes``."""
         options = self.options.replace(**changes) if changes else self.options
-        return run(start, self.target, steps=steps, options=options, seed=self.seed, callback=self.callback,
-                   progress=self.progress, desc=desc)
-
-    def climb_frame(self) -> Climb:
-        return Climb.of(self.target, self.settings.coarsest, self.steps, self.seed, self.progress, self.callback)
+        return self.frame.run(start, steps, options, desc=desc)
 
 
 def _split(steps: int, parts: int) -> list[int]:
@@ -153,9 +145,8 @@ def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Gener
 
 def _pyramid(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
     """The ``pyramid`` strategy (see the module's docstring)."""
-    s, target = job.settings, job.target
+    s, frame, target = job.settings, job.frame, job.frame.target
     options = with_early_stop(job.options)
-    frame = job.climb_frame()
     final = s.end_on_attractor and not is_attractor(options.depth)
     tried: list[tuple[FitResult, float]] = []
     stages, cost = [], 0
@@ -176,7 +167,7 @@ def _pyramid(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
         tried.append((result, chamfer))
         if chamfer <= s.success:
             break
-        if job.progress:
+        if frame.progress:
             note(f"start {k + 1}/{s.n_starts}: Chamfer {chamfer:.2f} px > {s.success:g} px, trying the next start")
     best, chamfer = min(tried, key=lambda rc: rc[1])  # Chamfer at the full size: comparable across stages
     h = best.history
@@ -186,25 +177,25 @@ def _pyramid(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
 
 
 def _multistart(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
-    s, n = job.settings, job.target.size
-    n_probe = max(1, int(round(s.probe * job.steps)))
+    s, n = job.settings, job.frame.target.size
+    n_probe = max(1, int(round(s.probe * job.frame.steps)))
     probes = [job.run(c, n_probe, desc=f"probe {k + 1}/{s.n_starts} · {n}²")
-              for k, c in enumerate(starts(ifs, job.target, s.n_starts, s.jitter, rng))]
+              for k, c in enumerate(starts(ifs, job.frame.target, s.n_starts, s.jitter, rng))]
     order = sorted(range(len(probes)), key=lambda i: (_crosses(probes[i].best), probes[i].best_loss))
-    finals = [job.run(probes[i].best, job.steps - n_probe, desc=f"continue {j + 1}/{s.keep} · {n}²")
+    finals = [job.run(probes[i].best, job.frame.steps - n_probe, desc=f"continue {j + 1}/{s.keep} · {n}²")
               for j, i in enumerate(order[:s.keep])]
     return _best_of(finals, sum(r.history.cost for r in probes + finals))
 
 
 def _restart(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
     s = job.settings
-    window, limit = max(1, job.steps // 3), int(s.budget * job.steps)
+    window, limit = max(1, job.frame.steps // 3), int(s.budget * job.frame.steps)
     spent, current, results = 0, ifs, []
     while spent < limit:
         results.append(job.run(current, min(window, limit - spent)))
         spent += results[-1].history.cost
         best = min(results, key=lambda r: r.best_loss).best
-        if evaluate(best, job.target, attractor=False)["chamfer"] <= s.success:
+        if evaluate(best, job.frame.target, attractor=False)["chamfer"] <= s.success:
             break
         last = results[-1].history.loss
         improving = len(last) > 10 and min(last[-len(last) // 4:]) < 0.99 * min(last[:len(last) // 2])
@@ -224,12 +215,12 @@ def _in_stages(job: _Job, ifs: IFS, stages: list[dict], steps: list[int]) -> Fit
 
 
 def _anneal(job: _Job, ifs: IFS) -> FitResult:
-    loss, size = job.options.loss, job.target.size
+    loss, size = job.options.loss, job.frame.target.size
     if isinstance(loss, str) and loss.endswith("pixel"):
         stages = [{"sigma": 2.0 ** (3 - stage) / size} for stage in range(4)]
     else:
         stages = [{"levels": job.options.levels + 3 - stage} for stage in range(4)]
-    return _in_stages(job, ifs, stages, _split(job.steps, 4))
+    return _in_stages(job, ifs, stages, _split(job.frame.steps, 4))
 
 
 def run_strategy(strategy: str, start: IFS | Plan, target: Target, *, steps: int, seed: int = 0,
@@ -246,15 +237,15 @@ def run_strategy(strategy: str, start: IFS | Plan, target: Target, *, steps: int
         ``history.strategy`` the strategy's name.
     """
     check_strategy(strategy)
+    frame = Frame(target, steps, seed, progress=progress, callback=callback, coarsest=settings.coarsest)
     if strategy == "auto":
         if not isinstance(start, Plan):
             raise IFSError("strategy 'auto' fits an automatic start, a plan read from the image: use ifslib.initialize('auto', target)")
-        result = fit_plan(start, Climb.of(target, settings.coarsest, steps, seed, progress, callback), options,
-                          settings.end_on_attractor)
+        result = fit_plan(start, frame, options, end_on_attractor=settings.end_on_attractor)
     else:
         ifs = start.start if isinstance(start, Plan) else start
         depth = options.depth or ifs.depth
-        job = _Job(target, steps, seed, options.replace(depth=depth), settings, progress, callback)
+        job = _Job(frame, options.replace(depth=depth), settings)
         result = _simple(strategy, job, ifs, np.random.default_rng(seed))
     result.history.strategy = strategy
     if not math.isfinite(result.best_loss):
@@ -267,13 +258,13 @@ def _simple(strategy: str, job: _Job, ifs: IFS, rng: np.random.Generator) -> Fit
     if strategy == "pyramid":
         return _pyramid(job, ifs, rng)
     if strategy == "plain":
-        return job.run(ifs, job.steps)
+        return job.run(ifs, job.frame.steps)
     if strategy == "uncross":
         check_curve(ifs, "strategy 'uncross'")
-        return job.run(ifs, job.steps, crossing_weight=job.options.crossing_weight or UNCROSS_WEIGHT)
+        return job.run(ifs, job.frame.steps, crossing_weight=job.options.crossing_weight or UNCROSS_WEIGHT)
     if strategy == "coarse_to_fine":
         depths = list(range(1, job.options.depth + 1))
-        return _in_stages(job, ifs, [{"depth": d} for d in depths], _split(job.steps, len(depths)))
+        return _in_stages(job, ifs, [{"depth": d} for d in depths], _split(job.frame.steps, len(depths)))
     if strategy == "multistart":
         return _multistart(job, ifs, rng)
     if strategy == "restart":

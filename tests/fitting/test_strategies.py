@@ -5,6 +5,7 @@ import pytest
 
 import ifslib
 from ifslib.fitting import pyramid, strategies
+from ifslib.fitting.frame import Frame
 from ifslib.fitting.strategies import DEFAULT_STRATEGY, STRATEGIES, UNCROSS_WEIGHT
 
 SIZE, STEPS = 32, 12
@@ -85,7 +86,7 @@ def test_attractor_stage_falls_back_to_sampled_leaves_when_the_cut_outgrows_the_
     target = ifslib.load_target(ifslib.render(ifs, 64).detach().numpy(), 64)
     assert pyramid.attractor_method(ifs, 64) == "fast"
     monkeypatch.setattr(attractor, "DEFAULT_MAX_LEAVES", 16)  # the stage's own cut: far over this budget at once
-    frame = pyramid.Climb.of(target, 64, steps=2, seed=0, progress=False)
+    frame = Frame(target, 2, 0, progress=False, coarsest=64)
     result, record = pyramid.attractor_stage(frame, ifs, ifslib.RunOptions(lr=1e-3), "test")
     assert record.method == "sampled" and "outgrew the leaf budget" in record.fallback
     assert math.isfinite(result.best_loss)
