@@ -91,7 +91,14 @@ def _stage_text(stage) -> str:
 
 
 def _stages_text(history) -> str:
-    """One line on how a strategy spent its steps (the pyramid's starts and stages, the automatic pattern's choice)."""
+    """One line on how a strategy spent its steps (the pyramid's starts and stages, the automatic pattern's choice,
+    and for a figure fitted both as a fractal and as a shape, which kind was kept)."""
+    text = _spent_text(history)
+    decision = (history.auto or {}).get("decision")
+    return text if decision is None else f"{text}; fitted as a fractal and as a shape: {decision}"
+
+
+def _spent_text(history) -> str:
     stages, auto = history.stages, history.auto
     if auto is not None and auto.get("kind") == "fractal":
         tried = ", ".join(f"{c['maps']} maps IoU {c['iou']:.3f}" for c in auto["candidates"])

@@ -2,7 +2,10 @@
 automatic fit compares, made by `discover`.
 
 Fitting takes the plan as it is (`ifslib.fit` fits a plan with the ``auto`` strategy) and never
-calls back into discovery; the plan's ``pattern`` is the description the JSON file keeps.
+calls back into discovery; the plan's ``pattern`` is the description the JSON file keeps. When the
+image alone cannot say whether the figure is a fractal or a shape (`ambiguous`), the plan carries
+both: the fractal search's maps as the plan and a shape plan as its rival, and fitting keeps the
+kind whose fitted attractor scores better.
 """
 from __future__ import annotations
 
@@ -17,6 +20,14 @@ from ..targets.target import Target
 from . import fractal
 from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, candidates, choices,
                    classify, fractal_start, interior_share)
+
+#: A porous figure with at least this interior share (`ifslib.discovery.auto.interior_share`) may be a solid
+#: shape with thin parts (limbs, tails, thin letters: 0.78-0.80) as well as a fractal (the random benchmark's
+#: are 0.06-0.76, two of the 50 above 0.6) ...
+AMBIGUOUS_SHARE = 0.6
+#: ... and it is fitted both ways unless the fractal search's chosen attractor already has this IoU (at the
+#: search's judging size): a fractal that draws the figure this well needs no rival (the silhouettes' level).
+CLEAR_FRACTAL_IOU = 0.93
 
 
 @dataclass(frozen=True)
@@ -35,12 +46,17 @@ class Plan:
     pattern : dict
         What ``start.meta["pattern"]`` records for the JSON file (kind, maps, depth; for a fractal
         the search's table, rule and verdict; for a shape whose search failed, ``fractal_search``).
+    rivals : tuple of Plan
+        Plans of another kind for the same image, when the image could not tell which kind it is
+        (`ambiguous`): the ``auto`` strategy fits each and keeps the one whose attractor scores best
+        for its number of maps. Empty when the kind is clear.
     """
 
     start: IFS
     candidates: tuple[IFS, ...]
     kind: str
     pattern: dict
+    rivals: tuple[Plan, ...] = ()
 
     def with_start(self, start: IFS) -> Plan:
         """The plan with ``start`` (the same pattern, moved: a jittered start) in place of its start."""
@@ -58,11 +74,25 @@ def _searchable(target: Target, kind: str, maps: int | None) -> bool:
             and interior_share(target) < POROUS_SHARE and (maps is None or maps <= fractal.DEFAULT.max_maps))
 
 
+def ambiguous(target: Target, fractal_pattern: dict) -> str | None:
+    """Why a porous figure whose search found a fractal may be a shape as well, or None when it is clearly
+    a fractal: its interior share is at least `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU is
+    below `CLEAR_FRACTAL_IOU`."""
+    share = interior_share(target)
+    chosen = next(r for r in fractal_pattern["search"] if r["maps"] == fractal_pattern["maps"])
+    if share < AMBIGUOUS_SHARE or chosen["iou"] >= CLEAR_FRACTAL_IOU:
+        return None
+    return (f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin parts "
+            f"has as much) and the search's {fractal_pattern['maps']} maps draw an attractor of IoU {chosen['iou']:.3f} "
+            f"< {CLEAR_FRACTAL_IOU:g}: fitted as a fractal and as a shape")
+
+
 def discover(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
              seed: int = 0) -> Plan:
     """The plan for ``target``: a fractal's maps when the figure is porous and the search finds them
     (`ifslib.discovery.auto.fractal_start`), else the curve or shape starts of the (maps, depth)
-    pairs of `ifslib.discovery.auto.choices`, the nearest one the start.
+    pairs of `ifslib.discovery.auto.choices`, the nearest one the start. A fractal plan whose figure
+    may be a shape as well (`ambiguous`) carries the shape plan as its rival.
 
     Without fitting, "nearest" is the collage theorem's measure: the start drawn at the target's
     size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
@@ -74,11 +104,21 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     if _searchable(target, kind, maps):
         start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed)
         if start is not None:
-            return Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
+            found = Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
+            why = ambiguous(target, found.pattern)
+            if why is None:
+                return found
+            rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind))
+            return dataclasses.replace(found, pattern={**found.pattern, "ambiguous": why}, rivals=(rival,))
     options = candidates(target, wanted, primitive, seed, kind=kind)
     if searched is not None:
         for o in options:
             o.meta["pattern"]["fractal_search"] = searched
+    return _nearest(target, kind, options)
+
+
+def _nearest(target: Target, kind: str, options: list[IFS]) -> Plan:
+    """The curve or shape plan of ``options``, its start the one nearest the target drawn at its depth."""
     if len(options) == 1:
         start = options[0]
     else:

@@ -6,8 +6,9 @@ Each candidate start is fitted at the coarsest size of the pyramid for the same 
 shape then gets a stage at full size with the pixel loss (`POLISH_LOSS`), which fills the slivers
 between copies, or, ending on the attractor (the default), the attractor stage with that loss. A
 fractal's plan (its maps and their number chosen by the search) goes straight to the attractor
-stage (`FRACTAL_STAGE_STEPS`, `FRACTAL_LOSS`). The plan is taken as it is: nothing here calls
-discovery again.
+stage (`FRACTAL_STAGE_STEPS`, `FRACTAL_LOSS`). A plan with rivals (a figure that may be a fractal
+or a shape) has each of its kinds fitted so, and the one whose attractor scores best for its number
+of maps is kept (`choose_kind`). The plan is taken as it is: nothing here calls discovery again.
 """
 from __future__ import annotations
 
@@ -15,6 +16,8 @@ import time
 
 from ..errors import IFSError
 from ..discovery.plan import Plan
+from ..geometry.attractor import ATTRACTOR
+from ..scoring.metrics import evaluate
 from .options import RunOptions
 from .frame import Frame
 from .pyramid import PYRAMID_STAGE_STEPS, attractor_stage, climb, with_early_stop
@@ -33,15 +36,53 @@ FRACTAL_STAGE_STEPS = 100
 FRACTAL_LOSS = "pixel"
 
 
+#: Between kinds (the fractal and the shape fitted to one ambiguous figure) each fit scores 1 - its attractor's IoU
+#: plus this much a map, the least kept: a description-length rule whose price of a map is the search's
+#: (`ifslib.discovery.fractal.DEFAULT.map_cost`, 0.04) over 40, since the shape's 24 maps would otherwise cost
+#: 0.96 and no shape could ever beat a fractal: here a 5-map fractal is kept unless the 24-map shape draws
+#: the figure better by more than 0.019 IoU.
+KIND_MAP_COST = 0.001
+
+
 def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor: bool = True) -> FitResult:
     """Fit ``plan`` (see the module docstring); ``history.auto`` lists the candidates and the one chosen.
 
-    The fitted IFSs' ``meta["pattern"]`` is the chosen candidate's description with ``chosen``.
+    The fitted IFSs' ``meta["pattern"]`` is the chosen candidate's description with ``chosen``; for a
+    plan with rivals also ``decision``, which kind was kept and why.
     """
     if options.depth not in (None, plan.depth):
         raise IFSError("an automatic start's candidates have depths of their own: fix the depth with "
                        "ifslib.initialize('auto', target, depth=...)")
     options = with_early_stop(options.replace(depth=None))
+    if plan.rivals:
+        return choose_kind([_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)], frame)
+    return _fit_one(plan, frame, options, end_on_attractor)
+
+
+def choose_kind(results: list[FitResult], frame: Frame) -> FitResult:
+    """Of the fits of one figure as different kinds, the one whose attractor scores least: 1 - attractor IoU
+    at the target's size plus `KIND_MAP_COST` a map. Its history counts every fit's steps, and says in
+    ``auto["kinds"]`` and ``auto["decision"]`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared."""
+    rows = []
+    for result in results:
+        maps = len(result.best.rules)
+        iou = evaluate(result.best, frame.target, depth=ATTRACTOR)["iou"]
+        rows.append({"kind": result.history.auto["kind"], "maps": maps, "attractor_iou": round(iou, 4),
+                     "score": round(1 - iou + KIND_MAP_COST * maps, 4), "steps": result.history.cost})
+    best = min(range(len(rows)), key=lambda i: (rows[i]["score"], rows[i]["maps"]))
+    decision = (f"{rows[best]['kind']} kept: " + "; ".join(
+        f"{r['kind']} of {r['maps']} maps, attractor IoU {r['attractor_iou']:.3f}, score {r['score']:.3f}" for r in rows)
+        + f" (1 - attractor IoU at {frame.target.size}² plus {KIND_MAP_COST:g} a map, the least kept)")
+    result = results[best]
+    result.history.cost = sum(r["steps"] for r in rows)
+    result.history.auto = {**result.history.auto, "kinds": rows, "decision": decision}
+    for ifs in (result.best, result.final):
+        ifs.meta["pattern"] = {**ifs.meta["pattern"], "decision": decision}
+    return result
+
+
+def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bool) -> FitResult:
+    """Fit one kind's plan: a fractal's maps, or the candidates of a curve or a shape compared by their loss."""
     if plan.kind == "fractal":
         return _fit_fractal(plan, frame, options, end_on_attractor)
     tried = [_probe(frame, candidate, options) for candidate in plan.candidates]

@@ -1,4 +1,4 @@
-"""Silhouettes the library draws itself: letters, polygons and smooth blobs, as binary masks.
+"""Silhouettes the library draws itself: letters, polygons, smooth blobs and limbed creatures, as binary masks.
 
 They are targets that need no file: a reader's first image to fit, and the benchmark set of shapes
 (`benchmarks/silhouettes.py`). Every drawing is a boolean ``(size, size)`` array in the pixel grid
@@ -103,9 +103,74 @@ def blob(size: int = 128, seed: int = 0, harmonics: int = 4, roughness: float = 
     return _inside(Path(_fitted(vertices)), size)
 
 
+def _segment_distance(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of each of ``points`` ``(n, 2)`` to the segment ``a b``."""
+    ab = b - a
+    t = np.clip((points - a) @ ab / (ab @ ab), 0, 1)
+    return np.linalg.norm(points - (a + t[:, None] * ab), axis=1)
+
+
+def limbed(size: int = 128, seed: int = 0, limbs: int = 4, width: float = 0.04, tail: bool = True,
+           holes: int = 1) -> np.ndarray:
+    """A creature: an oval blob with thin bent limbs, a wavy tail and round holes.
+
+    A solid figure whose thin parts make it look porous (its interior share falls towards a
+    fractal's, `ifslib.discovery.auto.interior_share`): the benchmark's test of deciding fractal or shape.
+
+    Parameters
+    ----------
+    size, seed : int
+    limbs : int
+        Bent limbs (two strokes each) spread around the body, at least 0.
+    width : float
+        Each limb's width in plane units (the frame is 1 wide; the tail is 0.7 as wide).
+    tail : bool
+        A wavy stroke on the body's left.
+    holes : int
+        Round holes of diameter 0.1 punched near the body's centre.
+    """
+    size = check_size(size)
+    for name, value in (("limbs", limbs), ("holes", holes)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+            raise IFSError(f"{name} must be an integer >= 0, got {value!r}")
+    if isinstance(width, bool) or not isinstance(width, (int, float)) or not 0 < width < 0.5:
+        raise IFSError(f"width must be a number between 0 and 0.5 (plane units), got {width!r}")
+    rng = np.random.default_rng(seed)
+    x, y = pixel_centres(size)
+    points = np.stack([x.numpy(), y.numpy()], 1)
+    theta = np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    radius = 0.22 * (1 + sum(rng.uniform(0, 0.15 / (k - 1)) * np.cos(k * theta + rng.uniform(0, 2 * np.pi))
+                             for k in range(2, 5)))
+    inside = Path(np.stack([1.3 * radius * np.cos(theta), radius * np.sin(theta)], 1)).contains_points(points)
+    for i in range(limbs):  # a hip on the body, a knee farther out, a foot turned by about 35 degrees
+        angle = (i + 0.5) * 2 * np.pi / limbs + rng.uniform(-0.3, 0.3)
+        out = np.array([np.cos(angle), np.sin(angle)])
+        hip = 0.15 * out * (1.3, 1)
+        knee = hip + 0.18 * out
+        foot = knee + 0.14 * np.array([np.cos(angle + 0.6), np.sin(angle + 0.6)])
+        inside |= (_segment_distance(points, hip, knee) < width / 2) | (_segment_distance(points, knee, foot) < width / 2)
+    if tail:
+        t = np.linspace(0, 1, 40)
+        wave = np.stack([-0.28 - 0.15 * t, 0.05 + 0.08 * np.sin(3 * np.pi * t)], 1)
+        near = np.min([_segment_distance(points, a, b) for a, b in zip(wave[:-1], wave[1:])], 0)
+        inside |= near < 0.35 * width
+    for _ in range(holes):
+        centre = np.array([rng.uniform(-0.08, 0.08), rng.uniform(-0.05, 0.05)])
+        inside &= np.linalg.norm(points - centre, axis=1) > 0.05
+    return inside.reshape(size, size)
+
+
 def gallery(size: int = 128) -> dict[str, np.ndarray]:
     """The benchmark's silhouettes: three letters, three polygons and three blobs, by name."""
     shapes = {f"letter {c}": letter(c, size) for c in "AGR"}
     shapes.update({f"polygon {n}": polygon(n, size, seed=n) for n in (5, 7, 9)})
     shapes.update({f"blob {s}": blob(size, seed=s) for s in (1, 2, 3)})
+    return shapes
+
+
+def thin_gallery(size: int = 128) -> dict[str, np.ndarray]:
+    """Silhouettes with thin limbs, tails and holes, by name: three creatures (`limbed`) and three
+    letters of normal weight (a thin Y, a K, a B with two holes)."""
+    shapes = {f"creature {s}": limbed(size, seed=s, limbs=3 + s % 3, width=0.03 + 0.01 * (s % 2)) for s in (1, 2, 3)}
+    shapes.update({f"thin letter {c}": letter(c, size, weight="normal") for c in "YKB"})
     return shapes

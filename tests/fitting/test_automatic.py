@@ -1,0 +1,49 @@
+"""The ``auto`` strategy's choice between kinds: a plan with a rival is fitted both ways and the fit whose
+attractor scores least (1 - IoU plus a cost a map) is kept, with the decision recorded."""
+import ifslib
+from ifslib.discovery import auto
+from ifslib.discovery.plan import Plan
+from ifslib.fitting.automatic import KIND_MAP_COST
+
+
+def _fractal_plan(ifs, iou=0.8):
+    ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(ifs.rules), "depth": ifs.depth,
+                           "search": [{"maps": len(ifs.rules), "iou": iou}]}
+    return Plan(ifs, (ifs,), "fractal", dict(ifs.meta["pattern"]))
+
+
+def _shape_plan(target, maps=4):
+    start = auto.candidates(target, [(maps, 2)], kind="shape")[0]
+    return Plan(start, (start,), "shape", dict(start.meta["pattern"]))
+
+
+def _fit_both(fractal, target):
+    plan = _fractal_plan(fractal)
+    plan = Plan(plan.start, plan.candidates, plan.kind, plan.pattern, rivals=(_shape_plan(target),))
+    return ifslib.fit(plan, target, steps=20, progress=False)
+
+
+def test_a_fractal_is_kept_over_a_shape_when_its_attractor_draws_the_figure():
+    truth = ifslib.patterns.random_ifs(3, 1)
+    target = ifslib.load_target(ifslib.render(truth, 64, method="chaos", points=200_000, seed=1).numpy(), 64)
+    result = _fit_both(truth, target)
+    rows = result.history.auto["kinds"]
+    assert [r["kind"] for r in rows] == ["fractal", "shape"] and [r["maps"] for r in rows] == [3, 4]
+    assert result.history.auto["decision"].startswith("fractal kept")
+    assert result.best.meta["pattern"]["kind"] == "fractal" and "decision" in result.best.meta["pattern"]
+    iou = ifslib.evaluate(result.best, target, depth="attractor")["iou"]
+    assert abs(rows[0]["score"] - (1 - iou + KIND_MAP_COST * 3)) < 1e-3  # the score is of the kept fit's attractor
+    assert rows[0]["score"] < rows[1]["score"]
+    assert result.history.cost == rows[0]["steps"] + rows[1]["steps"]  # both fits' steps are counted
+
+
+def test_a_shape_is_kept_when_the_fractal_draws_the_figure_worse():
+    from ifslib.targets import silhouettes
+
+    target = ifslib.load_target(silhouettes.blob(64, seed=1).astype(float), 64)
+    poor = ifslib.patterns.affine([[[0.3, 0, -0.2], [0, 0.3, 0]], [[0.3, 0, 0.2], [0, 0.3, 0]]], depth=3, name="auto")
+    result = _fit_both(poor, target)
+    rows = result.history.auto["kinds"]
+    assert result.history.auto["decision"].startswith("shape kept")
+    assert result.best.meta["pattern"]["kind"] == "shape" and len(result.best.rules) == 4
+    assert rows[1]["score"] < rows[0]["score"] and rows[1]["attractor_iou"] > rows[0]["attractor_iou"]
