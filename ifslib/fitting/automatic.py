@@ -20,7 +20,7 @@ from ..geometry.attractor import ATTRACTOR
 from ..scoring.metrics import evaluate
 from .options import RunOptions
 from .frame import Frame
-from .pyramid import PYRAMID_STAGE_STEPS, attractor_stage, climb, with_early_stop
+from .pyramid import FIT_MAX_LEAVES, PYRAMID_STAGE_STEPS, attractor_stage, climb, with_early_stop
 from .result import FitResult, Stage
 
 #: Steps each candidate gets at the coarsest size before they are compared.
@@ -28,6 +28,12 @@ AUTO_PROBE_STEPS = 150
 #: A shape's last stage: the pixel loss counts every uncovered pixel, where the distance loss hardly
 #: sees the slivers between copies (apple at 256²: IoU 0.89 -> 0.97, docs/results/any-shape.md).
 POLISH_LOSS = "multiscale_pixel"
+#: A shape's attractor stage draws the certified cut only up to this many leaves (a curve's and a fractal's up
+#: to `FIT_MAX_LEAVES`), else sampled leaves (32,768 at 128², 65,536 from 181²): a shape's copies overlap and
+#: thin ones need many leaves, at a cost a step that grows with them (the thin letter Y at 128²: 228,598
+#: leaves, 0.55 s a step against 0.12 s sampled, attractor IoU after 20 steps 0.886 against 0.877;
+#: docs/results/any-shape.md).
+SHAPE_MAX_LEAVES = 65_536
 #: A fractal's plan (maps placed by `ifslib.discovery.fractal.search` within a fraction of a pixel)
 #: gets one attractor stage of at most this many steps ...
 FRACTAL_STAGE_STEPS = 100
@@ -55,14 +61,16 @@ def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor:
                        "ifslib.initialize('auto', target, depth=...)")
     options = with_early_stop(options.replace(depth=None))
     if plan.rivals:
-        return choose_kind([_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)], frame)
+        fits = [_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)]
+        return choose_kind(fits, frame, why=plan.pattern.get("ambiguous"))
     return _fit_one(plan, frame, options, end_on_attractor)
 
 
-def choose_kind(results: list[FitResult], frame: Frame) -> FitResult:
+def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = None) -> FitResult:
     """Of the fits of one figure as different kinds, the one whose attractor scores least: 1 - attractor IoU
     at the target's size plus `KIND_MAP_COST` a map. Its history counts every fit's steps, and says in
-    ``auto["kinds"]`` and ``auto["decision"]`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared."""
+    ``auto["kinds"]`` and ``auto["decision"]`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared,
+    after ``why`` (why both kinds were fitted) when given."""
     rows = []
     for result in results:
         maps = len(result.best.rules)
@@ -73,6 +81,8 @@ def choose_kind(results: list[FitResult], frame: Frame) -> FitResult:
     decision = (f"{rows[best]['kind']} kept: " + "; ".join(
         f"{r['kind']} of {r['maps']} maps, attractor IoU {r['attractor_iou']:.3f}, score {r['score']:.3f}" for r in rows)
         + f" (1 - attractor IoU at {frame.target.size}² plus {KIND_MAP_COST:g} a map, the least kept)")
+    if why:
+        decision = f"{why}; {decision}"
     result = results[best]
     result.history.cost = sum(r["steps"] for r in rows)
     result.history.auto = {**result.history.auto, "kinds": rows, "decision": decision}
@@ -102,7 +112,7 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
                             stopped=result.history.stopped, best_loss=result.best_loss))
     if end_on_attractor:
         result, stage = attractor_stage(frame, result.best, options.replace(loss=POLISH_LOSS) if shape else options,
-                                        label)
+                                        label, max_leaves=SHAPE_MAX_LEAVES if shape else FIT_MAX_LEAVES)
         stages.append(stage)
     # the chosen candidate's own description, for the file (it decides nothing here)
     choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}

@@ -50,24 +50,25 @@ def climb(frame: Frame, start: IFS, options: RunOptions, label: str, *, sizes: l
     return result, stages
 
 
-def attractor_method(ifs: IFS, size: int) -> str:
-    """``"fast"`` when the certified cut of ``ifs``'s attractor at ``size`` has at most `FIT_MAX_LEAVES` leaves, else ``"sampled"``."""
+def attractor_method(ifs: IFS, size: int, max_leaves: int = FIT_MAX_LEAVES) -> str:
+    """``"fast"`` when the certified cut of ``ifs``'s attractor at ``size`` has at most ``max_leaves`` leaves, else ``"sampled"``."""
     try:
-        attractor_leaves_for(ifs, size, max_leaves=FIT_MAX_LEAVES)
+        attractor_leaves_for(ifs, size, max_leaves=max_leaves)
     except LeafBudgetError:
         return "sampled"
     return "fast"
 
 
-def attractor_stage(frame: Frame, ifs: IFS, options: RunOptions, label: str, *, steps: int | None = None
-                    ) -> tuple[FitResult, Stage]:
+def attractor_stage(frame: Frame, ifs: IFS, options: RunOptions, label: str, *, steps: int | None = None,
+                    max_leaves: int = FIT_MAX_LEAVES) -> tuple[FitResult, Stage]:
     """Fit the attractor of ``ifs`` at the target's size: the last stage of ``pyramid`` and ``auto``.
 
-    At most ``min(steps, ATTRACTOR_STAGE_STEPS)`` steps (``steps`` is the frame's budget when None).
-    Returns the run's result and its stage record.
+    At most ``min(steps, ATTRACTOR_STAGE_STEPS)`` steps (``steps`` is the frame's budget when None),
+    with the certified cut when it has at most ``max_leaves`` leaves at the start, else with sampled
+    leaves. Returns the run's result and its stage record.
     """
     target = frame.target
-    method = attractor_method(ifs, target.size)
+    method = attractor_method(ifs, target.size, max_leaves)
     budget = min(frame.steps if steps is None else steps, ATTRACTOR_STAGE_STEPS)
     fallback = None
     try:

@@ -8,7 +8,7 @@ from ifslib.fitting.automatic import KIND_MAP_COST
 
 def _fractal_plan(ifs, iou=0.8):
     ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(ifs.rules), "depth": ifs.depth,
-                           "search": [{"maps": len(ifs.rules), "iou": iou}]}
+                           "search": [{"maps": len(ifs.rules), "iou": iou}], "ambiguous": "the test's reason"}
     return Plan(ifs, (ifs,), "fractal", dict(ifs.meta["pattern"]))
 
 
@@ -29,7 +29,7 @@ def test_a_fractal_is_kept_over_a_shape_when_its_attractor_draws_the_figure():
     result = _fit_both(truth, target)
     rows = result.history.auto["kinds"]
     assert [r["kind"] for r in rows] == ["fractal", "shape"] and [r["maps"] for r in rows] == [3, 4]
-    assert result.history.auto["decision"].startswith("fractal kept")
+    assert result.history.auto["decision"].startswith("the test's reason; fractal kept")
     assert result.best.meta["pattern"]["kind"] == "fractal" and "decision" in result.best.meta["pattern"]
     iou = ifslib.evaluate(result.best, target, depth="attractor")["iou"]
     assert abs(rows[0]["score"] - (1 - iou + KIND_MAP_COST * 3)) < 1e-3  # the score is of the kept fit's attractor
@@ -44,6 +44,6 @@ def test_a_shape_is_kept_when_the_fractal_draws_the_figure_worse():
     poor = ifslib.patterns.affine([[[0.3, 0, -0.2], [0, 0.3, 0]], [[0.3, 0, 0.2], [0, 0.3, 0]]], depth=3, name="auto")
     result = _fit_both(poor, target)
     rows = result.history.auto["kinds"]
-    assert result.history.auto["decision"].startswith("shape kept")
+    assert result.history.auto["decision"].startswith("the test's reason; shape kept")
     assert result.best.meta["pattern"]["kind"] == "shape" and len(result.best.rules) == 4
     assert rows[1]["score"] < rows[0]["score"] and rows[1]["attractor_iou"] > rows[0]["attractor_iou"]

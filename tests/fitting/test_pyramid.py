@@ -102,3 +102,19 @@ def test_bad_stop_arguments(target):
         ifslib.fit(KOCH, target, steps=2, tol=0.1, patience=0, progress=False)
     with pytest.raises(ifslib.IFSError, match="Target"):
         ifslib.fit(KOCH, np.zeros((8, 8)), steps=2, progress=False)
+
+
+def test_the_attractor_stage_samples_leaves_past_its_leaf_budget():
+    from ifslib.fitting.frame import Frame
+    from ifslib.fitting.options import RunOptions
+    from ifslib.fitting.pyramid import attractor_method, attractor_stage
+    from ifslib.raster.distance import attractor_leaves_for
+
+    fern = ifslib.patterns.fern()
+    leaves = len(attractor_leaves_for(fern, 64))
+    assert attractor_method(fern, 64, leaves) == "fast" and attractor_method(fern, 64, leaves - 1) == "sampled"
+    target = ifslib.load_target(ifslib.render(fern, 64, depth="attractor").detach().numpy(), 64)
+    frame = Frame(target, 4, 0, progress=False)
+    for budget, method in ((leaves, "fast"), (leaves - 1, "sampled")):
+        _, stage = attractor_stage(frame, fern, RunOptions(loss="pixel"), "fern", max_leaves=budget)
+        assert stage.method == method and stage.depth == "attractor" and stage.steps == 4
