@@ -135,8 +135,10 @@ def interior_share(target: Target, size: int = POROUS_SIZE) -> float:
 
 
 def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
-                  progress: bool = True) -> tuple[IFS | None, dict]:
-    """The maps of `ifslib.discovery.fractal.search` as a start, or None when their attractor does not fit.
+                  progress: bool = True, *, config: fractal.SearchConfig = fractal.DEFAULT
+                  ) -> tuple[IFS | None, dict]:
+    """The maps of `ifslib.discovery.fractal.search` (with ``config``) as a start, or None when their attractor
+    does not fit.
 
     Returns
     -------
@@ -146,7 +148,7 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_
     dict
         What the search compared: ``search`` (one row per number of maps), ``rule``, ``verdict``.
     """
-    found = fractal.search(target, maps, seed=seed, progress=progress)
+    found = fractal.search(target, maps, seed=seed, progress=progress, config=config)
     chamfer_px = found.chosen["chamfer_px"]
     record = {"search": found.table, "rule": found.rule}
     if chamfer_px > FRACTAL_CHAMFER:

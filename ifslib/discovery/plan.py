@@ -28,6 +28,11 @@ AMBIGUOUS_SHARE = 0.6
 #: ... and it is fitted both ways unless the fractal search's chosen attractor already has this IoU (at the
 #: search's judging size): a fractal that draws the figure this well needs no rival (the silhouettes' level).
 CLEAR_FRACTAL_IOU = 0.93
+#: Such a figure is searched once, not again from the next seed when no attractor reaches IoU 0.85: it has a shape
+#: fit to fall back on, and a second search doubles the wait of a shape the search cannot place (creature 2 of
+#: `ifslib.targets.silhouettes.thin_gallery`; the fractals of interior share 0.6 or more end their first search
+#: above 0.85 and never search again; docs/results/any-shape.md).
+AMBIGUOUS_SEARCH = dataclasses.replace(fractal.DEFAULT, again=0)
 
 
 @dataclass(frozen=True)
@@ -102,7 +107,8 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     wanted = choices(kind, maps, depth)  # checks maps and depth before any search
     searched = None
     if _searchable(target, kind, maps):
-        start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed)
+        config = AMBIGUOUS_SEARCH if interior_share(target) >= AMBIGUOUS_SHARE else fractal.DEFAULT
+        start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)
         if start is not None:
             found = Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
             why = ambiguous(target, found.pattern)

@@ -51,3 +51,21 @@ def test_limbed_draws_its_parts():
     assert (ndimage.binary_fill_holes(full) & ~full).sum() > 10  # the hole stays a hole
     assert full.sum() > bare.sum() - 200  # the limbs and the tail add more than the hole takes
     assert np.array_equal(full, silhouettes.limbed(96, seed=0, limbs=4, tail=True, holes=1))
+
+
+def test_a_figure_that_may_be_a_shape_is_searched_once(monkeypatch):
+    from ifslib.discovery import fractal
+
+    configs = []
+
+    def no_fractal(target, maps, depth, seed, *, config):
+        configs.append(config)
+        return None, {"search": [], "rule": "", "verdict": "none"}
+
+    monkeypatch.setattr(plan, "fractal_start", no_fractal)
+    creature = ifslib.load_target(silhouettes.limbed(128, seed=2, width=0.03).astype(float), 128)
+    lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
+                                            points=200_000, seed=1).numpy(), 128)
+    assert plan.discover(creature, maps=4, depth=2).kind == "shape"
+    assert plan.discover(lace, maps=4, depth=2).kind == "shape"
+    assert configs == [plan.AMBIGUOUS_SEARCH, fractal.DEFAULT] and plan.AMBIGUOUS_SEARCH.again == 0
