@@ -9,7 +9,7 @@ target beside its fit's attractor (the float64 chaos game, 1M points).
 
     python benchmarks/silhouettes.py                 # 15 silhouettes at 128², the apple and flower at 256²
     python benchmarks/silhouettes.py --only apple flower
-    python benchmarks/silhouettes.py --only creature thin   # the six with thin limbs, tails and holes
+    python benchmarks/silhouettes.py --only creature thin --picture figures/silhouettes_thin.png   # the six thin ones
 
 The drawn silhouettes are `silhouettes.gallery` (letters, polygons, blobs) and `silhouettes.thin_gallery`
 (creatures with thin limbs, a tail and a hole, and thin letters): solid figures, some of which look porous,
