@@ -81,17 +81,24 @@ if "IFSLIB_THREADS" not in os.environ:
     os.environ["IFSLIB_THREADS_SET_BY"] = "conftest"  # the default run: tests/notebooks/test_notebook_runs.py holds it to 1
 
 
+#: Test modules kept on one worker: their module fixture draws for about 11 s (the literature's IFS classes).
+WHOLE_MODULES = {"tests/geometry/test_samplers.py"}
+
+
 def notebook_scope(nodeid: str) -> str:
     """The work unit of a test under ``make test``'s pytest-xdist workers (``-n auto --dist loadscope``).
 
     A notebook's cells share one kernel and must run in order on one worker; the comparison of its
     figure (tests/notebooks/test_notebook_runs.py) reads what that run saved, so it joins the same unit, after
-    the cells (pytest collects ``notebooks/`` first). Every other test is a unit of its own, so the
-    workers stay evenly loaded.
+    the cells (pytest collects ``notebooks/`` first). A module whose module-scoped fixture is costly
+    (`WHOLE_MODULES`) is one unit, so that one worker builds the fixture. Every other test is a unit
+    of its own, so the workers stay evenly loaded.
     """
     path, _, rest = nodeid.partition("::")
     if path.endswith(".ipynb"):
         return Path(path).stem
+    if path in WHOLE_MODULES:
+        return path
     figure = re.fullmatch(r"test_figure_matches_reference\[(.+)\]", rest)
     if path.endswith("test_notebook_runs.py") and figure:
         return figure.group(1)
