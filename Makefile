@@ -13,12 +13,10 @@ export IFSLIB_DATA
 # this machine's local CPU wheel, never a multi-GB CUDA build from the index).
 # What the tests and the notebooks need; the book's and the browser's extras come on top, only for
 # the commands that use them (make test does not wait for Sphinx and Playwright to install).
-# --no-compile: Python compiles the modules a run imports when it first imports them, instead of pip
-# compiling every file of every package (torch's thousands) up front: 35 s for the install, not 57 s.
 $(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet --no-compile -c constraints.txt -e '.[dev,sweep]'
+	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep]'
 	touch $@
 
 $(VENV)/.installed-docs: $(VENV)/.installed
