@@ -73,23 +73,23 @@ class Plan:
         return self.start.depth
 
 
-def _searchable(target: Target, kind: str, maps: int | None) -> bool:
-    """Whether the figure is searched as a fractal first: a porous shape, large enough (`ifslib.discovery.auto`)."""
-    return (kind == "shape" and target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS
-            and interior_share(target) < POROUS_SHARE and (maps is None or maps <= fractal.DEFAULT.max_maps))
+def _searchable(target: Target, share: float, maps: int | None) -> bool:
+    """Whether a shape of interior share ``share`` is searched as a fractal first: porous, large enough
+    (`ifslib.discovery.auto`)."""
+    return (target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS and share < POROUS_SHARE
+            and (maps is None or maps <= fractal.DEFAULT.max_maps))
 
 
-def ambiguous(target: Target, fractal_pattern: dict) -> str | None:
-    """Why a porous figure whose search found a fractal may be a shape as well, or None when it is clearly
-    a fractal: its interior share is at least `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU is
-    below `CLEAR_FRACTAL_IOU`."""
-    share = interior_share(target)
+def ambiguous(share: float, fractal_pattern: dict) -> str | None:
+    """Why a porous figure (of interior share ``share``, `ifslib.discovery.auto.interior_share`) whose search
+    found a fractal may be a shape as well, or None when it is clearly a fractal: its interior share is at
+    least `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU is below `CLEAR_FRACTAL_IOU`."""
     chosen = next(r for r in fractal_pattern["search"] if r["maps"] == fractal_pattern["maps"])
     if share < AMBIGUOUS_SHARE or chosen["iou"] >= CLEAR_FRACTAL_IOU:
         return None
-    return (f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin parts "
-            f"has as much) and the search's {fractal_pattern['maps']} maps draw an attractor of IoU {chosen['iou']:.3f} "
-            f"< {CLEAR_FRACTAL_IOU:g}: fitted as a fractal and as a shape")
+    return (f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin "
+            f"parts has as much) and the search's {fractal_pattern['maps']} maps draw an attractor of IoU "
+            f"{chosen['iou']:.3f} < {CLEAR_FRACTAL_IOU:g}: fitted as a fractal and as a shape")
 
 
 def discover(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
@@ -106,12 +106,13 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     kind = classify(target)
     wanted = choices(kind, maps, depth)  # checks maps and depth before any search
     searched = None
-    if _searchable(target, kind, maps):
-        config = AMBIGUOUS_SEARCH if interior_share(target) >= AMBIGUOUS_SHARE else fractal.DEFAULT
+    share = interior_share(target) if kind == "shape" else None  # a curve is never searched as a fractal
+    if share is not None and _searchable(target, share, maps):
+        config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
         start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)
         if start is not None:
             found = Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
-            why = ambiguous(target, found.pattern)
+            why = ambiguous(share, found.pattern)
             if why is None:
                 return found
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind))

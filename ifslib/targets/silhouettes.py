@@ -12,7 +12,7 @@ from matplotlib.font_manager import FontProperties
 from matplotlib.path import Path
 from matplotlib.textpath import TextPath
 
-from ..errors import IFSError
+from ..errors import IFSError, check_int
 from ..raster.distance import check_size
 from ..raster.nearest import pixel_centres
 
@@ -130,9 +130,8 @@ def limbed(size: int = 128, seed: int = 0, limbs: int = 4, width: float = 0.04, 
         Round holes of diameter 0.1 punched near the body's centre.
     """
     size = check_size(size)
-    for name, value in (("limbs", limbs), ("holes", holes)):
-        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-            raise IFSError(f"{name} must be an integer >= 0, got {value!r}")
+    check_int(limbs, "limbs", 0)
+    check_int(holes, "holes", 0)
     if isinstance(width, bool) or not isinstance(width, (int, float)) or not 0 < width < 0.5:
         raise IFSError(f"width must be a number between 0 and 0.5 (plane units), got {width!r}")
     rng = np.random.default_rng(seed)
@@ -148,7 +147,8 @@ def limbed(size: int = 128, seed: int = 0, limbs: int = 4, width: float = 0.04, 
         hip = 0.15 * out * (1.3, 1)
         knee = hip + 0.18 * out
         foot = knee + 0.14 * np.array([np.cos(angle + 0.6), np.sin(angle + 0.6)])
-        inside |= (_segment_distance(points, hip, knee) < width / 2) | (_segment_distance(points, knee, foot) < width / 2)
+        for a, b in ((hip, knee), (knee, foot)):
+            inside |= _segment_distance(points, a, b) < width / 2
     if tail:
         t = np.linspace(0, 1, 40)
         wave = np.stack([-0.28 - 0.15 * t, 0.05 + 0.08 * np.sin(3 * np.pi * t)], 1)

@@ -23,14 +23,15 @@ def test_a_thin_limbed_creature_looks_porous_but_a_blob_does_not():
 
 def test_ambiguous_reads_the_chosen_row_and_the_figure_share():
     creature = ifslib.load_target(silhouettes.limbed(128, seed=2, width=0.03).astype(float), 128)
-    why = plan.ambiguous(creature, _pattern(5, 0.85))
+    why = plan.ambiguous(auto.interior_share(creature), _pattern(5, 0.85))
     assert why is not None and "IoU 0.850" in why and "fitted as a fractal and as a shape" in why
     # the chosen row is the one of the chosen number of maps, not the best row of the table
-    assert plan.ambiguous(creature, _pattern(5, plan.CLEAR_FRACTAL_IOU)) is None
+    assert plan.ambiguous(auto.interior_share(creature), _pattern(5, plan.CLEAR_FRACTAL_IOU)) is None
     lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
     assert auto.interior_share(lace) < plan.AMBIGUOUS_SHARE
-    assert plan.ambiguous(lace, _pattern(3, 0.5)) is None  # a lace is a fractal however poorly it was found
+    # a lace is a fractal however poorly it was found
+    assert plan.ambiguous(auto.interior_share(lace), _pattern(3, 0.5)) is None
 
 
 @pytest.mark.parametrize("kwargs, message", [({"limbs": -1}, "limbs must be an integer >= 0"),
