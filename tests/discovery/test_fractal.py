@@ -22,6 +22,18 @@ def fractal_target(maps=2, seed=4, size=64):
     return truth, resize_target(target_from_mask(mask, f"random{maps}_{seed}"), size)
 
 
+def test_the_linear_grid_is_its_formula_in_order_entry_by_entry():
+    turns, phases, scales, ratios = 5, 3, (0.3, 0.7), (0.5, 1.0)
+    expected = [fractal.rotation(theta) @ np.diag([s, sign * r * s]) @ fractal.rotation(phi)
+                for s in scales for r in ratios for phi in ([0.0] if r == 1.0 else np.arange(phases) * np.pi / phases)
+                for theta in np.arange(turns) * 2 * np.pi / turns for sign in (1.0, -1.0)]
+    grid = fractal.linear_grid(turns=turns, phases=phases, scales=scales, ratios=ratios)
+    assert grid.shape == (len(expected), 2, 2) == (2 * (3 + 1) * 5 * 2, 2, 2)
+    np.testing.assert_array_equal(grid, np.array(expected))
+    s = np.linalg.svd(grid, compute_uv=False)
+    assert np.allclose(s[:, 0], np.repeat(scales, len(grid) // 2))  # the larger singular value is the scale
+
+
 def test_copy_candidates_count_the_copy_pixels_on_the_grown_figure_as_brute_force_does():
     from scipy import ndimage
 

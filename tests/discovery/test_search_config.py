@@ -58,7 +58,8 @@ def test_again_and_the_bar_change_what_the_search_does_on_a_small_fractal():
     truth = ifslib.patterns.random_ifs(2, 4)
     mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=4).numpy() >= 0.5
     target = resize_target(target_from_mask(mask), 32)
-    strict = replace(DEFAULT, swap_below=1.0, map_cost=0.25, region_rounds=0, grow_rounds=0, swap_rounds=0)
+    strict = replace(DEFAULT, swap_below=1.0, map_cost=0.25, region_rounds=0, grow_rounds=0, swap_rounds=0,
+                     search_steps=60, refine_steps=60, judge_points=100_000)  # fewer steps: the same choices
     once = fractal.search(target, maps=2, progress=False, config=replace(strict, again=0))
     other = fractal.search(target, maps=2, seed=1, progress=False, config=replace(strict, again=0))
     twice = fractal.search(target, maps=2, progress=False, config=strict)

@@ -28,14 +28,15 @@ def linear_grid(turns: int = 36, phases: int = 8, scales=(0.25, 0.35, 0.45, 0.55
     (one when ``r = 1``: a similarity has no second angle), ``s`` the ``scales``, ``r`` the
     ``ratios`` of the smaller singular value to the larger, and both signs (a reflection or not).
     """
-    out = []
+    thetas = rotation(np.arange(turns) * 2 * math.pi / turns)
+    parts = []
     for s in scales:
         for r in ratios:
-            for phi in ([0.0] if r == 1.0 else np.arange(phases) * math.pi / phases):
-                for theta in np.arange(turns) * 2 * math.pi / turns:
-                    for sign in (1.0, -1.0):
-                        out.append(rotation(theta) @ np.diag([s, sign * r * s]) @ rotation(phi))
-    return np.array(out)
+            phis = rotation(np.zeros(1) if r == 1.0 else np.arange(phases) * math.pi / phases)
+            diag = np.stack([np.diag([s, sign * r * s]) for sign in (1.0, -1.0)])
+            # every (phi, theta, sign) product at once, in that order: a Python loop over them took a second
+            parts.append((thetas[None, :, None] @ diag[None, None, :] @ phis[:, None, None]).reshape(-1, 2, 2))
+    return np.concatenate(parts)
 
 
 def pixels(mask: np.ndarray) -> np.ndarray:
@@ -92,13 +93,11 @@ def copy_candidates(mask: np.ndarray, grid: np.ndarray, per_map: int = 2, chunk:
         enough = hits.double() >= config.inside * drawn.double()[:, None] - 0.5
         # the placements covering most, the first in reading order among equals (an exact key, no tie left to chance)
         key = torch.where(enough, hits, 0) * (n * n) + (n * n - 1 - torch.arange(n * n))
-        top = key.topk(per_map, dim=1)
-        for g in range(len(linear)):
-            for value, index in zip(top.values[g].tolist(), top.indices[g].tolist()):
-                index = n * n - 1 - value % (n * n)
-                if value // (n * n) >= 1:
-                    rows.append((value // (n * n), start + g, index // n, index % n))
-    out = np.array(rows, dtype=np.int64).reshape(-1, 4)
+        values = key.topk(per_map, dim=1).values.numpy()  # (G, per_map), each linear part's best first
+        count, index = values // (n * n), n * n - 1 - values % (n * n)
+        part = np.broadcast_to(start + np.arange(len(linear))[:, None], values.shape)
+        rows.append(np.stack([count, part, index // n, index % n], -1).reshape(-1, 4)[count.reshape(-1) >= 1])
+    out = np.concatenate(rows).astype(np.int64)
     return out[np.argsort(-out[:, 0], kind="stable")]
 
 
