@@ -16,7 +16,8 @@ copies of the target cover the target:
   the chord onto one piece.
 
 * **Fractals** (a target of at least `FRACTAL_MIN_SIZE` pixels whose figure is porous: fewer than `POROUS_SHARE` of its pixels have all eight neighbours
-  on it at 128², where a silhouette has over 0.88): the figure is searched for copies of itself
+  on it at 128², where a silhouette has over 0.88; or solid with a rough edge, `edge_dimension` at least
+  `ROUGH_EDGE`, as overlapping copies draw): the figure is searched for copies of itself
   (`ifslib.discovery.fractal.search`: template matching, covers, the collage refined, 2 to 8 maps
   compared by minimum description length). When the maps found draw an attractor within
   `FRACTAL_CHAMFER` pixels of the target, the start is those maps (``kind="fractal"``, an
@@ -72,6 +73,14 @@ POROUS_SHARE = 0.8
 #: ... measured with the target made this many pixels wide (the share of a solid figure's edge falls
 #: with its size; a fractal's does not).
 POROUS_SIZE = 128
+#: A solid figure (not porous) is searched as a fractal too when its edge is rough: the box-counting dimension of its
+#: edge pixels at `POROUS_SIZE` (`edge_dimension`) at least this. The overlap class of
+#: `ifslib.geometry.samplers.literature_ifs` (copies that overlap into a solid figure with a fractal edge) measures
+#: 1.05-1.14 on its development seeds; drawn silhouettes and the paper's apple 0.97-1.03, but a silhouette whose thin
+#: limbs are all edge measures 1.10-1.16 and pays for a search (docs/results/literature.md).
+ROUGH_EDGE = 1.04
+#: The box sides, in pixels at `POROUS_SIZE`, of `edge_dimension`'s count.
+EDGE_BOXES = (1, 2, 4, 8)
 #: A figure of fewer pixels is too small to read a fractal from (it is fitted as a shape) ...
 FRACTAL_MIN_PIXELS = 100
 #: ... and so is a target smaller than this: at 64² a random fractal's own true maps draw an attractor
@@ -132,6 +141,25 @@ def interior_share(target: Target, size: int = POROUS_SIZE) -> float:
     mask = resize_target(target, size).mask
     inner = ndimage.binary_erosion(mask, np.ones((3, 3)), border_value=0)
     return float(inner.sum()) / max(int(mask.sum()), 1)
+
+
+def edge_dimension(target: Target, size: int = POROUS_SIZE) -> float:
+    """The box-counting dimension of the figure's edge: its pixels with a neighbour off the figure (those
+    `interior_share` does not count), with the target made ``size`` pixels wide, counted in boxes of
+    `EDGE_BOXES` pixels; the slope of log(boxes) against log(1 / side), by least squares.
+
+    A straight or smooth edge measures about 1 (a square's and a disk's 0.99-1.00 at 128²); a fractal edge more
+    (the Koch snowflake's is log 4 / log 3 = 1.26; its filled figure measures 1.22 at 128²).
+    """
+    from scipy import ndimage
+
+    mask = resize_target(target, size).mask
+    edge = mask & ~ndimage.binary_erosion(mask, np.ones((3, 3)), border_value=0)
+    counts = []
+    for side in EDGE_BOXES:
+        n = size // side
+        counts.append(max(int(edge[:n * side, :n * side].reshape(n, side, n, side).any((1, 3)).sum()), 1))
+    return float(-np.polyfit(np.log(EDGE_BOXES), np.log(counts), 1)[0])
 
 
 def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,

@@ -18,8 +18,8 @@ from ..geometry.ifs import IFS
 from ..scoring.metrics import evaluate
 from ..targets.target import Target
 from . import fractal
-from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, candidates, choices,
-                   classify, fractal_start, interior_share)
+from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, ROUGH_EDGE, candidates,
+                   choices, classify, edge_dimension, fractal_start, interior_share)
 
 #: A porous figure with at least this interior share (`ifslib.discovery.auto.interior_share`) may be a solid
 #: shape with thin parts (limbs, tails, thin letters: 0.78-0.80) as well as a fractal (the random benchmark's
@@ -73,28 +73,35 @@ class Plan:
         return self.start.depth
 
 
-def _searchable(target: Target, share: float, maps: int | None) -> bool:
-    """Whether a shape of interior share ``share`` is searched as a fractal first: porous, large enough
-    (`ifslib.discovery.auto`)."""
-    return (target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS and share < POROUS_SHARE
+def _searchable(target: Target, share: float, edge: float | None, maps: int | None) -> bool:
+    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, measured when it is solid) is
+    searched as a fractal first: porous, or solid with a rough edge (`ifslib.discovery.auto`), and large enough."""
+    figure = share < POROUS_SHARE or (edge is not None and edge >= ROUGH_EDGE)
+    return (target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS and figure
             and (maps is None or maps <= fractal.DEFAULT.max_maps))
 
 
-def ambiguous(share: float, fractal_pattern: dict) -> str | None:
-    """Why a porous figure (of interior share ``share``, `ifslib.discovery.auto.interior_share`) whose search
-    found a fractal may be a shape as well, or None when it is clearly a fractal: its interior share is at
-    least `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU is below `CLEAR_FRACTAL_IOU`."""
+def ambiguous(share: float, fractal_pattern: dict, edge: float | None = None) -> str | None:
+    """Why a figure (of interior share ``share``, `ifslib.discovery.auto.interior_share`) whose search found a
+    fractal may be a shape as well, or None when it is clearly a fractal: its interior share is at least
+    `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU is below `CLEAR_FRACTAL_IOU`. ``edge`` is the
+    edge dimension of a solid figure searched for its rough edge (`ifslib.discovery.auto.edge_dimension`)."""
     chosen = next(r for r in fractal_pattern["search"] if r["maps"] == fractal_pattern["maps"])
     if share < AMBIGUOUS_SHARE or chosen["iou"] >= CLEAR_FRACTAL_IOU:
         return None
-    return (f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin "
-            f"parts has as much) and the search's {fractal_pattern['maps']} maps draw an attractor of IoU "
+    figure = (f"the figure is solid (interior share {share:.2f}) with a rough edge (dimension {edge:.2f} >= "
+              f"{ROUGH_EDGE:g}: overlapping copies draw one, so does a silhouette with thin limbs)"
+              if share >= POROUS_SHARE and edge is not None else
+              f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin "
+              f"parts has as much)")
+    return (f"{figure} and the search's {fractal_pattern['maps']} maps draw an attractor of IoU "
             f"{chosen['iou']:.3f} < {CLEAR_FRACTAL_IOU:g}: fitted as a fractal and as a shape")
 
 
 def discover(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
              seed: int = 0) -> Plan:
-    """The plan for ``target``: a fractal's maps when the figure is porous and the search finds them
+    """The plan for ``target``: a fractal's maps when the figure is porous (or solid with a rough edge) and the
+    search finds them
     (`ifslib.discovery.auto.fractal_start`), else the curve or shape starts of the (maps, depth)
     pairs of `ifslib.discovery.auto.choices`, the nearest one the start. A fractal plan whose figure
     may be a shape as well (`ambiguous`) carries the shape plan as its rival.
@@ -107,12 +114,17 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     wanted = choices(kind, maps, depth)  # checks maps and depth before any search
     searched = None
     share = interior_share(target) if kind == "shape" else None  # a curve is never searched as a fractal
-    if share is not None and _searchable(target, share, maps):
+    edge = edge_dimension(target) if share is not None and share >= POROUS_SHARE else None
+    if share is not None and _searchable(target, share, edge, maps):
         config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
         start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)
+        if edge is not None:  # why a solid figure was searched, for the file
+            searched["edge_dimension"] = round(edge, 3)
+            if start is not None:
+                start.meta["pattern"]["edge_dimension"] = searched["edge_dimension"]
         if start is not None:
             found = Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
-            why = ambiguous(share, found.pattern)
+            why = ambiguous(share, found.pattern, edge)
             if why is None:
                 return found
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind))

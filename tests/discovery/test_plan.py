@@ -1,11 +1,38 @@
-"""The plan: which figures are fitted both as a fractal and as a shape (`ambiguous`), and the
-silhouettes with thin parts that make a solid figure look porous."""
+"""The plan: which figures are searched as fractals (porous, or solid with a rough edge), which are fitted both as
+a fractal and as a shape (`ambiguous`), and the silhouettes with thin parts that make a solid figure look porous."""
 import numpy as np
 import pytest
 
 import ifslib
 from ifslib.discovery import auto, plan
+from ifslib.geometry.samplers import literature_ifs
 from ifslib.targets import silhouettes
+from ifslib.targets.target import target_from_mask
+
+
+@pytest.fixture(scope="module")
+def overlap():
+    """Three overlapping copies whose attractor is a solid figure with a fractal edge, at 128²."""
+    truth = literature_ifs("overlap", 3, 0, extent=0.75)
+    return target_from_mask(ifslib.render(truth, 128, method="chaos", points=300_000, seed=0).numpy() >= 0.5)
+
+
+def _koch_snowflake(size: int) -> np.ndarray:
+    """The filled Koch snowflake (five levels) drawn at ``size``²: a solid figure whose edge has dimension 1.26."""
+    from matplotlib.path import Path
+
+    turn = np.array([[0.5, -np.sqrt(3) / 2], [np.sqrt(3) / 2, 0.5]])
+    corners = [0.45 * np.array([np.cos(a), np.sin(a)]) for a in np.pi / 2 - np.arange(3) * 2 * np.pi / 3]
+    points = corners + [corners[0]]
+    for _ in range(5):
+        refined = []
+        for a, b in zip(points[:-1], points[1:]):
+            third = (b - a) / 3
+            refined += [a, a + third, a + third - turn.T @ third, a + 2 * third]
+        points = refined + [points[-1]]
+    centres = (np.arange(size) + 0.5) / size - 0.5
+    x, y = np.meshgrid(centres, -centres)
+    return Path(np.array(points)).contains_points(np.stack([x.ravel(), y.ravel()], 1)).reshape(size, size)
 
 
 def _pattern(maps: int, iou: float) -> dict:
@@ -70,3 +97,33 @@ def test_a_figure_that_may_be_a_shape_is_searched_once(monkeypatch):
     assert plan.discover(creature, maps=4, depth=2).kind == "shape"
     assert plan.discover(lace, maps=4, depth=2).kind == "shape"
     assert configs == [plan.AMBIGUOUS_SEARCH, fractal.DEFAULT] and plan.AMBIGUOUS_SEARCH.again == 0
+
+
+def test_the_edge_dimension_is_one_for_smooth_edges_and_more_for_fractal_ones(overlap):
+    square = np.zeros((128, 128), bool)
+    square[20:100, 30:110] = True
+    disk = np.hypot(*np.mgrid[-1:1:128j, -1:1:128j]) < 0.7
+    for smooth in (square, disk):
+        assert abs(auto.edge_dimension(target_from_mask(smooth)) - 1.0) < 0.02
+    snowflake = target_from_mask(_koch_snowflake(256))
+    assert 1.1 < auto.edge_dimension(snowflake) < np.log(4) / np.log(3) + 0.02  # below the limit's, drawn in pixels
+    drawn = silhouettes.gallery(128)
+    assert max(auto.edge_dimension(target_from_mask(m)) for m in drawn.values()) < auto.ROUGH_EDGE
+    assert auto.interior_share(overlap) >= auto.POROUS_SHARE and auto.edge_dimension(overlap) >= auto.ROUGH_EDGE
+
+
+def test_a_solid_figure_is_searched_when_its_edge_is_rough(monkeypatch, overlap):
+    searched = []
+
+    def no_fractal(target, maps, depth, seed, *, config):
+        searched.append(config)
+        return None, {"search": [], "rule": "", "verdict": "none"}
+
+    monkeypatch.setattr(plan, "fractal_start", no_fractal)
+    blob = ifslib.load_target(silhouettes.blob(128, seed=2).astype(float), 128)
+    assert plan.discover(blob, maps=4, depth=2).kind == "shape" and searched == []
+    found = plan.discover(overlap, maps=4, depth=2)
+    assert found.kind == "shape" and searched == [plan.AMBIGUOUS_SEARCH]  # searched once: a shape fit to fall back on
+    assert found.pattern["fractal_search"]["edge_dimension"] == round(auto.edge_dimension(overlap), 3)
+    why = plan.ambiguous(auto.interior_share(overlap), _pattern(3, 0.9), auto.edge_dimension(overlap))
+    assert "solid (interior share" in why and "rough edge" in why and "fitted as a fractal and as a shape" in why
