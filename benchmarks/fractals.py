@@ -34,7 +34,9 @@ from ifslib.teaching.figures import box_outlines, draw_outlines, gallery, save_f
 
 def why(row: dict) -> str:
     """Why a fractal was not recovered, from what the fit reports."""
-    reasons = [] if row["kind"] == "fractal" else [f"the search gave up: fitted as a {row['kind']}"]
+    reasons = [] if row["kind"] == "fractal" else [
+        f"fitted as a fractal and as a {row['kind']}, the {row['kind']} kept" if row.get("both")
+        else f"the search gave up: fitted as a {row['kind']}"]
     if row["found"] > row["maps"] + 1:
         reasons.append(f"{row['found']} maps for {row['maps']}")
     if row["iou"] < 0.85:
@@ -81,7 +83,8 @@ def main() -> None:
         fitted = ifslib.load_ifs(fit_json)
         m = ifslib.evaluate(fitted, target, attractor=True)
         row = {"fractal": i, "maps": maps, "found": len(fitted.rules), "iou": m["attractor_iou"],
-               "chamfer": m["attractor_chamfer"], "seconds": seconds, "kind": fitted.meta.get("pattern", {}).get("kind")}
+               "chamfer": m["attractor_chamfer"], "seconds": seconds, "kind": fitted.meta.get("pattern", {}).get("kind"),
+               "both": "decision" in fitted.meta.get("pattern", {})}
         row["recovered"] = row["iou"] >= 0.85 and row["chamfer"] <= 1
         rows.append(row)
         print(f"| {i} | {maps} | {row['found']} | {row['iou']:.3f} | {row['chamfer']:.2f} | {seconds:.1f} | "

@@ -93,7 +93,7 @@ def fit_and_score(label: str, kind: str, maps: int, seed: int, truth: ifslib.IFS
     drawn = ifslib.render(fitted, size, method="chaos", points=POINTS).numpy()
     row = {"fractal": label, "class": kind, "seed": seed, "maps": maps, "found": len(fitted.rules),
            "iou": m["attractor_iou"], "chamfer": m["attractor_chamfer"], "seconds": seconds,
-           "kind": fitted.meta.get("pattern", {}).get("kind")}
+           "kind": fitted.meta.get("pattern", {}).get("kind"), "both": "decision" in fitted.meta.get("pattern", {})}
     row.update({f"cropped_{k}": v for k, v in literature_scores(drawn, picture).items()})
     row["recovered"] = row["iou"] >= 0.85 and row["chamfer"] <= 1
     panel = (f"{label}: {maps} maps", target.mask.astype(float), drawn, f"{row['found']} maps, IoU {row['iou']:.2f}",

@@ -20,7 +20,8 @@ class Stage:
 
     ``start`` (the pyramid's start), ``maps`` (the automatic pattern's number of maps), ``depth``
     (``"attractor"`` for an attractor stage), ``method``, ``loss``, ``chamfer`` (pixels, of the
-    start's last stage) and ``fallback`` are set where they apply.
+    start's last stage), ``fallback`` and ``kept_start`` (why the stage returned its start) are set where
+    they apply.
     """
 
     size: int
@@ -34,11 +35,12 @@ class Stage:
     loss: str | None = None
     chamfer: float | None = None
     fallback: str | None = None
+    kept_start: str | None = None
 
     def to_dict(self) -> dict:
         """The set fields, in the JSON file's order (``start`` / ``maps`` first)."""
         order = ("start", "maps", "size", "depth", "method", "loss", "steps", "stopped", "best_loss", "chamfer",
-                 "fallback")
+                 "fallback", "kept_start")
         return {k: getattr(self, k) for k in order if getattr(self, k) is not None}
 
 

@@ -47,3 +47,29 @@ def test_a_shape_is_kept_when_the_fractal_draws_the_figure_worse():
     assert result.history.auto["decision"].startswith("the test's reason; shape kept")
     assert result.best.meta["pattern"]["kind"] == "shape" and len(result.best.rules) == 4
     assert rows[1]["score"] < rows[0]["score"] and rows[1]["attractor_iou"] > rows[0]["attractor_iou"]
+
+
+def test_a_fractal_fit_never_returns_an_attractor_worse_than_its_start(monkeypatch):
+    from ifslib.fitting import automatic
+    from ifslib.fitting.result import FitResult, History, Stage
+
+    truth = ifslib.patterns.random_ifs(3, 1)
+    target = ifslib.load_target(ifslib.render(truth, 64, method="chaos", points=200_000, seed=1).numpy(), 64)
+    worse = truth.clone(truth.points.detach() * 0.8)  # every map's copy shrunk towards the centre
+
+    def stage_to(ifs):
+        def stage(frame, start, options, label, *, steps=None, max_leaves=None):
+            history = History(step=[0], loss=[0.5], seconds=[0.0], stopped="steps", cost=1)
+            return (FitResult(ifs.clone(), ifs.clone(), history, 0.1, 0),
+                    Stage(size=64, steps=1, stopped="steps", best_loss=0.1, depth="attractor"))
+        return stage
+
+    monkeypatch.setattr(automatic, "attractor_stage", stage_to(worse))
+    kept = ifslib.fit(_fractal_plan(truth.clone(), iou=0.99), target, steps=5, progress=False)
+    assert ifslib.evaluate(worse, target, depth="attractor")["iou"] < ifslib.evaluate(truth, target, depth="attractor")["iou"]
+    assert kept.best.points.detach().equal(truth.points.detach()) and kept.best_loss == 0.5 and kept.best_step == 0
+    assert "below the start's" in kept.history.stages[0].kept_start
+    assert kept.best.meta["history"]["stages"][0]["kept_start"] == kept.history.stages[0].kept_start
+    monkeypatch.setattr(automatic, "attractor_stage", stage_to(truth))  # a stage no worse: its fit is returned
+    fitted = ifslib.fit(_fractal_plan(worse.clone(), iou=0.5), target, steps=5, progress=False)
+    assert fitted.best.points.detach().equal(truth.points.detach()) and fitted.history.stages[0].kept_start is None
