@@ -17,7 +17,8 @@ copies of the target cover the target:
 
 * **Fractals** (a target of at least `FRACTAL_MIN_SIZE` pixels whose figure is porous: fewer than `POROUS_SHARE` of its pixels have all eight neighbours
   on it at 128², where a silhouette has over 0.88; or solid with a rough edge, `edge_dimension` at least
-  `ROUGH_EDGE`, as overlapping copies draw): the figure is searched for copies of itself
+  `ROUGH_EDGE`, as overlapping copies draw, and not made rough by thin limbs, `thin_share`): the figure is
+  searched for copies of itself
   (`ifslib.discovery.fractal.search`: template matching, covers, the collage refined, 2 to 8 maps
   compared by minimum description length). When the maps found draw an attractor within
   `FRACTAL_CHAMFER` pixels of the target, the start is those maps (``kind="fractal"``, an
@@ -76,11 +77,17 @@ POROUS_SIZE = 128
 #: A solid figure (not porous) is searched as a fractal too when its edge is rough: the box-counting dimension of its
 #: edge pixels at `POROUS_SIZE` (`edge_dimension`) at least this. The overlap class of
 #: `ifslib.geometry.samplers.literature_ifs` (copies that overlap into a solid figure with a fractal edge) measures
-#: 1.05-1.14 on its development seeds; drawn silhouettes and the paper's apple 0.97-1.03, but a silhouette whose thin
-#: limbs are all edge measures 1.10-1.16 and pays for a search (docs/results/literature.md).
+#: 1.05-1.14 on its development seeds; drawn silhouettes and the paper's apple 0.97-1.03, a silhouette whose thin
+#: limbs are all edge 1.10-1.16 (docs/results/literature.md) ...
 ROUGH_EDGE = 1.04
 #: The box sides, in pixels at `POROUS_SIZE`, of `edge_dimension`'s count.
 EDGE_BOXES = (1, 2, 4, 8)
+#: ... unless more than this share of it lies in thin parts (`thin_share`): limbs are all edge, and the creatures
+#: of `ifslib.targets.silhouettes.limbed` have 0.14-0.22 of their pixels in them (the overlap class 0.02-0.08, the
+#: drawn silhouettes and the apple at most 0.02), so a rough edge made of limbs costs no search.
+THIN_PARTS = 0.1
+#: Parts narrower than a disk of this radius (pixels at `POROUS_SIZE`) are thin: 7 px, a limb of 4-6 px at 128².
+THIN_RADIUS = 3
 #: A figure of fewer pixels is too small to read a fractal from (it is fitted as a shape) ...
 FRACTAL_MIN_PIXELS = 100
 #: ... and so is a target smaller than this: at 64² a random fractal's own true maps draw an attractor
@@ -160,6 +167,17 @@ def edge_dimension(target: Target, size: int = POROUS_SIZE) -> float:
         n = size // side
         counts.append(max(int(edge[:n * side, :n * side].reshape(n, side, n, side).any((1, 3)).sum()), 1))
     return float(-np.polyfit(np.log(EDGE_BOXES), np.log(counts), 1)[0])
+
+
+def thin_share(target: Target, size: int = POROUS_SIZE) -> float:
+    """The share of the figure's pixels in parts thinner than a disk of radius `THIN_RADIUS` (with the target made
+    ``size`` pixels wide): those that a morphological opening by that disk removes."""
+    from scipy import ndimage
+    from skimage.morphology import disk
+
+    mask = resize_target(target, size).mask
+    opened = ndimage.binary_opening(mask, disk(THIN_RADIUS))
+    return 1.0 - float(opened.sum()) / max(int(mask.sum()), 1)
 
 
 def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,

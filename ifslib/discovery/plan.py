@@ -18,8 +18,8 @@ from ..geometry.ifs import IFS
 from ..scoring.metrics import evaluate
 from ..targets.target import Target
 from . import fractal
-from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, ROUGH_EDGE, candidates,
-                   choices, classify, edge_dimension, fractal_start, interior_share)
+from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, ROUGH_EDGE, THIN_PARTS,
+                   candidates, choices, classify, edge_dimension, fractal_start, interior_share, thin_share)
 
 #: A porous figure with at least this interior share (`ifslib.discovery.auto.interior_share`) may be a solid
 #: shape with thin parts (limbs, tails, thin letters: 0.78-0.80) as well as a fractal (the random benchmark's
@@ -73,9 +73,15 @@ class Plan:
         return self.start.depth
 
 
+def _rough_edge(target: Target) -> float | None:
+    """A solid figure's edge dimension (`ifslib.discovery.auto.edge_dimension`), or None when its edge is rough
+    only for its thin parts (`ifslib.discovery.auto.thin_share` above `THIN_PARTS`: limbs, not copies)."""
+    return edge_dimension(target) if thin_share(target) <= THIN_PARTS else None
+
+
 def _searchable(target: Target, share: float, edge: float | None, maps: int | None) -> bool:
-    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, measured when it is solid) is
-    searched as a fractal first: porous, or solid with a rough edge (`ifslib.discovery.auto`), and large enough."""
+    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, measured when it is solid without
+    thin parts) is searched as a fractal first: porous, or solid with a rough edge (`ifslib.discovery.auto`), and large enough."""
     figure = share < POROUS_SHARE or (edge is not None and edge >= ROUGH_EDGE)
     return (target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS and figure
             and (maps is None or maps <= fractal.DEFAULT.max_maps))
@@ -90,7 +96,7 @@ def ambiguous(share: float, fractal_pattern: dict, edge: float | None = None) ->
     if share < AMBIGUOUS_SHARE or chosen["iou"] >= CLEAR_FRACTAL_IOU:
         return None
     figure = (f"the figure is solid (interior share {share:.2f}) with a rough edge (dimension {edge:.2f} >= "
-              f"{ROUGH_EDGE:g}: overlapping copies draw one, so does a silhouette with thin limbs)"
+              f"{ROUGH_EDGE:g}: overlapping copies draw one, and so may a shape's)"
               if share >= POROUS_SHARE and edge is not None else
               f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin "
               f"parts has as much)")
@@ -114,7 +120,7 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     wanted = choices(kind, maps, depth)  # checks maps and depth before any search
     searched = None
     share = interior_share(target) if kind == "shape" else None  # a curve is never searched as a fractal
-    edge = edge_dimension(target) if share is not None and share >= POROUS_SHARE else None
+    edge = _rough_edge(target) if share is not None and share >= POROUS_SHARE else None
     if share is not None and _searchable(target, share, edge, maps):
         config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
         start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)

@@ -110,6 +110,19 @@ def test_the_edge_dimension_is_one_for_smooth_edges_and_more_for_fractal_ones(ov
     drawn = silhouettes.gallery(128)
     assert max(auto.edge_dimension(target_from_mask(m)) for m in drawn.values()) < auto.ROUGH_EDGE
     assert auto.interior_share(overlap) >= auto.POROUS_SHARE and auto.edge_dimension(overlap) >= auto.ROUGH_EDGE
+    assert auto.thin_share(overlap) <= auto.THIN_PARTS  # rough at every scale, not for thin parts
+
+
+def test_thin_parts_are_those_an_opening_removes():
+    square = np.zeros((128, 128), bool)
+    square[40:80, 20:60] = True  # a 40 px square: the disk rounds its corners off, a few pixels each
+    corners = auto.thin_share(target_from_mask(square)) * 1600
+    assert 0 < corners <= 4 * 9
+    limbed = square.copy()
+    limbed[58:62, 60:100] = True  # and a 4 px wide limb of 160 pixels: thin, but for a few pixels at its root
+    assert 150 <= auto.thin_share(target_from_mask(limbed)) * (1600 + 160) - corners <= 160
+    creature = ifslib.load_target(silhouettes.limbed(128, seed=1).astype(float), 128)
+    assert auto.edge_dimension(creature) >= auto.ROUGH_EDGE and auto.thin_share(creature) > auto.THIN_PARTS
 
 
 def test_a_solid_figure_is_searched_when_its_edge_is_rough(monkeypatch, overlap):
@@ -122,6 +135,9 @@ def test_a_solid_figure_is_searched_when_its_edge_is_rough(monkeypatch, overlap)
     monkeypatch.setattr(plan, "fractal_start", no_fractal)
     blob = ifslib.load_target(silhouettes.blob(128, seed=2).astype(float), 128)
     assert plan.discover(blob, maps=4, depth=2).kind == "shape" and searched == []
+    limbs = ifslib.load_target(silhouettes.thin_gallery(128)["creature 1"].astype(float), 128)  # rough for its limbs
+    assert auto.interior_share(limbs) >= auto.POROUS_SHARE and auto.edge_dimension(limbs) >= auto.ROUGH_EDGE
+    assert plan.discover(limbs, maps=4, depth=2).kind == "shape" and searched == []
     found = plan.discover(overlap, maps=4, depth=2)
     assert found.kind == "shape" and searched == [plan.AMBIGUOUS_SEARCH]  # searched once: a shape fit to fall back on
     assert found.pattern["fractal_search"]["edge_dimension"] == round(auto.edge_dimension(overlap), 3)
