@@ -143,11 +143,15 @@ def classify(target: Target) -> str:
 def interior_share(target: Target, size: int = POROUS_SIZE) -> float:
     """The share of the figure's pixels whose eight neighbours are all on the figure, with the target made
     ``size`` pixels wide (`resize_target`): near 1 for a silhouette, low for a fractal's lace."""
+    mask = resize_target(target, size).mask
+    return float(_interior(mask).sum()) / max(int(mask.sum()), 1)
+
+
+def _interior(mask: np.ndarray) -> np.ndarray:
+    """The figure's pixels whose eight neighbours are all on it (off the frame counts as off the figure)."""
     from scipy import ndimage
 
-    mask = resize_target(target, size).mask
-    inner = ndimage.binary_erosion(mask, np.ones((3, 3)), border_value=0)
-    return float(inner.sum()) / max(int(mask.sum()), 1)
+    return ndimage.binary_erosion(mask, np.ones((3, 3)), border_value=0)
 
 
 def edge_dimension(target: Target, size: int = POROUS_SIZE) -> float:
@@ -158,10 +162,8 @@ def edge_dimension(target: Target, size: int = POROUS_SIZE) -> float:
     A straight or smooth edge measures about 1 (a square's and a disk's 0.99-1.00 at 128²); a fractal edge more
     (the Koch snowflake's is log 4 / log 3 = 1.26; its filled figure measures 1.22 at 128²).
     """
-    from scipy import ndimage
-
     mask = resize_target(target, size).mask
-    edge = mask & ~ndimage.binary_erosion(mask, np.ones((3, 3)), border_value=0)
+    edge = mask & ~_interior(mask)
     counts = []
     for side in EDGE_BOXES:
         n = size // side

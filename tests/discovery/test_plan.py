@@ -30,9 +30,7 @@ def _koch_snowflake(size: int) -> np.ndarray:
             third = (b - a) / 3
             refined += [a, a + third, a + third - turn.T @ third, a + 2 * third]
         points = refined + [points[-1]]
-    centres = (np.arange(size) + 0.5) / size - 0.5
-    x, y = np.meshgrid(centres, -centres)
-    return Path(np.array(points)).contains_points(np.stack([x.ravel(), y.ravel()], 1)).reshape(size, size)
+    return silhouettes._inside(Path(np.array(points)), size)
 
 
 def _pattern(maps: int, iou: float) -> dict:

@@ -97,7 +97,7 @@ def copy_candidates(mask: np.ndarray, grid: np.ndarray, per_map: int = 2, chunk:
         count, index = values // (n * n), n * n - 1 - values % (n * n)
         part = np.broadcast_to(start + np.arange(len(linear))[:, None], values.shape)
         rows.append(np.stack([count, part, index // n, index % n], -1).reshape(-1, 4)[count.reshape(-1) >= 1])
-    out = np.concatenate(rows).astype(np.int64)
+    out = np.concatenate(rows).astype(np.int64) if rows else np.empty((0, 4), np.int64)  # an empty grid: none
     return out[np.argsort(-out[:, 0], kind="stable")]
 
 
