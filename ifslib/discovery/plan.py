@@ -16,10 +16,10 @@ import numpy as np
 
 from ..geometry.ifs import IFS
 from ..scoring.metrics import evaluate
-from ..targets.target import Target
+from ..targets.target import Target, resize_target
 from . import fractal
-from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, ROUGH_EDGE, THIN_PARTS,
-                   candidates, choices, classify, edge_dimension, fractal_start, interior_share, thin_share)
+from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, POROUS_SIZE, ROUGH_EDGE,
+                   THIN_PARTS, candidates, choices, classify, edge_dimension, fractal_start, interior_share, thin_share)
 
 #: A porous figure with at least this interior share (`ifslib.discovery.auto.interior_share`) may be a solid
 #: shape with thin parts (limbs, tails, thin letters: 0.78-0.80) as well as a fractal (the random benchmark's
@@ -119,8 +119,9 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     kind = classify(target)
     wanted = choices(kind, maps, depth)  # checks maps and depth before any search
     searched = None
-    share = interior_share(target) if kind == "shape" else None  # a curve is never searched as a fractal
-    edge = _rough_edge(target) if share is not None and share >= POROUS_SHARE else None
+    small = resize_target(target, POROUS_SIZE)  # the three measures read the figure at one size: resized once
+    share = interior_share(small) if kind == "shape" else None  # a curve is never searched as a fractal
+    edge = _rough_edge(small) if share is not None and share >= POROUS_SHARE else None
     if share is not None and _searchable(target, share, edge, maps):
         config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
         start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)

@@ -61,20 +61,22 @@ def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor:
                        "ifslib.initialize('auto', target, depth=...)")
     options = with_early_stop(options.replace(depth=None))
     if plan.rivals:
-        fits = [_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)]
-        return choose_kind(fits, frame, why=plan.pattern.get("ambiguous"))
-    return _fit_one(plan, frame, options, end_on_attractor)
+        results, ious = zip(*(_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)))
+        return choose_kind(list(results), frame, why=plan.pattern.get("ambiguous"), ious=list(ious))
+    return _fit_one(plan, frame, options, end_on_attractor)[0]
 
 
-def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = None) -> FitResult:
+def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = None,
+                ious: list[float | None] | None = None) -> FitResult:
     """Of the fits of one figure as different kinds, the one whose attractor scores least: 1 - attractor IoU
     at the target's size plus `KIND_MAP_COST` a map. Its history counts every fit's steps, and says in
     ``auto["kinds"]`` and ``auto["decision"]`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared,
-    after ``why`` (why both kinds were fitted) when given."""
+    after ``why`` (why both kinds were fitted) when given. ``ious`` are the fits' attractor IoUs at the target's
+    size where already measured (None where not): each is measured once."""
     rows = []
-    for result in results:
+    for result, known in zip(results, ious or [None] * len(results)):
         maps = len(result.best.rules)
-        iou = evaluate(result.best, frame.target, depth=ATTRACTOR)["iou"]
+        iou = evaluate(result.best, frame.target, depth=ATTRACTOR)["iou"] if known is None else known
         rows.append({"kind": result.history.auto["kind"], "maps": maps, "attractor_iou": round(iou, 4),
                      "score": round(1 - iou + KIND_MAP_COST * maps, 4), "steps": result.history.cost})
     best = min(range(len(rows)), key=lambda i: (rows[i]["score"], rows[i]["maps"]))
@@ -91,8 +93,9 @@ def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = Non
     return result
 
 
-def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bool) -> FitResult:
-    """Fit one kind's plan: a fractal's maps, or the candidates of a curve or a shape compared by their loss."""
+def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bool) -> tuple[FitResult, float | None]:
+    """Fit one kind's plan: a fractal's maps, or the candidates of a curve or a shape compared by their loss; with
+    the fit's attractor IoU at the target's size when it was measured on the way (a fractal's), else None."""
     if plan.kind == "fractal":
         return _fit_fractal(plan, frame, options, end_on_attractor)
     tried = [_probe(frame, candidate, options) for candidate in plan.candidates]
@@ -116,7 +119,7 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
         stages.append(stage)
     # the chosen candidate's own description, for the file (it decides nothing here)
     choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}
-    return _finish(result, choice, stages, sum(c["steps"] for _, c in tried) + sum(s.steps for s in stages))
+    return _finish(result, choice, stages, sum(c["steps"] for _, c in tried) + sum(s.steps for s in stages)), None
 
 
 def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, dict]:
@@ -130,26 +133,30 @@ def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, dic
                     "seconds": time.perf_counter() - t0}
 
 
-def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bool) -> FitResult:
+def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
+                 end_on_attractor: bool) -> tuple[FitResult, float | None]:
     """A fractal's plan: its maps were found by the search, so only the attractor stage is left (at most
-    `FRACTAL_STAGE_STEPS` steps), or, without ``end_on_attractor``, a run of the drawing at its depth."""
+    `FRACTAL_STAGE_STEPS` steps), or, without ``end_on_attractor``, a run of the drawing at its depth; with the
+    attractor IoU of what is returned, when measured (`_no_worse_than_start`)."""
     pattern, start = plan.pattern, plan.start
     label = f"{pattern['maps']} maps"
     budget = min(frame.steps, FRACTAL_STAGE_STEPS)
+    iou = None
     if end_on_attractor:
         result, stage = attractor_stage(frame, start, options.replace(loss=FRACTAL_LOSS), label, steps=budget)
-        result = _no_worse_than_start(start, result, frame, stage)
+        result, iou = _no_worse_than_start(start, result, frame, stage)
     else:
         result = frame.run(start, budget, options.replace(depth=start.depth), desc=f"{label} · {frame.target.size}²")
         stage = Stage(size=frame.target.size, steps=result.history.cost, stopped=result.history.stopped,
                       best_loss=result.best_loss)
     choice = {**{k: v for k, v in pattern.items() if k != "search"}, "candidates": pattern.get("search", []),
               "chosen": pattern["maps"]}
-    return _finish(result, choice, [stage], stage.steps)
+    return _finish(result, choice, [stage], stage.steps), iou
 
 
-def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -> FitResult:
-    """The stage's result, or its start when the start's attractor has the higher IoU at the target's size.
+def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -> tuple[FitResult, float]:
+    """The stage's result, or its start when the start's attractor has the higher IoU at the target's size; and
+    the IoU of the one returned.
 
     The stage minimises a loss of a drawing of the attractor, which is not its IoU: on a solid figure of
     overlapping copies (`ifslib.geometry.samplers.literature_ifs`'s overlap class) the pixel loss of sampled
@@ -159,12 +166,12 @@ def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -
     before = evaluate(start, frame.target, depth=ATTRACTOR)["iou"]
     after = evaluate(result.best, frame.target, depth=ATTRACTOR)["iou"]
     if after >= before:
-        return result
+        return result, after
     stage.kept_start = (f"the fitted attractor's IoU {after:.3f} is below the start's {before:.3f} at "
                         f"{frame.target.size}²: the start kept")
     loss = result.history.loss
     return FitResult(best=start.clone(), final=result.final, history=result.history,
-                     best_loss=loss[0] if loss else result.best_loss, best_step=0)  # the loss before step 0
+                     best_loss=loss[0] if loss else result.best_loss, best_step=0), before  # the loss before step 0
 
 
 def _finish(result: FitResult, choice: dict, stages: list[Stage], cost: int) -> FitResult:
