@@ -201,6 +201,41 @@ def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, win
     return nearest_point(points, x, y)[1].view(size, size)
 
 
+def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
+                seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Every (pixel, chaos-game point) pair closer than ``radius`` (plane units), found without a KD-tree:
+    ``(pixel, distance)``, the flat row-major pixel index and the float64 distance of each pair.
+
+    A pixel's least distance among its pairs is `chaos_field`'s value there wherever that is at most
+    ``radius`` (the same ``n`` points of the same ``seed``, the same pixel centres and the same float64
+    distance), and the pixels with no pair are farther than ``radius`` from every point. A point can only be
+    within ``radius`` of the pixel centres in the box of ``radius`` around it, so each point is tested
+    against those few (2 x 2 within 0.83 px, the reach of `figure_mask`'s default): at a screening drawing's 50,000 points a few
+    milliseconds where the distance field costs tens, and the fractal search draws hundreds
+    (`ifslib.figure_mask` uses it for ``method="chaos"``).
+    """
+    check_int(n, "the number of chaos-game points", 1)
+    check_int(size, "size", 1)
+    if not (isinstance(radius, (int, float)) and 0 <= radius < math.inf):
+        raise IFSError(f"radius must be a finite number >= 0, got {radius!r}")
+    _check_memory(n)
+    points = chaos_game(ifs, n, seed)
+    # each point's column and row as real numbers (column c's centre at c), then the columns and rows in reach
+    u, v = (points[:, 0] + 0.5) * size - 0.5, (0.5 - points[:, 1]) * size - 0.5
+    reach = radius * size
+    offsets = np.arange(math.floor(2 * reach) + 1)  # the centres ceil(u - reach) .. floor(u + reach), at most
+    col = np.ceil(u - reach).astype(np.int64)[:, None] + offsets
+    row = np.ceil(v - reach).astype(np.int64)[:, None] + offsets
+    pad = math.ceil(reach) + 2
+    centre = (np.arange(-pad, size + pad + 1) + 0.5) / size  # as `pixel_centres` computes them
+    dx = centre[np.clip(col + pad, 0, len(centre) - 1)] - 0.5 - points[:, :1]
+    dy = 0.5 - centre[np.clip(row + pad, 0, len(centre) - 1)] - points[:, 1:]
+    distance = np.sqrt(dx[:, None, :] ** 2 + dy[:, :, None] ** 2)  # (n, rows, cols)
+    keep = ((distance <= radius) & ((col >= 0) & (col < size))[:, None, :]
+            & ((row >= 0) & (row < size))[:, :, None])
+    return (row[:, :, None] * size + col[:, None, :])[keep], distance[keep]
+
+
 def chaos_occupancy(maps: torch.Tensor, size: int, chains: int = 48, steps: int = 48, burn: int = 8,
                     seed: int = 0) -> torch.Tensor:
     """The pixels a short chaos game visits, for a batch of IFSs at once: a cheap, noisy picture of each attractor.

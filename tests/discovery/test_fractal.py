@@ -219,15 +219,19 @@ def test_search_runs_again_from_the_next_seed_only_while_no_attractor_fits(monke
     ious = {0: 0.6, 1: 0.7, 5: fractal.DEFAULT.swap_below}
     calls = []
 
-    def one(target, ks, seed, progress, title, config):
+    copies = set()
+
+    def one(context, ks, progress, title):
+        seed, config = context.seed, context.config
         calls.append(seed)
+        copies.add(id(context.copies))  # the candidate copies do not depend on the seed: found once, read again
         row = {"maps": 2, "iou": ious[seed], "score": round(1 - ious[seed] + config.map_cost * 2, 4),
                "reoriented": seed != 7}
         return fractal.SearchResult(np.full((2, 2, 3), seed / 10), [row], f"rule {seed}")
 
     monkeypatch.setattr(driver, "_search", one)
     found = fractal.search(target, maps=2, seed=0, progress=False)
-    assert calls == [0, 1] and found.maps[0, 0, 0] == 0.1
+    assert calls == [0, 1] and found.maps[0, 0, 0] == 0.1 and len(copies) == 1
     assert found.rule.startswith("rule 1") and "seeds 0-1" in found.rule and "0.480, 0.380" in found.rule
     calls.clear()
     once = replace(fractal.DEFAULT, again=0)

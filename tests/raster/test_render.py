@@ -38,3 +38,28 @@ def test_render_range_default_sigma_and_override():
 def test_inside_boxes_render_as_one():
     img = ifslib.render(ifslib.patterns.grid(2, depth=1), 16).detach()
     assert img[8, 8] == 1.0 and img[0, 0] < 0.5  # the plane's centre is inside, the corner outside
+
+
+def test_the_chaos_games_mask_is_the_pixels_its_drawing_shades_at_least_half():
+    # figure_mask of the chaos game splats each point on the pixel centres within reach (no KD-tree): the same
+    # pixels as thresholding the drawing, whose shade is of the distance to the nearest point
+    import numpy as np
+    from ifslib.geometry.samplers import literature_ifs
+    from ifslib.raster.chaos import chaos_field, chaos_reach
+    from ifslib.raster.render import figure_mask
+
+    for ifs in (ifslib.patterns.random_ifs(3, 1), literature_ifs("stem", 3, 0), ifslib.patterns.fern()):
+        for size, points, sigma in ((64, 20_000, None), (97, 20_000, 0.03), (128, 5_000, 0.002)):
+            fast = figure_mask(ifs, size, "attractor", sigma, method="chaos", points=points, seed=2)
+            with torch.no_grad():
+                drawn = ifslib.render(ifs, size, "attractor", sigma, method="chaos", points=points, seed=2)
+            assert np.array_equal(fast, drawn.numpy() >= 0.5)
+    # where the nearest point is within reach, a pixel's least pair distance is the drawing's distance, exactly
+    ifs = ifslib.patterns.random_ifs(2, 4)
+    pixel, distance = chaos_reach(ifs, 50, 0.05, 3_000, seed=1)
+    field = chaos_field(ifs, 50, 3_000, seed=1).numpy().ravel()
+    least = np.full(50 * 50, np.inf)
+    np.minimum.at(least, pixel, distance)
+    assert np.array_equal(least <= 0.05, field <= 0.05) and np.array_equal(least[field <= 0.05], field[field <= 0.05])
+    with pytest.raises(ifslib.IFSError, match="radius"):
+        chaos_reach(ifs, 50, -1.0)

@@ -6,6 +6,7 @@ length; `search` runs it again from the next seed while no attractor fits.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -96,13 +97,15 @@ def search(target: Target, maps=None, *, seed: int = 0, progress: bool = True,
     if not isinstance(config, SearchConfig):
         raise IFSError(f"config must be a SearchConfig (dataclasses.replace(fractal.DEFAULT, ...)), got {config!r}")
     ks = check_maps(maps, config=config)
-    found = _search(target, ks, seed, progress, "fractal search", config)
+    first = _context(target, ks, seed, config)
+    found = _search(first, ks, progress, "fractal search")
     tries = [found]
     for run in range(1, config.again + 1):
         if max(r["iou"] for r in found.table) >= config.swap_below or not any(r.get("reoriented")
                                                                             for r in found.table):
             break  # an attractor fits, or the search gave up (not a fractal of a few maps: nothing reoriented)
-        tries.append(_search(target, ks, seed + run, progress, f"fractal search again (seed {seed + run})", config))
+        again = dataclasses.replace(first, rng=np.random.default_rng(seed + run), seed=seed + run)
+        tries.append(_search(again, ks, progress, f"fractal search again (seed {seed + run})"))
         found = min(tries, key=lambda r: (r.chosen["score"], len(r.maps)))
     if len(tries) > 1:
         scores = ", ".join(f"{r.chosen['score']:.3f}" for r in tries)
@@ -112,7 +115,8 @@ def search(target: Target, maps=None, *, seed: int = 0, progress: bool = True,
 
 
 def _context(target: Target, ks: tuple[int, ...], seed: int, config: SearchConfig) -> Context:
-    """What one search from ``seed`` reads: the target at its sizes, its candidate copies and their covers."""
+    """What one search from ``seed`` reads: the target at its sizes, its candidate copies and their covers (which
+    do not depend on the seed: a search again from another seed reads the same, with the seed's ``rng``)."""
     rng = np.random.default_rng(seed)
     coarse = resize_target(target, min(config.search_size, target.size))
     fine = resize_target(target, min(config.refine_size, target.size))
@@ -122,11 +126,11 @@ def _context(target: Target, ks: tuple[int, ...], seed: int, config: SearchConfi
     return Context(coarse, fine, judge, copies, covers, foreground_points(judge), rng, seed, config)
 
 
-def _search(target: Target, ks: tuple[int, ...], seed: int, progress: bool, title: str,
-            config: SearchConfig) -> SearchResult:
-    """One search from ``seed`` (`search` without its runs again), ``title`` on its progress bar."""
-    board = Board(_context(target, ks, seed, config))
-    fine = board.context.fine
+def _search(context: Context, ks: tuple[int, ...], progress: bool, title: str) -> SearchResult:
+    """One search from ``context`` of the numbers of maps ``ks`` (`search` without its runs again), ``title`` on its
+    progress bar."""
+    board = Board(context)
+    fine = context.fine
     for k in tqdm(ks, desc=f"{title} · {fine.size}² · maps", disable=not (progress and draw_bars())):
         if not board.declines(k):
             try_maps(board, k)
