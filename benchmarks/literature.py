@@ -23,6 +23,7 @@ JSON and a picture of the targets beside the attractors found.
 
     python benchmarks/literature.py                        # 4 classes x 10 development seeds at 256²
     python benchmarks/literature.py --only stem --count 2  # the first two stems
+    python benchmarks/literature.py --only many --seeds 3 4  # the 10-map set's or a class's seeds 3 and 4
     python benchmarks/literature.py --ten                  # ten 10-map fractals
     python benchmarks/literature.py --held-out             # the held-out seeds: once, at the end
 """
@@ -65,9 +66,9 @@ NAMES = {"psnr": "PSNR", "ssim": "SSIM", "f1": "F1", "iou": "IoU"}
 def truths(args) -> list[tuple[str, str, int, int, ifslib.IFS]]:
     """``(label, class, maps, seed, IFS)`` of every fractal asked for."""
     if args.ten:
-        seeds = list(range(10))[:args.count]
+        seeds = args.seeds or list(range(10))[:args.count]
         return [(f"ten{s}", "ten", 10, s, ifslib.patterns.random_ifs(10, s, extent=EXTENT)) for s in seeds]
-    seeds = list(HELD_OUT if args.held_out else DEVELOPMENT)[:args.count]
+    seeds = args.seeds or list(HELD_OUT if args.held_out else DEVELOPMENT)[:args.count]
     out = []
     for kind in args.only or list(CLASSES):
         for seed in seeds:
@@ -141,6 +142,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="+", choices=list(CLASSES), default=None, help="fit only these classes")
     parser.add_argument("--count", type=int, default=None, help="the first N seeds of each class (default all)")
+    parser.add_argument("--seeds", type=int, nargs="+", default=None,
+                        help="these seeds of each class (development 0-9, or held out 1000-1004 with --held-out)")
     parser.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     parser.add_argument("--held-out", action="store_true", help="the held-out seeds 1000-1004: run once, at the end")
     parser.add_argument("--ten", action="store_true", help="ten 10-map random_ifs fractals instead of the classes")
@@ -150,6 +153,11 @@ def main() -> None:
         parser.error("--ten runs its own set: it takes neither --only nor --held-out")
     if args.count is not None and args.count < 1:
         parser.error("--count takes a number >= 1")
+    if args.seeds is not None:
+        allowed = HELD_OUT if args.held_out else DEVELOPMENT
+        if args.count is not None or not set(args.seeds) <= set(allowed):
+            parser.error(f"--seeds takes seeds {allowed.start}-{allowed.stop - 1} (held out with --held-out), "
+                         "without --count")
     out = repo_root() / args.out
     out.mkdir(parents=True, exist_ok=True)
     threads = os.environ.get("IFSLIB_THREADS", "auto")
