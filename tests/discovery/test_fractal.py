@@ -51,6 +51,31 @@ def test_copy_candidates_count_the_copy_pixels_on_the_grown_figure_as_brute_forc
         assert on == hits
 
 
+def test_copy_candidates_count_every_placement_as_brute_force_does_even_for_a_figure_in_a_corner():
+    # every placement of every copy (per_map: all of them) counted by hand and ranked by the same exact key: the
+    # FFT's padding, sized to the copies' reach, must never wrap a copy's pixels back onto the figure
+    from scipy import ndimage
+
+    _, target = fractal_target(size=24)
+    mask = np.zeros((24, 24), bool)
+    mask[:18, 6:] = target.mask[3:21, :18]  # pushed to the top right: copies reach past the frame
+    grid = fractal.linear_grid(turns=6, phases=2, scales=(0.35, 0.85), ratios=(0.4, 1.0))
+    config = replace(fractal.DEFAULT, inside=0.6)
+    cands = fractal.copy_candidates(mask, grid, per_map=576, chunk=7, config=config)
+    padded = np.pad(ndimage.binary_dilation(mask), 24)
+    u = candidates.pixels(mask) - candidates.pixels(mask).mean(0)
+    expected = []
+    for g, linear in enumerate(grid):
+        drawn = {(-y, x) for x, y in np.round(u @ linear.T).astype(int)}  # offsets (row, col) from the centroid
+        hits = sum(padded[24 + dr:48 + dr, 24 + dc:48 + dc].astype(int) for dr, dc in drawn).ravel()
+        key = np.where(hits >= config.inside * len(drawn) - 0.5, hits, 0) * 576 + (575 - np.arange(576))
+        value = np.sort(key)[::-1]
+        count, index = value // 576, 575 - value % 576
+        expected += [(k, g, i // 24, i % 24) for k, i in zip(count, index) if k >= 1]
+    expected = np.array(expected)
+    np.testing.assert_array_equal(cands, expected[np.argsort(-expected[:, 0], kind="stable")])
+
+
 def test_plane_maps_send_the_figure_centroid_to_the_candidate_pixel():
     _, target = fractal_target(size=32)
     grid = fractal.linear_grid(turns=4, phases=2, scales=(0.5,), ratios=(0.5, 1.0))

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 from scipy import ndimage
+from scipy.fft import next_fast_len
 
 from ...errors import IFSError
 from ...targets.target import Target, foreground_points
@@ -73,22 +74,27 @@ def copy_candidates(mask: np.ndarray, grid: np.ndarray, per_map: int = 2, chunk:
         copy's centroid (the image of the figure's centroid) sits at pixel ``(row, col)``.
     """
     n = mask.shape[0]
-    size = 2 * n  # zero padding: a copy that leaves the frame loses the pixels outside
     u = _centred_pixels(mask)
-    grown = torch.zeros(size, size)
-    grown[:n, :n] = torch.as_tensor(ndimage.binary_dilation(mask), dtype=torch.float32)
-    spectrum = torch.fft.rfft2(grown)
+    grown = torch.as_tensor(ndimage.binary_dilation(mask), dtype=torch.float32)
+    spectra = {}  # the grown figure's spectrum at each padded size
     rows = []
     for start in range(0, len(grid), chunk):
         linear = torch.as_tensor(grid[start:start + chunk])
         v = torch.einsum("gij,pj->gpi", linear, u)
-        flat = (torch.round(-v[..., 1]).long() % size) * size + torch.round(v[..., 0]).long() % size
+        col, row = torch.round(v[..., 0]).long(), torch.round(-v[..., 1]).long()
+        # Zero padding: the correlation is circular, and a copy reaching ``reach`` pixels from its centroid,
+        # placed anywhere in the frame, wraps onto the padding only when the side is at least n + reach.
+        # The grid's parts come scale by scale, so a chunk of small copies pads (and transforms) less.
+        size = next_fast_len(n + int(max(col.abs().max(), row.abs().max())) + 1, real=True)
+        if size not in spectra:
+            spectra[size] = torch.fft.rfft2(torch.nn.functional.pad(grown, (0, size - n, 0, size - n)))
+        flat = (row % size) * size + col % size
         copies = torch.zeros(len(linear), size * size).scatter_(1, flat, 1.0).view(-1, size, size)
         drawn = copies.sum((1, 2))
         # The correlation counts pixels, so it is an integer up to the FFT's rounding error, whose sign
         # depends on the CPU and the thread count (a one-pixel hit came out 0.99999994 or 1.0000001):
         # every decision below is taken on the rounded count, which is exact.
-        hits = torch.fft.irfft2(torch.conj(torch.fft.rfft2(copies)) * spectrum, s=(size, size))[:, :n, :n]
+        hits = torch.fft.irfft2(torch.conj(torch.fft.rfft2(copies)) * spectra[size], s=(size, size))[:, :n, :n]
         hits = torch.round(hits).to(torch.int64).reshape(len(linear), -1)
         enough = hits.double() >= config.inside * drawn.double()[:, None] - 0.5
         # the placements covering most, the first in reading order among equals (an exact key, no tie left to chance)
