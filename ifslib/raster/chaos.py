@@ -210,9 +210,9 @@ def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
     ``radius`` (the same ``n`` points of the same ``seed``, the same pixel centres and the same float64
     distance), and the pixels with no pair are farther than ``radius`` from every point. A point can only be
     within ``radius`` of the pixel centres in the box of ``radius`` around it, so each point is tested
-    against those few (2 x 2 within 0.83 px, the reach of `figure_mask`'s default): at a screening drawing's 50,000 points a few
-    milliseconds where the distance field costs tens, and the fractal search draws hundreds
-    (`ifslib.figure_mask` uses it for ``method="chaos"``).
+    against those few (2 x 2 within 0.83 px, the reach of `figure_mask`'s default): at a screening
+    drawing's 50,000 points 11 ms where the distance field's KD-tree took 24, and the fractal search draws
+    hundreds (`ifslib.figure_mask` uses it for ``method="chaos"``).
     """
     check_int(n, "the number of chaos-game points", 1)
     check_int(size, "size", 1)
