@@ -119,9 +119,11 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     kind = classify(target)
     wanted = choices(kind, maps, depth)  # checks maps and depth before any search
     searched = None
-    small = resize_target(target, POROUS_SIZE)  # the three measures read the figure at one size: resized once
-    share = interior_share(small) if kind == "shape" else None  # a curve is never searched as a fractal
-    edge = _rough_edge(small) if share is not None and share >= POROUS_SHARE else None
+    share = edge = None
+    if kind == "shape":  # a curve is never searched as a fractal
+        small = resize_target(target, POROUS_SIZE)  # the three measures read the figure at one size: resized once
+        share = interior_share(small)
+        edge = _rough_edge(small) if share >= POROUS_SHARE else None
     if share is not None and _searchable(target, share, edge, maps):
         config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
         start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)
