@@ -70,7 +70,9 @@ def render(ifs: IFS, size: int, depth: int | str | None = None, sigma: float | N
 def figure_mask(ifs: IFS, size: int, depth: int | str | None = None, sigma: float | None = None, **kwargs):
     """The fractal's pixels: where its render is >= 0.5, as a ``(size, size)`` bool numpy array.
 
-    ``depth="attractor"`` gives the attractor's pixels; ``**kwargs`` go to `render`.
+    ``depth="attractor"`` gives the attractor's pixels; ``**kwargs`` go to `render`. The chaos game's mask
+    (``method="chaos"`` without a window) is read from the points near each pixel instead of a distance field
+    of every pixel: the same pixels, two to four times sooner.
     """
     if kwargs.get("method") == "chaos" and kwargs.get("window") is None and depth in (None, "attractor"):
         return _chaos_mask(ifs, size, sigma, kwargs.get("points", DEFAULT_POINTS), kwargs.get("seed", 0))
