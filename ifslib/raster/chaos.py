@@ -226,10 +226,9 @@ def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
     offsets = np.arange(math.floor(2 * reach) + 1)  # the centres ceil(u - reach) .. floor(u + reach), at most
     col = np.ceil(u - reach).astype(np.int64)[:, None] + offsets
     row = np.ceil(v - reach).astype(np.int64)[:, None] + offsets
-    pad = math.ceil(reach) + 2
-    centre = (np.arange(-pad, size + pad + 1) + 0.5) / size  # as `pixel_centres` computes them
-    dx = centre[np.clip(col + pad, 0, len(centre) - 1)] - 0.5 - points[:, :1]
-    dy = 0.5 - centre[np.clip(row + pad, 0, len(centre) - 1)] - points[:, 1:]
+    # the centres as `pixel_centres` computes them, (c + 0.5) / size, so the float64 distances are the KD-tree's
+    dx = (col + 0.5) / size - 0.5 - points[:, :1]
+    dy = 0.5 - (row + 0.5) / size - points[:, 1:]
     distance = np.sqrt(dx[:, None, :] ** 2 + dy[:, :, None] ** 2)  # (n, rows, cols)
     keep = ((distance <= radius) & ((col >= 0) & (col < size))[:, None, :]
             & ((row >= 0) & (row < size))[:, :, None])

@@ -26,6 +26,13 @@ def shade(distance: torch.Tensor, sigma: float) -> torch.Tensor:
     return torch.exp(-torch.relu(distance).square() / check_sigma(sigma) ** 2)
 
 
+def _sigma(ifs: IFS, size: int, sigma: float | None, window=None) -> float:
+    """The rendering width: ``sigma`` when given, else the IFS's own, else one pixel (of the window, when given)."""
+    if sigma is not None:
+        return sigma
+    return ifs.sigma if ifs.sigma is not None else pixel_size(size, window)
+
+
 def render(ifs: IFS, size: int, depth: int | str | None = None, sigma: float | None = None, *,
            method: str = "fast", window=None, points: int = DEFAULT_POINTS, seed: int = 0, **kwargs) -> torch.Tensor:
     """Render an IFS to a ``(size, size)`` image in ``[0, 1]``, 1 on the figure.
@@ -58,8 +65,7 @@ def render(ifs: IFS, size: int, depth: int | str | None = None, sigma: float | N
     """
     if window is not None:
         window = check_window(window)
-    if sigma is None:
-        sigma = ifs.sigma if ifs.sigma is not None else pixel_size(size, window)
+    sigma = _sigma(ifs, size, sigma, window)
     if method == "chaos":
         if depth not in (None, "attractor"):
             raise IFSError(f"the chaos game draws the attractor: depth {depth!r} does not apply")
@@ -89,7 +95,7 @@ def _chaos_mask(ifs: IFS, size: int, sigma: float | None, points: int, seed: int
     (`chaos_reach`): a pixel's shade is at least 0.5 only within ``sigma * sqrt(ln 2)`` of a point, and shading
     each pair as `render` shades the nearest point's distance gives the same pixels, without a KD-tree."""
     size = check_size(size)
-    sigma = check_sigma(sigma if sigma is not None else ifs.sigma if ifs.sigma is not None else pixel_size(size))
+    sigma = check_sigma(_sigma(ifs, size, sigma))
     pixel, distance = chaos_reach(ifs, size, sigma * _HALF_SHADE, points, seed)
     mask = np.zeros(size * size, bool)
     mask[pixel[shade(torch.from_numpy(distance), sigma).numpy() >= 0.5]] = True
