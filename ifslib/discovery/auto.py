@@ -51,6 +51,13 @@ CURVE_PATH_SHARE = 0.8
 #: depth fit thin parts far apart (the MPEG-7 flower at 128²: IoU 0.83 with 8 maps at depth 3, 0.90
 #: with 16 at depth 2, 0.94 with 24 at depth 2), at 256 to 576 leaves each.
 SHAPE_CHOICES = ((8, 3), (16, 2), (24, 2))
+#: ... and for a detailed figure (`detailed`: much edge for its area, as limbs, thin strokes and petals make): a copy
+#: of the whole squeezed into a thin part carries the figure's other thin parts as spikes that its attractor
+#: repeats at every scale, and more, smaller copies keep them short (docs/results/any-shape.md).
+SHAPE_CHOICES_DETAILED = ((40, 2), (48, 2), (56, 2))
+#: A limbed figure's thin parts get this many times their share of the maps (at most half of them), each
+#: placed by k-means among the thin pixels apart from the body's: its copy is squeezed across the limb.
+LIMB_MAPS = 2.0
 #: Numbers of maps tried at a given depth, for a shape and for a curve.
 SHAPE_MAPS = (4, 6, 8)
 CURVE_MAPS = (2, 3, 4)
@@ -88,6 +95,16 @@ EDGE_BOXES = (1, 2, 4, 8)
 THIN_PARTS = 0.1
 #: Parts narrower than a disk of this radius (pixels at `POROUS_SIZE`) are thin: 7 px, a limb of 4-6 px at 128².
 THIN_RADIUS = 3
+#: A shape is detailed (`detailed`) when its interior share (`interior_share`) is at least this, a figure and not a
+#: lace (the carpet: 0.33-0.46) ...
+DETAILED_FROM = 0.6
+#: ... and below this: the creatures of `ifslib.targets.silhouettes.limbed`, the thin letters Y, K and B and the
+#: paper's flower measure 0.71-0.84, the nine drawn silhouettes and the apple 0.88-0.95.
+DETAILED_BELOW = 0.85
+#: ... in a target of at least this many pixels a side: a smaller one has few pixels for 40 copies, and its interior
+#: share is read from an enlarged drawing, where a stroke of one pixel is two (the paper's carpet at 64²
+#: measures 0.71).
+DETAILED_MIN_SIZE = 128
 #: A figure of fewer pixels is too small to read a fractal from (it is fitted as a shape) ...
 FRACTAL_MIN_PIXELS = 100
 #: ... and so is a target smaller than this: at 64² a random fractal's own true maps draw an attractor
@@ -182,6 +199,30 @@ def thin_share(target: Target, size: int = POROUS_SIZE) -> float:
     return 1.0 - float(opened.sum()) / max(int(mask.sum()), 1)
 
 
+def thin_parts(target: Target) -> np.ndarray:
+    """``(size, size)`` bool: the figure's pixels in parts thinner than `thin_share`'s disk, at the target's own
+    size (the disk's radius scaled from `POROUS_SIZE`, at least one pixel)."""
+    from scipy import ndimage
+    from skimage.morphology import disk
+
+    radius = max(1, round(THIN_RADIUS * target.size / POROUS_SIZE))
+    return target.mask & ~ndimage.binary_opening(target.mask, disk(radius))
+
+
+def detailed(share: float, size: int) -> bool:
+    """Whether a shape of interior share ``share`` (`interior_share`) in a target ``size`` pixels wide is detailed:
+    `DETAILED_FROM` to `DETAILED_BELOW`, at `DETAILED_MIN_SIZE` or more, so that it is offered
+    `SHAPE_CHOICES_DETAILED`."""
+    return DETAILED_FROM <= share < DETAILED_BELOW and size >= DETAILED_MIN_SIZE
+
+
+def limbed(share: float, thin: float, size: int) -> bool:
+    """Whether a shape of interior share ``share`` and thin share ``thin`` (`thin_share`) in a target ``size``
+    pixels wide has limbs: it is `detailed` and more than `THIN_PARTS` of it lies in thin parts (the creatures:
+    0.14-0.22; the thin letters and the flower at most 0.05), so `shape_maps` places some maps on them apart."""
+    return detailed(share, size) and thin > THIN_PARTS
+
+
 def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
                   progress: bool = True, *, config: fractal.SearchConfig = fractal.DEFAULT
                   ) -> tuple[IFS | None, dict]:
@@ -209,10 +250,13 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_
     return ifs, record
 
 
-def shape_maps(target: Target, k: int, seed: int = 0) -> np.ndarray:
+def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) -> np.ndarray:
     """``(k, 2, 3)`` affine maps, each taking the figure's mean and covariance onto one of its ``k`` k-means parts.
 
-    Each matrix's singular values are clipped into `SINGULAR_RANGE`, so every map contracts.
+    With ``limbs`` (a `limbed` figure), `limb_maps` of the ``k`` parts are drawn among the pixels of its
+    thin parts (`thin_parts`) and the rest among the body's, so that a limb is covered by copies squeezed across
+    it rather than by parts of body and limb together. Each matrix's singular values are clipped into
+    `SINGULAR_RANGE`, so every map contracts.
     """
     from scipy.cluster.vq import kmeans2
 
@@ -220,28 +264,42 @@ def shape_maps(target: Target, k: int, seed: int = 0) -> np.ndarray:
     if len(fg) < 3 * k:
         raise IFSError(f"the target has {len(fg)} foreground pixels: too few for {k} maps")
     mu, inv_root = fg.mean(0), np.linalg.inv(fractal.sqrtm_psd(np.cov(fg.T)))
-    _, label = kmeans2(fg, k, seed=seed, minit="++")
+    groups = [(fg, k)]
+    if limbs and (n_thin := limb_maps(target, k)):
+        thin = thin_parts(target)[target.mask]  # foreground_points' order
+        groups = [(fg[~thin], k - n_thin), (fg[thin], n_thin)]
     maps = []
-    for i in range(k):
-        part = fg[label == i]
-        if len(part) < 3:  # an empty or tiny cluster: a small copy at a random foreground pixel
-            part = fg[np.random.default_rng(seed + i).choice(len(fg), 3, replace=False)]
-        a = fractal.sqrtm_psd(np.cov(part.T)) @ inv_root
-        u, s, vt = np.linalg.svd(a)
-        a = u @ np.diag(np.clip(s, *SINGULAR_RANGE)) @ vt
-        maps.append(np.concatenate([a, (part.mean(0) - a @ mu)[:, None]], 1))
+    for points, n in groups:
+        _, label = kmeans2(points, n, seed=seed, minit="++")
+        for i in range(n):
+            part = points[label == i]
+            if len(part) < 3:  # an empty or tiny cluster: a small copy at a random pixel of the group
+                part = points[np.random.default_rng(seed + i).choice(len(points), 3, replace=False)]
+            a = fractal.sqrtm_psd(np.cov(part.T)) @ inv_root
+            u, s, vt = np.linalg.svd(a)
+            a = u @ np.diag(np.clip(s, *SINGULAR_RANGE)) @ vt
+            maps.append(np.concatenate([a, (part.mean(0) - a @ mu)[:, None]], 1))
     return np.array(maps)
 
 
-def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", seed: int = 0) -> IFS:
-    """A start of ``k`` affine maps for a filled figure (see the module docstring).
+def limb_maps(target: Target, k: int) -> int:
+    """How many of ``k`` maps `shape_maps` places on the thin parts of a limbed figure: `LIMB_MAPS` times their
+    share of its pixels, rounded, at most half of ``k``, and none where fewer than 3 pixels a map are thin."""
+    thin = int(thin_parts(target).sum())
+    n = min(k // 2, round(LIMB_MAPS * k * thin / int(target.mask.sum())))
+    return n if thin >= 3 * n else 0
+
+
+def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", seed: int = 0, *,
+                limbs: bool = False) -> IFS:
+    """A start of ``k`` affine maps for a filled figure (see the module docstring; ``limbs``: `shape_maps`).
 
     The primitive sits on the figure: ``"box"``, its bounding box; ``"disk"``, a disk at its mean
     with the radius of a disk of the same second moment. Its points are trainable.
     """
     if primitive not in PRIMITIVES:
         raise IFSError(f"unknown primitive {primitive!r} for an automatic start; known: {', '.join(PRIMITIVES)}")
-    frame = patterns.affine(shape_maps(target, k, seed), depth=depth)
+    frame = patterns.affine(shape_maps(target, k, seed, limbs=limbs), depth=depth)
     fg = foreground_points(target)
     pts = frame.points.detach().double()
     n = pts.shape[0]
@@ -251,8 +309,10 @@ def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", 
         radius = 2 * float(np.linalg.det(np.cov(fg.T))) ** 0.25  # a uniform disk of radius r has variance r^2 / 4
         extra, prim = fg.mean(0)[None], {"kind": "disk", "points": [n], "radius": radius}
     points = torch.cat([pts, torch.as_tensor(extra, dtype=torch.float64)])
-    return IFS(points, frame.rules, [prim], depth=depth, name="auto", fixed=frame.fixed,
-               meta={"pattern": {"name": "auto", "kind": "shape", "maps": k, "depth": depth, "primitive": primitive}})
+    pattern = {"name": "auto", "kind": "shape", "maps": k, "depth": depth, "primitive": primitive}
+    if limbs:
+        pattern["limb_maps"] = limb_maps(target, k)
+    return IFS(points, frame.rules, [prim], depth=depth, name="auto", fixed=frame.fixed, meta={"pattern": pattern})
 
 
 def skeleton_path(target: Target, skeleton: np.ndarray | None = None) -> np.ndarray:
@@ -300,12 +360,14 @@ def curve_start(target: Target, k: int, depth: int = 3) -> IFS:
     return ifs
 
 
-def choices(kind: str, maps: int | None = None, depth: int | None = None) -> list[tuple[int, int]]:
+def choices(kind: str, maps: int | None = None, depth: int | None = None, *,
+            detail: bool = False) -> list[tuple[int, int]]:
     """The (maps, depth) pairs an automatic start is chosen among.
 
     Both given: that one. ``maps`` given: it, at ``depth`` or `DEFAULT_DEPTH`. ``depth`` given:
-    `SHAPE_MAPS` or `CURVE_MAPS` at that depth. Neither: `SHAPE_CHOICES` for a shape, `CURVE_MAPS`
-    at `DEFAULT_DEPTH` for a curve.
+    `SHAPE_MAPS` or `CURVE_MAPS` at that depth. Neither: `SHAPE_CHOICES` for a shape
+    (`SHAPE_CHOICES_DETAILED` with ``detail``, a `detailed` figure), `CURVE_MAPS` at `DEFAULT_DEPTH` for a
+    curve.
     """
     if depth is not None:
         check_depth(depth)
@@ -315,14 +377,15 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None) -> lis
             raise IFSError(f"number of maps must be at most {MAX_START_MAPS}, got {maps}")
         return [(maps, DEFAULT_DEPTH if depth is None else depth)]
     if kind == "shape" and depth is None:
-        return list(SHAPE_CHOICES)
+        return list(SHAPE_CHOICES_DETAILED if detail else SHAPE_CHOICES)
     return [(k, DEFAULT_DEPTH if depth is None else depth) for k in (CURVE_MAPS if kind == "curve" else SHAPE_MAPS)]
 
 
 def candidates(target: Target, options: list[tuple[int, int]], primitive: str = "box", seed: int = 0,
-               kind: str | None = None) -> list[IFS]:
+               kind: str | None = None, *, limbs: bool = False) -> list[IFS]:
     """One automatic start for each ``(maps, depth)`` of ``options`` (see `choices`). ``kind`` (``"curve"``
-    or ``"shape"``) is `classify`'s answer, computed unless the caller has it."""
+    or ``"shape"``) is `classify`'s answer, computed unless the caller has it; ``limbs``: a shape's maps are
+    placed on its thin parts apart (`shape_maps`)."""
     kind = classify(target) if kind is None else kind
-    return [curve_start(target, k, d) if kind == "curve" else shape_start(target, k, d, primitive, seed)
+    return [curve_start(target, k, d) if kind == "curve" else shape_start(target, k, d, primitive, seed, limbs=limbs)
             for k, d in options]

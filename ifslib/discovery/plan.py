@@ -19,7 +19,8 @@ from ..scoring.metrics import evaluate
 from ..targets.target import Target, resize_target
 from . import fractal
 from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, POROUS_SIZE, ROUGH_EDGE,
-                   THIN_PARTS, candidates, choices, classify, edge_dimension, fractal_start, interior_share, thin_share)
+                   THIN_PARTS, candidates, choices, classify, edge_dimension, detailed, fractal_start, interior_share,
+                   limbed, thin_share)
 
 #: A porous figure with at least this interior share (`ifslib.discovery.auto.interior_share`) may be a solid
 #: shape with thin parts (limbs, tails, thin letters: 0.78-0.80) as well as a fractal (the random benchmark's
@@ -73,10 +74,10 @@ class Plan:
         return self.start.depth
 
 
-def _rough_edge(target: Target) -> float | None:
+def _rough_edge(target: Target, thin: float) -> float | None:
     """A solid figure's edge dimension (`ifslib.discovery.auto.edge_dimension`), or None when its edge is rough
-    only for its thin parts (`ifslib.discovery.auto.thin_share` above `THIN_PARTS`: limbs, not copies)."""
-    return edge_dimension(target) if thin_share(target) <= THIN_PARTS else None
+    only for its thin parts (its `ifslib.discovery.auto.thin_share` ``thin`` above `THIN_PARTS`: limbs, not copies)."""
+    return edge_dimension(target) if thin <= THIN_PARTS else None
 
 
 def _searchable(target: Target, share: float, edge: float | None, maps: int | None) -> bool:
@@ -110,20 +111,24 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     search finds them
     (`ifslib.discovery.auto.fractal_start`), else the curve or shape starts of the (maps, depth)
     pairs of `ifslib.discovery.auto.choices`, the nearest one the start. A fractal plan whose figure
-    may be a shape as well (`ambiguous`) carries the shape plan as its rival.
+    may be a shape as well (`ambiguous`) carries the shape plan as its rival. A detailed shape
+    (`ifslib.discovery.auto.detailed`) is offered more maps, and one with limbs (`ifslib.discovery.auto.limbed`)
+    has some of them placed on its thin parts.
 
     Without fitting, "nearest" is the collage theorem's measure: the start drawn at the target's
     size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
     strategy compares the same candidates by fitting them instead.
     """
     kind = classify(target)
-    wanted = choices(kind, maps, depth)  # checks maps and depth before any search
     searched = None
     share = edge = None
+    detail = limbs = False
     if kind == "shape":  # a curve is never searched as a fractal
         small = resize_target(target, POROUS_SIZE)  # the three measures read the figure at one size: resized once
-        share = interior_share(small)
-        edge = _rough_edge(small) if share >= POROUS_SHARE else None
+        share, thin = interior_share(small), thin_share(small)
+        edge = _rough_edge(small, thin) if share >= POROUS_SHARE else None
+        detail, limbs = detailed(share, target.size), limbed(share, thin, target.size)
+    wanted = choices(kind, maps, depth, detail=detail)  # checks maps and depth before any search
     if share is not None and _searchable(target, share, edge, maps):
         config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
         start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)
@@ -136,9 +141,9 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
             why = ambiguous(share, found.pattern, edge)
             if why is None:
                 return found
-            rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind))
+            rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs))
             return dataclasses.replace(found, pattern={**found.pattern, "ambiguous": why}, rivals=(rival,))
-    options = candidates(target, wanted, primitive, seed, kind=kind)
+    options = candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs)
     if searched is not None:
         for o in options:
             o.meta["pattern"]["fractal_search"] = searched

@@ -141,3 +141,51 @@ def test_a_solid_figure_is_searched_when_its_edge_is_rough(monkeypatch, overlap)
     assert found.pattern["fractal_search"]["edge_dimension"] == round(auto.edge_dimension(overlap), 3)
     why = plan.ambiguous(auto.interior_share(overlap), _pattern(3, 0.9), auto.edge_dimension(overlap))
     assert "solid (interior share" in why and "rough edge" in why and "fitted as a fractal and as a shape" in why
+
+
+def test_a_limbed_figure_has_maps_squeezed_onto_its_thin_parts():
+    from scipy import ndimage
+
+    creature = ifslib.load_target(silhouettes.thin_gallery(128)["creature 1"].astype(float), 128)
+    share, thin = auto.interior_share(creature), auto.thin_share(creature)
+    assert auto.detailed(share, 128) and auto.limbed(share, thin, 128)
+    k = 24
+    n = auto.limb_maps(creature, k)
+    assert 2 <= n <= k // 2
+    maps = auto.shape_maps(creature, k, limbs=True)
+    assert maps.shape == (k, 2, 3) and not np.array_equal(maps, auto.shape_maps(creature, k))
+    # each map takes the figure's mean onto its part's mean: the last n onto the thin parts (within a curved
+    # limb's bend), the others onto the body
+    mean = auto.foreground_points(creature).mean(0)
+    centres = maps[:, :, :2] @ mean + maps[:, :, 2]
+    cols = np.clip(((centres[:, 0] + 0.5) * 128).astype(int), 0, 127)
+    rows = np.clip(((0.5 - centres[:, 1]) * 128).astype(int), 0, 127)
+    off_thin = ndimage.distance_transform_edt(~auto.thin_parts(creature))
+    assert (off_thin[rows[-n:], cols[-n:]] <= 3).all() and (off_thin[rows[:-n], cols[:-n]] > 0).mean() > 0.9
+    # squeezed across the limb: the thin maps' smaller singular value is below the body maps'
+    smallest = np.linalg.svd(maps[:, :, :2], compute_uv=False)[:, -1]
+    assert np.median(smallest[-n:]) < np.median(smallest[:-n])
+
+
+def test_a_figure_without_thin_parts_keeps_its_maps_and_a_detailed_one_is_offered_more(monkeypatch):
+    monkeypatch.setattr(plan, "fractal_start", lambda *a, **k: (None, {"search": [], "rule": "", "verdict": "none"}))
+    blob = ifslib.load_target(silhouettes.blob(128, seed=2).astype(float), 128)
+    assert auto.limb_maps(blob, 24) == 0
+    assert np.array_equal(auto.shape_maps(blob, 24, limbs=True), auto.shape_maps(blob, 24))
+    assert not auto.detailed(auto.interior_share(blob), 128)
+    chosen = plan.discover(blob)
+    assert [len(c.rules) for c in chosen.candidates] == [k for k, _ in auto.SHAPE_CHOICES]
+    assert "limb_maps" not in chosen.pattern
+    creature = ifslib.load_target(silhouettes.thin_gallery(128)["creature 1"].astype(float), 128)
+    chosen = plan.discover(creature)
+    assert [(len(c.rules), c.depth) for c in chosen.candidates] == list(auto.SHAPE_CHOICES_DETAILED)
+    assert [c.meta["pattern"]["limb_maps"] for c in chosen.candidates] == [
+        auto.limb_maps(creature, k) for k, _ in auto.SHAPE_CHOICES_DETAILED]
+    # a number of maps given is kept; the paper's carpet, a lace of thin parts, is not a detailed shape at 128², and
+    # at 64² (where its interior share, read from an enlarged drawing, is 0.71) too small to be one
+    assert auto.choices("shape", maps=5, detail=True) == [(5, auto.DEFAULT_DEPTH)]
+    for size in (64, 128):
+        carpet = ifslib.load_target("sierpinski", size)
+        assert auto.thin_share(carpet) > auto.THIN_PARTS and not auto.detailed(auto.interior_share(carpet), size)
+    small = ifslib.load_target(silhouettes.thin_gallery(64)["creature 1"].astype(float), 64)
+    assert [len(c.rules) for c in plan.discover(small).candidates] == [k for k, _ in auto.SHAPE_CHOICES]
