@@ -223,6 +223,15 @@ def limbed(share: float, thin: float, size: int) -> bool:
     return detailed(share, size) and thin > THIN_PARTS
 
 
+def shape_detail(target: Target) -> tuple[bool, bool]:
+    """Whether a shape target is `detailed` and whether it is `limbed`, measured as
+    `ifslib.discovery.plan.discover` measures them (at `POROUS_SIZE`): what to pass `choices` as ``detail`` and
+    `candidates` as ``limbs``."""
+    small = resize_target(target, POROUS_SIZE)
+    share = interior_share(small)
+    return detailed(share, target.size), limbed(share, thin_share(small), target.size)
+
+
 def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
                   progress: bool = True, *, config: fractal.SearchConfig = fractal.DEFAULT
                   ) -> tuple[IFS | None, dict]:

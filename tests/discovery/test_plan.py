@@ -179,6 +179,7 @@ def test_a_figure_without_thin_parts_keeps_its_maps_and_a_detailed_one_is_offere
     creature = ifslib.load_target(silhouettes.thin_gallery(128)["creature 1"].astype(float), 128)
     chosen = plan.discover(creature)
     assert [(len(c.rules), c.depth) for c in chosen.candidates] == list(auto.SHAPE_CHOICES_DETAILED)
+    assert auto.shape_detail(creature) == (True, True) and auto.shape_detail(blob) == (False, False)
     assert [c.meta["pattern"]["limb_maps"] for c in chosen.candidates] == [
         auto.limb_maps(creature, k) for k, _ in auto.SHAPE_CHOICES_DETAILED]
     # a number of maps given is kept; the paper's carpet, a lace of thin parts, is not a detailed shape at 128², and
