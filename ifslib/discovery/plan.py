@@ -74,16 +74,23 @@ class Plan:
         return self.start.depth
 
 
-def _rough_edge(target: Target, thin: float) -> float | None:
-    """A solid figure's edge dimension (`ifslib.discovery.auto.edge_dimension`), or None when its edge is rough
-    only for its thin parts (its `ifslib.discovery.auto.thin_share` ``thin`` above `THIN_PARTS`: limbs, not copies)."""
-    return edge_dimension(target) if thin <= THIN_PARTS else None
+def _edge(target: Target, share: float, thin: float) -> float | None:
+    """The figure's edge dimension (`ifslib.discovery.auto.edge_dimension`) where it decides whether the figure is
+    searched: a porous figure of interior share at least `AMBIGUOUS_SHARE`, or a solid one without thin parts (its
+    `ifslib.discovery.auto.thin_share` ``thin`` at most `THIN_PARTS`: a solid figure's limbs make its edge rough, not
+    copies). None elsewhere: a lace is searched whatever its edge, and so is no solid figure with limbs."""
+    if share < AMBIGUOUS_SHARE or (share >= POROUS_SHARE and thin > THIN_PARTS):
+        return None
+    return edge_dimension(target)
 
 
 def _searchable(target: Target, share: float, edge: float | None, maps: int | None) -> bool:
-    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, measured when it is solid without
-    thin parts) is searched as a fractal first: porous, or solid with a rough edge (`ifslib.discovery.auto`), and large enough."""
-    figure = share < POROUS_SHARE or (edge is not None and edge >= ROUGH_EDGE)
+    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, `_edge`) is searched as a fractal
+    first, when it is large enough: a lace (interior share below `AMBIGUOUS_SHARE`), or a figure of more interior
+    whose edge is rough (at least `ROUGH_EDGE`). A porous figure with a smooth edge is a shape with thin strokes (the
+    thin letter Y of `ifslib.targets.silhouettes.thin_gallery`: 1.01), not a fractal's lace (those of the random
+    benchmark and the literature's classes with as much interior measure 1.17-1.24; docs/results/any-shape.md)."""
+    figure = share < AMBIGUOUS_SHARE or (edge is not None and edge >= ROUGH_EDGE)
     return (target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS and figure
             and (maps is None or maps <= fractal.DEFAULT.max_maps))
 
@@ -126,13 +133,13 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     if kind == "shape":  # a curve is never searched as a fractal
         small = resize_target(target, POROUS_SIZE)  # the three measures read the figure at one size: resized once
         share, thin = interior_share(small), thin_share(small)
-        edge = _rough_edge(small, thin) if share >= POROUS_SHARE else None
+        edge = _edge(small, share, thin)
         detail, limbs = detailed(share, target.size), limbed(share, thin, target.size)
     wanted = choices(kind, maps, depth, detail=detail)  # checks maps and depth before any search
     if share is not None and _searchable(target, share, edge, maps):
         config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
         start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)
-        if edge is not None:  # why a solid figure was searched, for the file
+        if edge is not None:  # why a figure with interior was searched, for the file
             searched["edge_dimension"] = round(edge, 3)
             if start is not None:
                 start.meta["pattern"]["edge_dimension"] = searched["edge_dimension"]
@@ -144,9 +151,13 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs))
             return dataclasses.replace(found, pattern={**found.pattern, "ambiguous": why}, rivals=(rival,))
     options = candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs)
-    if searched is not None:
-        for o in options:
+    for o in options:
+        if searched is not None:
             o.meta["pattern"]["fractal_search"] = searched
+        elif edge is not None and edge < ROUGH_EDGE and share < POROUS_SHARE:  # for the file: why it was not searched
+            o.meta["pattern"]["not_searched"] = (
+                f"interior share {share:.2f} (porous, at least {AMBIGUOUS_SHARE:g}) with a smooth edge (dimension "
+                f"{edge:.2f} < {ROUGH_EDGE:g}): a shape with thin strokes, not a fractal's lace")
     return _nearest(target, kind, options)
 
 

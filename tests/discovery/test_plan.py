@@ -190,3 +190,29 @@ def test_a_figure_without_thin_parts_keeps_its_maps_and_a_detailed_one_is_offere
         assert auto.thin_share(carpet) > auto.THIN_PARTS and not auto.detailed(auto.interior_share(carpet), size)
     small = ifslib.load_target(silhouettes.thin_gallery(64)["creature 1"].astype(float), 64)
     assert [len(c.rules) for c in plan.discover(small).candidates] == [k for k, _ in auto.SHAPE_CHOICES]
+
+
+def test_a_porous_figure_with_a_smooth_edge_is_not_searched(monkeypatch):
+    searched = []
+
+    def no_fractal(target, maps, depth, seed, *, config):
+        searched.append(target)
+        return None, {"search": [], "rule": "", "verdict": "none"}
+
+    monkeypatch.setattr(plan, "fractal_start", no_fractal)
+    thin = silhouettes.thin_gallery(128)
+    y = ifslib.load_target(thin["thin letter Y"].astype(float), 128)
+    share = auto.interior_share(y)
+    assert plan.AMBIGUOUS_SHARE <= share < auto.POROUS_SHARE and auto.edge_dimension(y) < auto.ROUGH_EDGE
+    chosen = plan.discover(y, maps=4, depth=2)
+    assert chosen.kind == "shape" and searched == []
+    assert "smooth edge (dimension 1.0" in chosen.pattern["not_searched"] and "fractal_search" not in chosen.pattern
+    # a porous figure whose edge is rough (here for its limbs) is searched, and so is a lace whatever its edge
+    creature = ifslib.load_target(thin["creature 2"].astype(float), 128)
+    assert plan.AMBIGUOUS_SHARE <= auto.interior_share(creature) < auto.POROUS_SHARE
+    assert auto.edge_dimension(creature) >= auto.ROUGH_EDGE
+    assert "not_searched" not in plan.discover(creature, maps=4, depth=2).pattern and searched == [creature]
+    lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
+                                            points=200_000, seed=1).numpy(), 128)
+    plan.discover(lace, maps=4, depth=2)
+    assert searched == [creature, lace]
