@@ -17,6 +17,19 @@ def overlap():
     return target_from_mask(ifslib.render(truth, 128, method="chaos", points=300_000, seed=0).numpy() >= 0.5)
 
 
+@pytest.fixture
+def searches(monkeypatch):
+    """The fractal search stood in for by one that finds nothing: the list of ``(target, config)`` it was asked for."""
+    calls = []
+
+    def no_fractal(target, maps, depth, seed, *, config):
+        calls.append((target, config))
+        return None, {"search": [], "rule": "", "verdict": "none"}
+
+    monkeypatch.setattr(plan, "fractal_start", no_fractal)
+    return calls
+
+
 def _koch_snowflake(size: int) -> np.ndarray:
     """The filled Koch snowflake (five levels) drawn at ``size``²: a solid figure whose edge has dimension 1.26."""
     from matplotlib.path import Path
@@ -79,22 +92,15 @@ def test_limbed_draws_its_parts():
     assert np.array_equal(full, silhouettes.limbed(96, seed=0, limbs=4, tail=True, holes=1))
 
 
-def test_a_figure_that_may_be_a_shape_is_searched_once(monkeypatch):
+def test_a_figure_that_may_be_a_shape_is_searched_once(searches):
     from ifslib.discovery import fractal
 
-    configs = []
-
-    def no_fractal(target, maps, depth, seed, *, config):
-        configs.append(config)
-        return None, {"search": [], "rule": "", "verdict": "none"}
-
-    monkeypatch.setattr(plan, "fractal_start", no_fractal)
     creature = ifslib.load_target(silhouettes.limbed(128, seed=2, width=0.03).astype(float), 128)
     lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
     assert plan.discover(creature, maps=4, depth=2).kind == "shape"
     assert plan.discover(lace, maps=4, depth=2).kind == "shape"
-    assert configs == [plan.AMBIGUOUS_SEARCH, fractal.DEFAULT] and plan.AMBIGUOUS_SEARCH.again == 0
+    assert [c for _, c in searches] == [plan.AMBIGUOUS_SEARCH, fractal.DEFAULT] and plan.AMBIGUOUS_SEARCH.again == 0
 
 
 def test_the_edge_dimension_is_one_for_smooth_edges_and_more_for_fractal_ones(overlap):
@@ -123,21 +129,15 @@ def test_thin_parts_are_those_an_opening_removes():
     assert auto.edge_dimension(creature) >= auto.ROUGH_EDGE and auto.thin_share(creature) > auto.THIN_PARTS
 
 
-def test_a_solid_figure_is_searched_when_its_edge_is_rough(monkeypatch, overlap):
-    searched = []
-
-    def no_fractal(target, maps, depth, seed, *, config):
-        searched.append(config)
-        return None, {"search": [], "rule": "", "verdict": "none"}
-
-    monkeypatch.setattr(plan, "fractal_start", no_fractal)
+def test_a_solid_figure_is_searched_when_its_edge_is_rough(searches, overlap):
     blob = ifslib.load_target(silhouettes.blob(128, seed=2).astype(float), 128)
-    assert plan.discover(blob, maps=4, depth=2).kind == "shape" and searched == []
+    assert plan.discover(blob, maps=4, depth=2).kind == "shape" and searches == []
     limbs = ifslib.load_target(silhouettes.thin_gallery(128)["creature 1"].astype(float), 128)  # rough for its limbs
     assert auto.interior_share(limbs) >= auto.POROUS_SHARE and auto.edge_dimension(limbs) >= auto.ROUGH_EDGE
-    assert plan.discover(limbs, maps=4, depth=2).kind == "shape" and searched == []
+    assert plan.discover(limbs, maps=4, depth=2).kind == "shape" and searches == []
     found = plan.discover(overlap, maps=4, depth=2)
-    assert found.kind == "shape" and searched == [plan.AMBIGUOUS_SEARCH]  # searched once: a shape fit to fall back on
+    # searched once: a shape fit to fall back on
+    assert found.kind == "shape" and [c for _, c in searches] == [plan.AMBIGUOUS_SEARCH]
     assert found.pattern["fractal_search"]["edge_dimension"] == round(auto.edge_dimension(overlap), 3)
     why = plan.ambiguous(auto.interior_share(overlap), _pattern(3, 0.9), auto.edge_dimension(overlap))
     assert "solid (interior share" in why and "rough edge" in why and "fitted as a fractal and as a shape" in why
@@ -167,8 +167,7 @@ def test_a_limbed_figure_has_maps_squeezed_onto_its_thin_parts():
     assert np.median(smallest[-n:]) < np.median(smallest[:-n])
 
 
-def test_a_figure_without_thin_parts_keeps_its_maps_and_a_detailed_one_is_offered_more(monkeypatch):
-    monkeypatch.setattr(plan, "fractal_start", lambda *a, **k: (None, {"search": [], "rule": "", "verdict": "none"}))
+def test_a_figure_without_thin_parts_keeps_its_maps_and_a_detailed_one_is_offered_more(searches):
     blob = ifslib.load_target(silhouettes.blob(128, seed=2).astype(float), 128)
     assert auto.limb_maps(blob, 24) == 0
     assert np.array_equal(auto.shape_maps(blob, 24, limbs=True), auto.shape_maps(blob, 24))
@@ -192,27 +191,21 @@ def test_a_figure_without_thin_parts_keeps_its_maps_and_a_detailed_one_is_offere
     assert [len(c.rules) for c in plan.discover(small).candidates] == [k for k, _ in auto.SHAPE_CHOICES]
 
 
-def test_a_porous_figure_with_a_smooth_edge_is_not_searched(monkeypatch):
-    searched = []
-
-    def no_fractal(target, maps, depth, seed, *, config):
-        searched.append(target)
-        return None, {"search": [], "rule": "", "verdict": "none"}
-
-    monkeypatch.setattr(plan, "fractal_start", no_fractal)
+def test_a_porous_figure_with_a_smooth_edge_is_not_searched(searches):
     thin = silhouettes.thin_gallery(128)
     y = ifslib.load_target(thin["thin letter Y"].astype(float), 128)
     share = auto.interior_share(y)
     assert plan.AMBIGUOUS_SHARE <= share < auto.POROUS_SHARE and auto.edge_dimension(y) < auto.ROUGH_EDGE
     chosen = plan.discover(y, maps=4, depth=2)
-    assert chosen.kind == "shape" and searched == []
+    assert chosen.kind == "shape" and searches == []
     assert "smooth edge (dimension 1.0" in chosen.pattern["not_searched"] and "fractal_search" not in chosen.pattern
     # a porous figure whose edge is rough (here for its limbs) is searched, and so is a lace whatever its edge
     creature = ifslib.load_target(thin["creature 2"].astype(float), 128)
     assert plan.AMBIGUOUS_SHARE <= auto.interior_share(creature) < auto.POROUS_SHARE
     assert auto.edge_dimension(creature) >= auto.ROUGH_EDGE
-    assert "not_searched" not in plan.discover(creature, maps=4, depth=2).pattern and searched == [creature]
+    assert "not_searched" not in plan.discover(creature, maps=4, depth=2).pattern
+    assert [t for t, _ in searches] == [creature]
     lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
     plan.discover(lace, maps=4, depth=2)
-    assert searched == [creature, lace]
+    assert [t for t, _ in searches] == [creature, lace]
