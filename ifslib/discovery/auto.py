@@ -8,16 +8,19 @@ copies of the target cover the target:
   (`scipy.cluster.vq.kmeans2`), and map ``i`` takes the whole figure's mean and covariance onto
   part ``i``'s (``A_i = C_i^{1/2} C^{-1/2}``, ``t_i = mu_i - A_i mu``): each copy of the figure is
   stretched and turned to lie over its part. The maps are ``affine`` rules
-  (`ifslib.patterns.affine`) and the leaves draw the primitive given by ``primitive``.
+  (`ifslib.patterns.affine`) and the leaves draw the primitive given by ``primitive``. A `detailed`
+  figure (much edge for its area) is offered more maps (`SHAPE_CHOICES_DETAILED`), and a `limbed`
+  one has some of them placed by k-means on its thin parts apart from its body (`limb_maps`).
 * **Curves** (a thin figure, about as long as its area in pixels): the figure's skeleton
   (`skimage.morphology.skeletonize`) is walked from end to end along its longest path
   (`scipy.sparse.csgraph`), ``k + 1`` points are spaced evenly along it, and the curve is the
   Koch-like pattern on that polyline (`ifslib.patterns.koch_like`): ``k`` segment rules, each mapping
   the chord onto one piece.
 
-* **Fractals** (a target of at least `FRACTAL_MIN_SIZE` pixels whose figure is porous: fewer than `POROUS_SHARE` of its pixels have all eight neighbours
-  on it at 128², where a silhouette has over 0.88; or solid with a rough edge, `edge_dimension` at least
-  `ROUGH_EDGE`, as overlapping copies draw, and not made rough by thin limbs, `thin_share`): the figure is
+* **Fractals** (a target of at least `FRACTAL_MIN_SIZE` pixels whose figure is a lace: fewer than 0.6 of its pixels
+  have all eight neighbours on it at 128², where a silhouette has over 0.88; or one with more interior whose edge
+  is rough, `edge_dimension` at least `ROUGH_EDGE`, as a fractal's lace and overlapping copies draw, and, when
+  solid, not made rough by thin limbs, `thin_share`; `ifslib.discovery.plan` decides): the figure is
   searched for copies of itself
   (`ifslib.discovery.fractal.search`: template matching, covers, the collage refined, 2 to 8 maps
   compared by minimum description length). When the maps found draw an attractor within
@@ -77,6 +80,8 @@ MIN_PIXELS = 4
 #: (all eight neighbours on the figure) at `POROUS_SIZE`: it separates the benchmark's fractals (at most 0.76) from
 #: solid silhouettes (0.88 and more; docs/results/fractals.md); the thin-petalled flower (0.71-0.74) falls below it
 #: and pays for a search before it is fitted as a shape, and the paper's carpet has 0.33-0.71 from 256² to 64².
+#: From 0.6 (`ifslib.discovery.plan.AMBIGUOUS_SHARE`) a porous figure is searched only when its edge is rough
+#: (`ROUGH_EDGE`): a thin letter's smooth edge measures 1.01, the fractals' 1.17 and more.
 POROUS_SHARE = 0.8
 #: ... measured with the target made this many pixels wide (the share of a solid figure's edge falls
 #: with its size; a fractal's does not).
