@@ -78,7 +78,7 @@ def _edge(target: Target, share: float, thin: float) -> float | None:
     """The figure's edge dimension (`ifslib.discovery.auto.edge_dimension`) where it decides whether the figure is
     searched: a porous figure of interior share at least `AMBIGUOUS_SHARE`, or a solid one without thin parts (its
     `ifslib.discovery.auto.thin_share` ``thin`` at most `THIN_PARTS`: a solid figure's limbs make its edge rough, not
-    copies). None elsewhere: a lace is searched whatever its edge, and so is no solid figure with limbs."""
+    copies). None elsewhere: a lace is searched whatever its edge, and a solid figure with limbs never is."""
     if share < AMBIGUOUS_SHARE or (share >= POROUS_SHARE and thin > THIN_PARTS):
         return None
     return edge_dimension(target)
