@@ -279,9 +279,11 @@ def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) ->
         raise IFSError(f"the target has {len(fg)} foreground pixels: too few for {k} maps")
     mu, inv_root = fg.mean(0), np.linalg.inv(fractal.sqrtm_psd(np.cov(fg.T)))
     groups = [(fg, k)]
-    if limbs and (n_thin := limb_maps(target, k)):
-        thin = thin_parts(target)[target.mask]  # foreground_points' order
-        groups = [(fg[~thin], k - n_thin), (fg[thin], n_thin)]
+    if limbs:
+        thin = thin_parts(target)
+        if n_thin := limb_maps(target, k, thin):
+            on_thin = thin[target.mask]  # foreground_points' order
+            groups = [(fg[~on_thin], k - n_thin), (fg[on_thin], n_thin)]
     maps = []
     for points, n in groups:
         _, label = kmeans2(points, n, seed=seed, minit="++")
@@ -296,12 +298,13 @@ def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) ->
     return np.array(maps)
 
 
-def limb_maps(target: Target, k: int) -> int:
+def limb_maps(target: Target, k: int, thin: np.ndarray | None = None) -> int:
     """How many of ``k`` maps `shape_maps` places on the thin parts of a limbed figure: `LIMB_MAPS` times their
-    share of its pixels, rounded, at most half of ``k``, and none where fewer than 3 pixels a map are thin."""
-    thin = int(thin_parts(target).sum())
-    n = min(k // 2, round(LIMB_MAPS * k * thin / int(target.mask.sum())))
-    return n if thin >= 3 * n else 0
+    share of its pixels, rounded, at most half of ``k``, and none where fewer than 3 pixels a map are thin.
+    ``thin`` is the figure's `thin_parts`, computed unless the caller has it."""
+    pixels = int((thin_parts(target) if thin is None else thin).sum())
+    n = min(k // 2, round(LIMB_MAPS * k * pixels / int(target.mask.sum())))
+    return n if pixels >= 3 * n else 0
 
 
 def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", seed: int = 0, *,

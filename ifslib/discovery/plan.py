@@ -151,13 +151,15 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs))
             return dataclasses.replace(found, pattern={**found.pattern, "ambiguous": why}, rivals=(rival,))
     options = candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs)
+    record = {}  # for the file: what the search found, or why a porous figure was not searched
+    if searched is not None:
+        record["fractal_search"] = searched
+    elif edge is not None and edge < ROUGH_EDGE and share < POROUS_SHARE:
+        record["not_searched"] = (f"interior share {share:.2f} (porous, at least {AMBIGUOUS_SHARE:g}) with a smooth "
+                                  f"edge (dimension {edge:.2f} < {ROUGH_EDGE:g}): a shape with thin strokes, not a "
+                                  "fractal's lace")
     for o in options:
-        if searched is not None:
-            o.meta["pattern"]["fractal_search"] = searched
-        elif edge is not None and edge < ROUGH_EDGE and share < POROUS_SHARE:  # for the file: why it was not searched
-            o.meta["pattern"]["not_searched"] = (
-                f"interior share {share:.2f} (porous, at least {AMBIGUOUS_SHARE:g}) with a smooth edge (dimension "
-                f"{edge:.2f} < {ROUGH_EDGE:g}): a shape with thin strokes, not a fractal's lace")
+        o.meta["pattern"].update(record)
     return _nearest(target, kind, options)
 
 
