@@ -2,7 +2,7 @@
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
-PRESET ?= paper
+PRESET ?= teaching
 # The paper's target images: use the shared copy beside the checkout when there is one.
 IFSLIB_DATA ?= $(if $(wildcard ../shared/data/koch.png),$(abspath ../shared/data),)
 export IFSLIB_DATA
@@ -25,18 +25,20 @@ $(VENV)/.installed-docs: $(VENV)/.installed
 
 setup: $(VENV)/.installed $(VENV)/.installed-docs  ## create .venv and install ifslib (editable) with all its extras, at the tested versions (constraints.txt)
 
-# one pytest-xdist worker per core, at one torch thread each (tests/conftest.py); a notebook's cells and
-# its figure's comparison stay together on one worker
-test: $(VENV)/.installed  ## run the whole test suite
+# one pytest-xdist worker per core, at one torch thread each (tests/conftest.py); each notebook runs at its
+# quick values (metadata["ifslib"]["quick"]) in a temporary copy, and its figure is compared on the same worker
+test: $(VENV)/.installed  ## run the whole test suite (every notebook at its quick values)
 	$(PY) -m pytest -q -n auto --dist loadscope
 
 # the inner loop of work: the library's quick tests, without the notebooks' runs and the slow searches
 test-fast: $(VENV)/.installed  ## the library's quick tests: no notebook, no whole fractal search (under a minute)
 	$(PY) -m pytest tests -q -n auto --dist loadscope -m "not notebook and not slow"
 
-figures: $(VENV)/.installed  ## run every notebook with papermill (paper preset; PRESET=ci for the quick run)
+# PRESET=teaching (the default) stores each notebook's run in the notebook itself and writes figures/;
+# PRESET=quick runs the quick values into build/quick/ and build/figures-quick/, never over the stored outputs
+figures: $(VENV)/.installed  ## run every notebook at its teaching values, store the run in it, write figures/ (PRESET=quick: into build/)
 	$(PY) notebooks/run.py --preset $(PRESET)
-	$(PY) -m ifslib render koch --size 512 --depth 6 -o figures/koch.png
+	$(if $(filter teaching,$(PRESET)),$(PY) -m ifslib render koch --size 512 --depth 6 -o figures/koch.png)
 
 # The book's formulas (MathJax) and the lecture slides (reveal.js) from the npm registry, so both open with
 # no network (no CDN). One install for both: `npm install --no-save` removes the packages it is not given.

@@ -1,36 +1,29 @@
-"""Store the notebooks' outputs: run each in place, top to bottom, with its ci preset: ``python notebooks/store.py``.
+"""Store a notebook's teaching run in the notebook itself: ``python notebooks/store.py [02 08]``.
 
-The stored outputs are what readers see on GitHub and in the book, and what nbval compares the
-cells tagged ``nbval-check-output`` with. They are made at ``STORE_THREADS`` torch threads and the
-count is recorded in each notebook's metadata (``metadata["ifslib"]["threads"]``); the tests run
-the notebooks at another count (`tests/conftest.py`), so that a checked output which depends on
-the summation order fails in the tests rather than on a reader's machine.
+The stored outputs are what readers see: the notebook on GitHub and in JupyterLab, the book and the
+slides. `store` executes a notebook top to bottom in a fresh kernel at its teaching values (its
+``parameters`` cell, nothing injected, so the stored cells are the source's), drops the progress
+bars and records the run in ``metadata["ifslib"]["stored"]``: the preset, the torch thread count
+and the parameters it ran with (tests/notebooks/test_stored_runs.py holds the stored notebooks to
+them). ``python notebooks/store.py 02`` is ``python notebooks/run.py --only 02``, which also writes
+the figure to ``figures/``; the quick values (``make test``) never reach the stored outputs.
 
 Progress bars are not stored: a tqdm widget's view is stored without its final state, so a
 reader sees it at "0%", and a bar on standard error is hundreds of redraws. The kernels run with
 ``TQDM_DISABLE=1`` (tqdm's default for ``disable``, which a call that passes ``disable`` itself
 overrides, as the library's bars do), and `drop_progress_bars` removes whatever bar is left: the
 widget views whose text is a bar, and the bar lines of standard error. Every other output is kept.
-So a cell tagged ``nbval-check-output`` must draw no bar (``progress=False``): nbval, which runs
-with bars, would find an output that its stored copy lacks.
-
-    python notebooks/store.py            # every notebook
-    python notebooks/store.py 02 08      # those whose names start so
 """
 from __future__ import annotations
 
 import os
 import re
 import sys
-import time
 from pathlib import Path
 
 import nbformat
 from nbclient import NotebookClient
-from run import notebooks  # notebooks/run.py: this script's folder is first on sys.path
-
-#: The torch thread count at which the stored outputs are made (the tests use another).
-STORE_THREADS = 2
+from run import main as run_main, teaching_parameters  # notebooks/run.py: this script's folder is first on sys.path
 
 #: A tqdm bar as tqdm writes it: ``desc:  40%|####      | 2/5 [00:01<00:01, 1.9it/s]``, or without a
 #: total ``desc: 7it [00:01, 6.2it/s]`` (the rate in any unit: ``it/s``, ``step/s``, ``s/it``).
@@ -103,26 +96,27 @@ def _drop_unshown_widgets(book: nbformat.NotebookNode) -> None:
         del book.metadata["widgets"]
 
 
-def store(path: Path, timeout: int = 1200) -> float:
-    """Execute the notebook at ``path`` in a fresh kernel and write it back with its outputs; returns seconds."""
+def store(path: Path, dest: Path, figures: Path, timeout: int = 1800) -> None:
+    """Execute the notebook at ``path`` at its teaching values in a fresh kernel, write it with its outputs to ``dest``.
+
+    ``dest`` may be ``path`` itself (stored in place). The kernel runs in the notebook's folder, at
+    this process's ``IFSLIB_THREADS``, with its figure written to ``figures`` (``IFSLIB_FIGURES``:
+    an empty ``save_to`` falls back on it), the inline backend and no progress bar.
+    """
     book = nbformat.read(path, as_version=4)
-    started = time.perf_counter()
-    NotebookClient(book, timeout=timeout, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}).execute()
+    env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}  # inline: the figures are stored
+    env.update(IFSLIB_FIGURES=str(figures), TQDM_DISABLE="1")
+    NotebookClient(book, timeout=timeout, kernel_name="python3", record_timing=False,  # no timestamps to churn
+                   resources={"metadata": {"path": str(path.parent)}}).execute(env=env)
     drop_progress_bars(book)
-    book.metadata["ifslib"] = {"threads": STORE_THREADS}
-    nbformat.write(book, path)
-    return time.perf_counter() - started
-
-
-def main(argv: list[str]) -> int:
-    os.environ["IFSLIB_THREADS"] = str(STORE_THREADS)  # the kernels inherit the environment
-    os.environ.pop("MPLBACKEND", None)  # the inline backend, so that the figures are stored
-    os.environ.pop("IFSLIB_FIGURES", None)  # the ci preset writes no figure
-    os.environ["TQDM_DISABLE"] = "1"  # no bar to store (see the module's docstring)
-    for path in notebooks(argv):
-        print(f"{path.name}: {store(path):.0f} s", flush=True)
-    return 0
+    meta = book.metadata.setdefault("ifslib", {})
+    meta.pop("threads", None)  # recorded in "stored" now
+    threads = env.get("IFSLIB_THREADS", "auto")
+    meta["stored"] = {"preset": "teaching", "threads": int(threads) if threads.isdigit() else threads,
+                      "parameters": teaching_parameters(path)}
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    nbformat.write(book, dest)
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(run_main(["--preset", "teaching", *sys.argv[1:]]))

@@ -7,9 +7,6 @@ The default is ``cpu``.
 import math
 import os
 import re
-import shutil
-import tempfile
-from pathlib import Path
 
 import pytest
 import torch
@@ -68,17 +65,12 @@ def pattern_name(request):
     return request.param
 
 
-# nbval's kernels inherit this environment. They run at 1 thread unless the caller chose a count: the
-# stored outputs they are compared with were made at 2 (notebooks/store.py), so that a checked output
-# that depends on the summation order fails (tests/notebooks/test_notebook_runs.py checks the two counts differ).
-# One thread also suits ``make test``'s two pytest-xdist workers on a 2-core machine.
-# The kernels draw as the stored outputs were drawn (notebooks/store.py drops it too): with a
-# backend chosen for scripts (CI exports MPLBACKEND=Agg) a figure cell would show no image, and a
-# checked cell that also draws would lose an output that nbval compares.
+# The notebooks' kernels (tests/notebooks/test_notebook_runs.py) inherit this environment: one torch thread
+# unless the caller chose a count, which suits make test's two pytest-xdist workers on a 2-core machine;
+# and matplotlib's inline backend, as a reader's Jupyter has it (CI exports MPLBACKEND=Agg, under which a
+# notebook's figure cells would show nothing).
 os.environ.pop("MPLBACKEND", None)
-if "IFSLIB_THREADS" not in os.environ:
-    os.environ["IFSLIB_THREADS"] = "1"
-    os.environ["IFSLIB_THREADS_SET_BY"] = "conftest"  # the default run: tests/notebooks/test_notebook_runs.py holds it to 1
+os.environ.setdefault("IFSLIB_THREADS", "1")
 
 
 #: Test modules kept on one worker: their module fixture draws for about 11 s (the literature's IFS classes).
@@ -88,20 +80,18 @@ WHOLE_MODULES = {"tests/geometry/test_samplers.py"}
 def notebook_scope(nodeid: str) -> str:
     """The work unit of a test under ``make test``'s pytest-xdist workers (``-n auto --dist loadscope``).
 
-    A notebook's cells share one kernel and must run in order on one worker; the comparison of its
-    figure (tests/notebooks/test_notebook_runs.py) reads what that run saved, so it joins the same unit, after
-    the cells (pytest collects ``notebooks/`` first). A module whose module-scoped fixture is costly
+    A notebook's run and the comparison of its figure (tests/notebooks/test_notebook_runs.py, both
+    parametrized by the notebook's name) are one unit, so that the figure is compared on the worker
+    that ran the notebook, without a second run. A module whose module-scoped fixture is costly
     (`WHOLE_MODULES`) is one unit, so that one worker builds the fixture. Every other test is a unit
     of its own, so the workers stay evenly loaded.
     """
     path, _, rest = nodeid.partition("::")
-    if path.endswith(".ipynb"):
-        return Path(path).stem
     if path in WHOLE_MODULES:
         return path
-    figure = re.fullmatch(r"test_figure_matches_reference\[(.+)\]", rest)
-    if path.endswith("test_notebook_runs.py") and figure:
-        return figure.group(1)
+    run = re.fullmatch(r"test_(?:runs_at_quick_values|figure_matches_reference)\[(.+)\]", rest)
+    if path.endswith("test_notebook_runs.py") and run:
+        return run.group(1)
     return nodeid
 
 
@@ -133,31 +123,26 @@ def pytest_xdist_make_scheduler(config, log):
     return NotebookScheduling(config, log)
 
 
-def pytest_configure(config):
-    """Give nbval's kernels a folder for the notebooks' figures (``IFSLIB_FIGURES``), unless the caller chose one.
-
-    ``save_figure`` falls back on it when a notebook's ``save_to`` is empty; tests/notebooks/test_notebook_runs.py
-    compares those figures with tests/reference/.
-    """
-    if not os.environ.get("IFSLIB_FIGURES"):
-        config._ifslib_figures = tempfile.mkdtemp(prefix="ifslib-figures-")
-        os.environ["IFSLIB_FIGURES"] = config._ifslib_figures
-
-
 def pytest_collection_modifyitems(config, items):
-    """Mark the notebooks' runs ``notebook`` (the cells nbval runs, and ``tests/notebooks/``), so that
-    ``make test-fast`` (``-m "not notebook and not slow"``) leaves them out."""
+    """Mark the notebooks' runs ``notebook`` (``tests/notebooks/``), so that ``make test-fast``
+    (``-m "not notebook and not slow"``) leaves them out, and put them first, the longest first
+    (notebooks/run.py's ``LONGEST``): the workers start on the long units and finish together."""
+    folder = f"{os.sep}tests{os.sep}notebooks{os.sep}"
     for item in items:
-        path = str(item.fspath)
-        if path.endswith(".ipynb") or f"{os.sep}tests{os.sep}notebooks{os.sep}" in path:
+        if folder in str(item.fspath):
             item.add_marker(pytest.mark.notebook)
 
+    def rank(item):
+        scope = notebook_scope(item.nodeid)
+        if scope == item.nodeid:  # not a notebook's run
+            return 1, 0
+        return 0, next((k for k, p in enumerate(NOTEBOOK_LONGEST) if scope.startswith(p)), len(NOTEBOOK_LONGEST))
 
-def pytest_unconfigure(config):
-    folder = getattr(config, "_ifslib_figures", None)
-    if folder:
-        shutil.rmtree(folder, ignore_errors=True)
-        os.environ.pop("IFSLIB_FIGURES", None)
+    items.sort(key=rank)  # a stable sort: each notebook's run stays before its figure's comparison
+
+
+#: notebooks/run.py's ``LONGEST`` at the quick values (docs/results/tests.md), longest first.
+NOTEBOOK_LONGEST = ("07_", "02_", "08_", "04_", "05_", "00_tutorial", "06_", "01_", "03_")
 
 
 def pytest_addoption(parser):

@@ -1,30 +1,22 @@
-"""The notebooks' run by nbval: at another thread count than their stored outputs, and their figures.
+"""Every notebook run at its quick values, and each figure of that run against ``tests/reference/``.
 
-nbval (see pyproject.toml) executes every notebook with ``IFSLIB_THREADS=1`` (set in
-``tests/conftest.py`` unless the caller set it) and compares each cell
-tagged ``nbval-check-output`` with its stored output (after ``notebooks/sanitize.cfg``). The stored
-outputs were made at 2 threads by ``notebooks/store.py``, which records the count in the
-notebook's metadata, so torch's CPU kernels sum in another order in the tests: a checked output
-that carries a rounding error's last digits, or a fit result that flips with the summation order,
-fails there rather than on a reader's machine. Here:
+Each notebook (``notebooks/[0-9][0-9]_*.ipynb`` and the glossary, as ``notebooks/run.py`` finds
+them) is executed top to bottom by papermill into a temporary folder with the overrides of its
+``metadata["ifslib"]["quick"]`` (``run.run_quick``, the code ``make figures PRESET=quick`` runs).
+Any cell's error fails the test, and so does any failed ``assert``: the cells that check a lesson's
+claims are plain asserts that hold at the quick and at the teaching values. The stored outputs
+(the teaching run) are never compared with this run; tests/notebooks/test_stored_runs.py checks them.
 
-* each notebook's stored thread count must differ from the tests' (else nbval's comparison would
-  not cross thread counts);
-* each figure of nbval's run (the figure notebooks write it to ``IFSLIB_FIGURES``, which
-  ``tests/conftest.py`` sets: an empty ``save_to`` falls back on it) is compared with
-  ``tests/reference/<name>.png`` by SSIM (scikit-image), so a change that alters a figure fails
-  loudly. pytest runs ``notebooks/`` before ``tests/`` (``testpaths``); when this file runs without
-  nbval's run (``pytest tests/``), a missing figure is made by running its notebook with papermill.
-  To accept an intended change, regenerate the references with ``python notebooks/run.py --preset
-  ci`` and copy ``build/figures-ci/*.png`` here.
-
-Each notebook is executed once by ``make test``; under its pytest-xdist workers a notebook's figure is
-compared on the worker that ran it (``tests/conftest.py`` groups them).
+Each figure of the quick run is compared with ``tests/reference/<name>.png`` by SSIM
+(scikit-image), so a change that alters a figure fails loudly. To accept an intended change,
+regenerate the references with ``python notebooks/run.py --preset quick`` and copy
+``build/figures-quick/*.png`` here. Under ``make test``'s pytest-xdist workers a notebook's run
+and its figure's comparison are one unit on one worker (``tests/conftest.py``), so the notebook
+runs once.
 """
-import configparser
+import importlib.util
 import json
-import os
-import re
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -34,7 +26,6 @@ from skimage.metrics import structural_similarity
 
 ROOT = Path(__file__).resolve().parents[2]
 REFERENCE = ROOT / "tests" / "reference"
-NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
 FIGURES = {"01_koch_iterations": "koch_iterations", "02_fitting_gallery": "fitting_gallery",
            "03_gradient_fields": "gradient_fields", "04_local_minima": "local_minima",
            "05_more_examples": "more_examples", "06_convergence_study": "convergence_study",
@@ -42,54 +33,71 @@ FIGURES = {"01_koch_iterations": "koch_iterations", "02_fitting_gallery": "fitti
 MIN_SSIM = 0.9  # tolerates last-bit differences between CPUs; a changed figure scores far lower
 
 
-def gray(path):
-    return np.asarray(Image.open(path).convert("L"), dtype=float) / 255
+def load_run():
+    """``notebooks/run.py`` as a module (it is a script, not part of the package)."""
+    spec = importlib.util.spec_from_file_location("ifslib_notebooks_run", ROOT / "notebooks" / "run.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.path.insert(0, str(ROOT / "notebooks"))  # run.py imports store.py beside it
+    spec.loader.exec_module(module)
+    return module
 
 
-def sanitizers():
-    """(pattern, replacement) pairs of notebooks/sanitize.cfg, the ones nbval applies."""
-    config = configparser.ConfigParser(interpolation=None)
-    config.read(ROOT / "notebooks" / "sanitize.cfg")
-    return [(re.compile(config[s]["regex"]), config[s]["replace"]) for s in config.sections()]
+run = load_run()
+BOOKS = {path.stem: path for path in run.notebooks()}
+
+#: name -> (the figures' folder, or the error of the run), one run per notebook per worker.
+_RUNS: dict = {}
 
 
-def masked(text: str, rules) -> str:
-    """``text`` after the sanitizers, as nbval compares it."""
-    for pattern, replacement in rules:
-        text = pattern.sub(replacement, text)
-    return text
+def quick_run(book: str, tmp_path_factory) -> Path:
+    """The folder holding the figure of ``book``'s quick run, running it on the first call."""
+    if book not in _RUNS:
+        folder = tmp_path_factory.mktemp(book)
+        try:
+            run.run_quick(BOOKS[book], folder, folder / "figures")
+            _RUNS[book] = folder / "figures"
+        except Exception as error:  # noqa: BLE001 - kept, so that the figure's test reports it without a rerun
+            _RUNS[book] = error
+    if isinstance(_RUNS[book], Exception):
+        raise _RUNS[book]
+    return _RUNS[book]
 
 
-def figure_of(book: str, out: Path) -> Path:
-    """The figure nbval's run of notebook ``book`` saved, or (without that run: ``pytest tests/``) papermill's."""
-    figure = Path(os.environ["IFSLIB_FIGURES"]) / f"{FIGURES[book]}.png"
-    if not figure.exists():
-        papermill = pytest.importorskip("papermill")
-        path = ROOT / "notebooks" / f"{book}.ipynb"
-        papermill.execute_notebook(str(path), str(out / path.name), cwd=str(path.parent), kernel_name="python3",
-                                   parameters={"save_to": str(figure.parent)}, progress_bar=False)
-    return figure
+def test_every_notebook_is_run():
+    """The lessons and the glossary are found by name, new ones included (09, 10, ...)."""
+    assert {"00_tutorial", "01_koch_iterations", "glossary"} <= set(BOOKS)
+    assert all(b.stem == "glossary" or b.stem[:2].isdigit() for b in BOOKS.values())
+    assert set(FIGURES) <= set(BOOKS)
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
-def test_stored_outputs_were_made_at_another_thread_count(path):
-    stored = json.loads(path.read_text())["metadata"].get("ifslib", {}).get("threads")
-    assert stored is not None, f"{path.name}: no thread count recorded; store it with python notebooks/store.py"
-    if str(stored) == os.environ["IFSLIB_THREADS"] and os.environ.get("IFSLIB_THREADS_SET_BY") != "conftest":
-        pytest.skip(f"IFSLIB_THREADS={stored} was fixed by the caller, the count the outputs were stored at: this run "
-                    "compares them at the same count (the default run, at 1 thread, compares across counts)")
-    assert str(stored) != os.environ["IFSLIB_THREADS"], (
-        f"{path.name} was stored at {stored} threads and nbval runs it at IFSLIB_THREADS={os.environ['IFSLIB_THREADS']}: its checked "
-        "cells would not be compared across thread counts; run the tests at another count")
+@pytest.mark.parametrize("book", sorted(BOOKS))
+def test_runs_at_quick_values(book, tmp_path_factory):
+    executed = json.loads((quick_run(book, tmp_path_factory).parent / f"{book}.ipynb").read_text())
+    # an exercise's check answers in words rather than raising (a student's wrong answer gets a
+    # hint): the instructor's worked answer must be the one it calls correct
+    for k, cell in enumerate(executed["cells"]):
+        if cell["cell_type"] == "code" and "ifslib.exercises.check_" in "".join(cell["source"]):
+            said = "".join("".join(o.get("text", "")) for o in cell["outputs"] if o["output_type"] == "stream")
+            assert "correct." in said, f"{book}, cell {k}: the worked answer is not accepted: {said[-300:]!r}"
 
 
 @pytest.mark.parametrize("book", FIGURES)
-def test_figure_matches_reference(book, tmp_path):
+def test_figure_matches_reference(book, tmp_path_factory):
     name = FIGURES[book]
-    new, ref = gray(figure_of(book, tmp_path)), gray(REFERENCE / f"{name}.png")
+    try:
+        figures = quick_run(book, tmp_path_factory)
+    except Exception as error:  # noqa: BLE001
+        pytest.fail(f"{book} failed to run at its quick values (see test_runs_at_quick_values[{book}]): "
+                    f"{type(error).__name__}", pytrace=False)
+    assert (figures / f"{name}.png").exists(), f"{book} saved no {name}.png into its save_to folder"
+    new, ref = gray(figures / f"{name}.png"), gray(REFERENCE / f"{name}.png")
     assert new.shape == ref.shape, f"{name}: size changed from {ref.shape} to {new.shape}"
     score = structural_similarity(new, ref, data_range=1.0)
     assert score >= MIN_SSIM, f"{name}: SSIM {score:.3f} < {MIN_SSIM} against tests/reference/{name}.png"
+
+
+def gray(path):
+    return np.asarray(Image.open(path).convert("L"), dtype=float) / 255
 
 
 def test_ssim_catches_a_changed_figure():
@@ -100,8 +108,17 @@ def test_ssim_catches_a_changed_figure():
     assert structural_similarity(altered, ref, data_range=1.0) < MIN_SSIM
 
 
-def test_the_sanitizers_mask_timings_but_not_float_noise():
-    """The checked cells' comparison is not vacuous: float noise in a checked cell's text is a difference."""
-    rules = sanitizers()
-    assert masked("error 4.44e-16, took 1.5 s\n", rules) == "error 4.44e-16, took TIME\n"
-    assert masked("error 4.44e-16, took 1.5 s\n", rules) != masked("error 8.88e-16, took 2.5 s\n", rules)
+def test_a_failed_assert_fails_the_run(tmp_path):
+    """A notebook whose check fails does not pass: papermill raises with the assert's message."""
+    nbformat = pytest.importorskip("nbformat")
+    papermill = pytest.importorskip("papermill")
+    book = nbformat.v4.new_notebook(cells=[
+        nbformat.v4.new_code_cell("size = 128", metadata={"tags": ["parameters"]}),
+        nbformat.v4.new_code_cell('assert size >= 100, "the lesson needs at least 100 px"')])
+    book.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    book.metadata["ifslib"] = {"quick": {"size": 64}}
+    path = tmp_path / "99_check.ipynb"
+    nbformat.write(book, path)
+    assert run.quick_parameters(path) == {"size": 64}
+    with pytest.raises(papermill.PapermillExecutionError, match="the lesson needs at least 100 px"):
+        run.run_quick(path, tmp_path / "out", tmp_path / "figures")

@@ -1,6 +1,6 @@
-"""The notebooks as stored: parameters cells, presets, kernelspec, and executed top to bottom.
+"""The notebooks as written: their teaching and quick values, their checks, their lesson header, their code's width.
 
-nbval re-executes them (see pyproject.toml); these tests check what nbval does not.
+tests/notebooks/test_notebook_runs.py runs them at their quick values; these tests read them without running.
 """
 import ast
 import json
@@ -8,31 +8,17 @@ import re
 from pathlib import Path
 
 import pytest
-import yaml
+
+from ifslib.errors import IFSError
+from test_notebook_runs import run  # notebooks/run.py, loaded once
 
 ROOT = Path(__file__).resolve().parents[2]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
-PAPER = yaml.safe_load((ROOT / "notebooks" / "params" / "paper.yaml").read_text())
+ALL = run.notebooks()  # the lessons and the glossary
 
 
 def load(path):
     return json.loads(path.read_text())
-
-
-def parameters_cell(book):
-    tagged = [c for c in book["cells"] if "parameters" in c.get("metadata", {}).get("tags", [])]
-    assert len(tagged) == 1, f"expected one cell tagged 'parameters', found {len(tagged)}"
-    return tagged[0]
-
-
-def parameters(book):
-    """name -> default of the parameters cell, which must hold only literal assignments."""
-    tree = ast.parse("".join(parameters_cell(book)["source"]))
-    values = {}
-    for node in tree.body:
-        assert isinstance(node, ast.Assign) and len(node.targets) == 1, "parameters cell: only `name = literal`"
-        values[node.targets[0].id] = ast.literal_eval(node.value)  # raises on anything derived
-    return values
 
 
 def test_the_notebooks_exist():
@@ -40,12 +26,39 @@ def test_the_notebooks_exist():
     assert [p.stem[:2] for p in NOTEBOOKS][2:7] == ["01", "02", "03", "04", "05"]
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", ALL, ids=lambda p: p.stem)
 def test_parameters_cell_holds_literals_and_save_to(path):
-    values = parameters(load(path))
-    assert len(values) >= 2
-    if path.stem[:2] != "00":  # the figure notebooks save their PNG only when asked
-        assert values.get("save_to") == "", "the ci preset must not write figures"
+    values = run.teaching_parameters(path)  # raises on anything but `name = literal`
+    assert len(values) >= 1
+    if path.stem[:2] not in ("00", "gl"):  # the figure notebooks save their PNG only when asked
+        assert values.get("save_to") == "", "save_to must be empty: run.py sends the figure where it belongs"
+
+
+@pytest.mark.parametrize("path", ALL, ids=lambda p: p.stem)
+def test_quick_values_are_real_parameters(path):
+    """Each quick override names a parameter of the cell, with a value of its type (`run.quick_parameters` checks)."""
+    quick = run.quick_parameters(path)
+    teaching = run.teaching_parameters(path)
+    assert "save_to" not in quick, "save_to is set by run.py, not by the quick values"
+    assert all(quick[k] != teaching[k] for k in quick), f"{path.name}: a quick value equal to its teaching value"
+
+
+def test_quick_parameters_refuse_unknown_names_and_wrong_types(tmp_path):
+    def book(quick):
+        path = tmp_path / "99_x.ipynb"
+        cell = {"cell_type": "code", "metadata": {"tags": ["parameters"]}, "source": "size = 128\nlr = 0.003\n",
+                "outputs": [], "execution_count": None}
+        path.write_text(json.dumps({"cells": [cell], "metadata": {"ifslib": {"quick": quick}},
+                                    "nbformat": 4, "nbformat_minor": 5}))
+        return path
+
+    assert run.quick_parameters(book({"size": 64, "lr": 1})) == {"size": 64, "lr": 1}  # an int stands for a float
+    with pytest.raises(IFSError, match="'sise' is not a parameter"):
+        run.quick_parameters(book({"sise": 64}))
+    with pytest.raises(IFSError, match="should have the type of its teaching value 128"):
+        run.quick_parameters(book({"size": "64"}))
+    with pytest.raises(IFSError, match="must be a dict"):
+        run.quick_parameters(book([64]))
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
@@ -59,29 +72,27 @@ def test_stored_with_python3_kernel_and_executed_in_order(path):
     assert any("image/png" in o.get("data", {}) for c in code for o in c["outputs"]), "the figure is shown"
 
 
-def test_paper_preset_names_only_real_parameters():
-    by_name = {p.stem: parameters(load(p)) for p in NOTEBOOKS}
-    assert set(PAPER) <= set(by_name), f"unknown notebooks in paper.yaml: {set(PAPER) - set(by_name)}"
-    for name, section in PAPER.items():
-        for key, value in section.items():
-            assert key in by_name[name], f"{name}: {key!r} is not a parameter"
-            assert type(value) is type(by_name[name][key]), f"{name}: {key} should be {type(by_name[name][key]).__name__}"
+@pytest.mark.parametrize("path", ALL, ids=lambda p: p.stem)
+def test_claims_are_checked_by_asserts(path):
+    """Each notebook checks its lesson's claims with plain asserts (run at both presets), not with nbval's stored-output tags."""
+    code = [c for c in load(path)["cells"] if c["cell_type"] == "code"]
+    assert not any("nbval-check-output" in c["metadata"].get("tags", []) for c in code), \
+        f"{path.name}: a cell is still tagged nbval-check-output; check its claim with an assert instead"
+    asserts = [c for c in code if any(isinstance(n, ast.Assert) for n in ast.walk(ast.parse(source(c))))]
+    exercises = [c for c in code if "ifslib.exercises.check_" in source(c)]  # checked in test_notebook_runs.py
+    assert asserts or exercises, f"{path.name}: no cell checks a claim of the lesson with an assert"
 
 
-def test_checked_cells_exist():
-    """Every notebook marks at least one cell of numbers for nbval to compare."""
-    for path in NOTEBOOKS:
-        code = [c for c in load(path)["cells"] if c["cell_type"] == "code"]
-        assert any("nbval-check-output" in c["metadata"].get("tags", []) for c in code), path.name
-        # the marker is a tag nbval reads, not a comment the reader sees in the book
-        assert not any("NBVAL_" in "".join(c["source"]) for c in code), path.name
+def source(cell) -> str:
+    """A code cell's source as Python (IPython's magics and shell lines left out)."""
+    return "\n".join(line for line in "".join(cell["source"]).splitlines() if not line.lstrip().startswith(("%", "!")))
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", ALL, ids=lambda p: p.stem)
 def test_papermill_reads_every_parameter(path):
     """papermill parses the cell itself (its parser is stricter than Python's): it must see them all."""
     inspection = pytest.importorskip("papermill.inspection")
-    assert set(inspection.inspect_notebook(str(path))) == set(parameters(load(path)))
+    assert set(inspection.inspect_notebook(str(path))) == set(run.teaching_parameters(path))
 
 
 #: A tqdm bar as tqdm writes it (``40%|####  | 2/5 [...]``, or ``7it [00:01, 6.2it/s]`` without a total).
@@ -102,12 +113,12 @@ def test_no_progress_bar_is_stored(path):
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_each_notebook_opens_as_a_lesson(path):
-    """What the reader will learn, what they need first, and how long it runs at both presets, measured."""
+    """What the reader will learn, what they need first, and how long it runs, with a time."""
     first = "".join(load(path)["cells"][0]["source"])
-    for heading in ("**What you will learn:**", "**What you need first:**", "**How long it runs**"):
-        assert heading in first, f"{path.name}: its first cell has no {heading}"
-    times = first[first.index("**How long it runs**"):]
-    assert "ci preset" in times and "`make figures`" in times and times.count(" s") >= 2, times
+    for heading in (("What you will learn", "What you'll learn"), ("What you need",), ("How long it runs",)):
+        assert any(h in first for h in heading), f"{path.name}: its first cell has no {heading[0]!r}"
+    times = first[first.index("How long it runs"):]
+    assert re.search(r"\d+ (s|min)\b", times), f"{path.name}: 'How long it runs' gives no time: {times[:120]!r}"
 
 
 #: The book's column holds this many characters of code (docs/_static/ifslib.css; browser_tests/test_book.py
