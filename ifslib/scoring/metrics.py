@@ -195,8 +195,8 @@ def crossing_points(ifs: IFS, depth: int | None = None) -> np.ndarray:
 def self_crossings(ifs: IFS, depth: int | None = None) -> int:
     """How many pairs of a curve's depth-K segments properly cross each other (see `crossing_points`).
 
-    The Koch curve itself has none; the paper remarks that its fits' local minima coincide with
-    self-crossings.
+    The Koch curve itself has none; the paper remarks that its stalled fits seem related to
+    self-crossings (notebooks 04 and 06 test it).
     """
     return len(crossing_points(ifs, depth))
 

@@ -22,12 +22,17 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
+from ..geometry import patterns  # noqa: E402
 from ..geometry.ifs import IFS  # noqa: E402
+from ..raster.chaos import chaos_game  # noqa: E402
 from ..scoring.metrics import crossing_points  # noqa: E402
 from ..raster.nearest import pixel_centres  # noqa: E402
 from ..raster.render import figure_mask, render  # noqa: E402
+from ..targets.target import Target, foreground_points  # noqa: E402
 
 EXTENT = (-0.5, 0.5, -0.5, 0.5)
+#: One colour a map for `copies_image`: orange, blue, green, pink, then again.
+COPY_COLOURS = ((1.0, 0.5, 0.05), (0.1, 0.6, 1.0), (0.2, 0.9, 0.2), (1.0, 0.2, 0.6))
 
 
 def _numpy(image) -> np.ndarray:
@@ -176,6 +181,98 @@ def quiver_panels(xs: np.ndarray, ys: np.ndarray, fields: Sequence[np.ndarray], 
         ax.tick_params(labelsize=7)
     fig.tight_layout()
     return fig
+
+
+def copies_image(maps, target: Target) -> np.ndarray:
+    """The target in dark gray with each map's copy of it, ``T_i(A)``, tinted in one colour a map.
+
+    Each figure pixel centre of ``target`` is carried by each map and the pixel it lands on is
+    blended half way toward that map's colour (`COPY_COLOURS`), so overlapping copies mix.
+
+    Parameters
+    ----------
+    maps : array_like
+        ``(k, 2, 3)`` maps ``[A | t]`` in plane units (or ``(k, 3, 3)``: the last row is ignored).
+    target : Target
+        Its mask is drawn, ``(size, size)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(size, size, 3)`` RGB image in ``[0, 1]``, row 0 at the top.
+    """
+    maps = np.asarray(maps, dtype=float)[:, :2, :]
+    n = target.size
+    image = np.zeros((n, n, 3))
+    image[np.asarray(target.mask, bool)] = 0.3
+    points = foreground_points(target)
+    for i, m in enumerate(maps):
+        x, y = (points @ m[:, :2].T + m[:, 2]).T
+        col = np.rint((x + 0.5) * n - 0.5).astype(int)  # plane units to pixel indices
+        row = np.rint((0.5 - y) * n - 0.5).astype(int)
+        on = (row >= 0) & (row < n) & (col >= 0) & (col < n)
+        colour = np.array(COPY_COLOURS[i % len(COPY_COLOURS)])
+        image[row[on], col[on]] = 0.5 * image[row[on], col[on]] + 0.5 * colour
+    return image
+
+
+def show_copies(ax: plt.Axes, maps, target: Target, title: str | None = None) -> plt.Axes:
+    """Show `copies_image` of ``maps`` ``(k, 2, 3)`` over ``target`` on the plane's extent."""
+    ax.imshow(copies_image(maps, target), extent=EXTENT, interpolation="nearest")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    if title:
+        ax.set_title(title, fontsize=9)
+    return ax
+
+
+def show_attractor(ax: plt.Axes, maps, target: Target, title: str | None = None, points: int = 20_000,
+                   seed: int = 0) -> np.ndarray:
+    """The target's picture with the attractor of ``maps`` ``(k, 2, 3)`` over it in orange.
+
+    The attractor is drawn as ``points`` float64 chaos-game points (`ifslib.chaos_game`, every one
+    on the attractor); they are returned, ``(points, 2)`` in plane units.
+    """
+    maps = np.asarray(maps, dtype=float)[:, :2, :]
+    show_image(ax, target.picture, title)
+    xy = chaos_game(patterns.affine(maps, depth=1, name="shown"), points, seed=seed)
+    ax.scatter(xy[:, 0], xy[:, 1], s=0.3, color="tab:orange", lw=0)
+    ax.set_xlim(EXTENT[:2])
+    ax.set_ylim(EXTENT[2:])
+    return xy
+
+
+def price_bars(ax: plt.Axes, table: Sequence[dict], map_cost: float, chosen: int | None = None) -> np.ndarray:
+    """Stacked bars of what each number of maps costs: the misfit ``1 - IoU`` and the price ``map_cost * k``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    table : list of dict
+        One row a number of maps tried, with keys ``"maps"`` (k) and ``"iou"`` (its attractor's IoU).
+    map_cost : float
+        The price of one map.
+    chosen : int, optional
+        The number of maps chosen: its bar is outlined in black.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(len(table),)`` the bars' heights, ``1 - iou + map_cost * k``.
+    """
+    ks = np.array([row["maps"] for row in table], dtype=int)
+    misfit = np.array([1.0 - row["iou"] for row in table])
+    price = map_cost * ks
+    ax.bar(ks, misfit, color="tab:blue", label="misfit: 1 - attractor IoU")
+    ax.bar(ks, price, bottom=misfit, color="tab:orange", label=f"price: {map_cost:g} per map")
+    if chosen is not None and chosen in ks:
+        i = int(np.nonzero(ks == chosen)[0][0])
+        ax.bar([chosen], [misfit[i] + price[i]], fill=False, edgecolor="black", lw=2, label="chosen")
+    ax.set_xticks(ks)
+    ax.set_xlabel("number of maps k")
+    ax.set_ylabel("score (lower is better)")
+    ax.legend(fontsize=7)
+    return misfit + price
 
 
 def rendered(ifs: IFS, size: int, depth: int | str | None = None, **kwargs) -> np.ndarray:
