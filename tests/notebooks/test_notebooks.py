@@ -85,7 +85,8 @@ def test_claims_are_checked_by_asserts(path):
 
 def source(cell) -> str:
     """A code cell's source as Python (IPython's magics and shell lines left out)."""
-    return "\n".join(line for line in "".join(cell["source"]).splitlines() if not line.lstrip().startswith(("%", "!")))
+    magic = re.compile(r"\s*(%|!(?!=))")  # a continued line may start with "!=", which is Python
+    return "\n".join(line for line in "".join(cell["source"]).splitlines() if not magic.match(line))
 
 
 @pytest.mark.parametrize("path", ALL, ids=lambda p: p.stem)
