@@ -84,8 +84,8 @@ class RefineOptions:
         Adam's step, in quantization levels.
     """
 
-    searches: int = 2
-    steps: int = 60
+    searches: int = 3
+    steps: int = 30
     lr: float = 0.3
 
     def __post_init__(self):
