@@ -98,6 +98,27 @@ def iterate(p: Plan, image: torch.Tensor, s: torch.Tensor, m: torch.Tensor) -> t
     return torch.cat(parts)[p.order].reshape(p.height, p.width)
 
 
+def domain_means(p: Plan, image: torch.Tensor) -> torch.Tensor:
+    """``(L,)`` the mean of each block's averaged domain in ``image`` ``(H, W)`` (padded)."""
+    half = downsample(image).reshape(-1)
+    means = torch.empty(sum(len(g.leaves) for g in p.groups), dtype=image.dtype)
+    for g in p.groups:
+        means[g.leaves] = half[g.src].mean(1)
+    return means
+
+
+def iterate_offset(p: Plan, image: torch.Tensor, s: torch.Tensor, o: torch.Tensor) -> torch.Tensor:
+    """One application of the classic, uncentred form ``s D + o`` (Jacquin's): ``(H, W)`` -> ``(H, W)``.
+
+    It contracts the largest pixel difference by max |s|; the coder stores the centred form of
+    `iterate`, whose means are fixed by the file. With ``o = m - s * domain_means(p, x)`` both forms
+    agree at ``x``.
+    """
+    half = downsample(image).reshape(-1)
+    parts = [(s[g.leaves, None] * half[g.src] + o[g.leaves, None]).reshape(-1) for g in p.groups]
+    return torch.cat(parts)[p.order].reshape(p.height, p.width)
+
+
 def start_image(p: Plan, start, dtype) -> torch.Tensor:
     """The padded ``(H, W)`` first iterate: mid-gray when ``start`` is None, else ``start`` resized (bilinear)."""
     if start is None:

@@ -4,7 +4,7 @@ import pytest
 import torch
 
 from ifslib.compression.config import CodeOptions
-from ifslib.compression.decode import decode, iterate, plan
+from ifslib.compression.decode import decode, domain_means, iterate, iterate_offset, plan
 from ifslib.compression.domains import domain_step, isometry, lattice
 from ifslib.compression.encode import encode
 from ifslib.errors import IFSError
@@ -70,3 +70,14 @@ def test_bad_decoding_requests(kwargs, words):
     code = encode(photo(32), O, bpp=1.0)
     with pytest.raises(IFSError, match=words):
         decode(code, **kwargs)
+
+
+def test_the_classic_form_agrees_with_the_centred_one_at_its_offsets():
+    code = encode(photo(32), O, bpp=1.5)
+    p, x = plan(code), torch.rand(32, 32, dtype=torch.float64, generator=torch.Generator().manual_seed(2))
+    s, m = code.s(torch.float64), code.m(torch.float64)
+    o = m - s * domain_means(p, x)
+    torch.testing.assert_close(iterate_offset(p, x, s, o), iterate(p, x, s, m))
+    y = torch.rand(32, 32, dtype=torch.float64, generator=torch.Generator().manual_seed(3))
+    moved = (iterate_offset(p, x, s, o) - iterate_offset(p, y, s, o)).abs().max()
+    assert moved <= s.abs().max() * (x - y).abs().max() + 1e-12  # a contraction by max |s|
