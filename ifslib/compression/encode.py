@@ -1,9 +1,10 @@
 """The collage coder: each range block's best domain, isometry, contrast and mean by least squares.
 
 For a range r and a domain d (both n pixels, centred: r - mean r, d - mean d), the contrast that
-minimises ||r_c - s d_c||^2 is s = <r_c, d_c> / ||d_c||^2; it is clipped to |s| <= s_max and
-quantized, and the error of the quantized s is ||r_c||^2 - 2 s <r_c, d_c> + s^2 ||d_c||^2, computed
-for every domain and isometry at once (one matrix product per chunk of ranges).
+minimises ||r_c - s d_c||^2 is s = <r_c, d_c> / ||d_c||^2. Every domain and isometry is ranked at
+once by the error of that s clipped to |s| <= s_max (one matrix product per chunk of ranges); the
+best one's s is then quantized, and its error ||r_c||^2 - 2 s <r_c, d_c> + s^2 ||d_c||^2 (plus the
+mean's rounding) is what the quadtree weighs.
 """
 from __future__ import annotations
 
@@ -19,7 +20,7 @@ from ..errors import IFSError
 from .code import Code
 from .config import CodeOptions
 from .domains import ISOMETRY_BITS, domain_bits, domain_count, pool_with_isometries
-from .partition import LevelCost, grow, leaves_in_order
+from .partition import LevelCost, grow, leaves_in_order, top_nodes
 from .quantize import dequantize_m, dequantize_s, quantize_m, quantize_s, zero_s
 
 #: ranges searched at once: chunk x (8 x domains) floats, about 32 MB for 4 px blocks of a 256² image.
@@ -179,11 +180,15 @@ def encode(image, options: CodeOptions = CodeOptions(), bpp: float | None = None
         raise IFSError(f"a {height} x {width} image has no domain for {options.max_block} px blocks; "
                        f"use max_block <= {min(H, W) // 2}")
     fits = level_fits(padded, options, progress)
-    minimum = (H // options.max_block) * (W // options.max_block) * (options.s_bits + options.m_bits + 1)
+    costs = _costs(fits, H, W, options)
+    roots = top_nodes(H, W, options)
+    minimum = sum(int(costs[size].bits[y // size, x // size]) for size, y, x in roots) \
+        + (len(roots) if options.max_block > options.min_block else 0)
     if bits < minimum:
-        raise IFSError(f"{bpp} bpp is too few for a {height} x {width} image: the coarsest code takes about "
-                       f"{(minimum + 8 * HEADER_BYTES) / (height * width):.3f} bpp; ask for more")
-    split = grow(H, W, options, _costs(fits, H, W, options), bits, target)
+        raise IFSError(f"{bpp} bpp is too few for this {height} x {width} image: its coarsest code takes "
+                       f"{math.ceil(1000 * (minimum + 7 + 8 * HEADER_BYTES) / (height * width)) / 1000:.3f} bpp; "
+                       "ask for at least that")
+    split = grow(H, W, options, costs, bits, target)
     return assemble(height, width, options, fits, leaves_in_order(H, W, options, split))
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 import torch
 from tqdm.auto import tqdm
 
+from ..errors import IFSError
 from .code import Code
 from .config import DECODE_MAX_ITER, DECODE_TOL, RefineOptions
 from .decode import Plan, fixed_point, iterate, plan, start_image
@@ -133,8 +134,6 @@ def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress
     """
     target = check_image(image).float()
     if tuple(target.shape) != (code.height, code.width):
-        from ..errors import IFSError
-
         raise IFSError(f"the image is {tuple(target.shape)} but the code is of a {code.height} x {code.width} image")
     padded = pad(target, code.options)
     best_err, x = decoded_error(code, target)

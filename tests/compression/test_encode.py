@@ -99,3 +99,12 @@ def test_bad_input_says_what_to_do(image, kwargs, words):
 def test_the_header_is_counted():
     code = encode(photo(32), O, bpp=1.0)
     assert len(to_bytes(code)) == HEADER_BYTES + -(-code.bits() // 8)
+
+
+def test_a_rate_below_the_coarsest_code_is_refused_with_the_rate_it_needs():
+    image = photo(64)
+    with pytest.raises(IFSError, match="at least") as refused:
+        encode(image, O, bpp=0.05)
+    needed = float(str(refused.value).split("takes ")[1].split(" bpp")[0])
+    code = encode(image, O, bpp=needed)
+    assert len(to_bytes(code)) * 8 <= needed * 64 * 64
