@@ -9,15 +9,17 @@ from dataclasses import dataclass
 
 from ..errors import IFSError
 
-#: the largest |s| the coder may choose: below 1 keeps every block's map contracting in gray level.
+#: the largest |s| the coder may choose: below 1 keeps each map's classic form s D + o a contraction; the
+#: centred form the file stores settles in a few passes anyway, and the bound keeps rounding from growing.
 S_MAX = 0.95
-#: bits of a block's contrast s: 32 levels from -S_MAX to S_MAX in steps of S_MAX / 16 (zero included).
+#: bits of a block's contrast s: 32 levels S_MAX / 16 apart, from -S_MAX to 15/16 S_MAX (zero included);
+#: fewer bits leave a coarser s, more cost every non-flat block a bit.
 S_BITS = 5
-#: bits of a block's mean gray level: 128 levels from 0 to 1 (an error of at most 1/254, 0.5 % of the range).
+#: bits of a block's mean gray level: 128 levels from 0 to 1 (an error of at most 1/254, 0.4 % of the range).
 M_BITS = 7
 #: the largest range block, in pixels: larger saves bits on flat areas, costs a coarser first split.
 MAX_BLOCK = 32
-#: the smallest range block: 4 px blocks cost 2 bits a pixel each, smaller ones are never worth their bits.
+#: the smallest range block: a 4 px block costs about 25 bits (1.6 bits a pixel); 2 px ones would cost 6.
 MIN_BLOCK = 4
 #: the most domains per block size: more finds closer domains, at a search cost (and a domain index of
 #: log2 of it bits); 1024 keeps every 4 px block of a 256² image searchable in about a second.
@@ -32,7 +34,7 @@ class CodeOptions:
     ----------
     min_block, max_block : int
         The smallest and largest range blocks (powers of two, 4 <= min_block <= max_block <= 128).
-        Domains are blocks twice as large on a lattice of the range's size.
+        Domains are blocks twice as large on a lattice (`domains.domain_step`).
     s_bits, m_bits : int
         Bits of each block's contrast and of its mean gray level (2-8 and 4-10).
     s_max : float
