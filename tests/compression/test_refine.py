@@ -53,3 +53,17 @@ def test_refine_refuses_another_image():
     code = encode(photo(32), O, bpp=1.0)
     with pytest.raises(IFSError, match="code is of a 32 x 32"):
         refine(code, photo(48), RefineOptions(steps=1))
+
+
+def test_the_written_out_adam_matches_torch_optim():
+    from ifslib.compression.refine import Adam
+
+    start = torch.tensor([0.3, -1.2, 2.0], dtype=torch.float64)
+    ours, theirs = start.clone().requires_grad_(), start.clone().requires_grad_()
+    mine, ref = Adam([ours], lr=0.1), torch.optim.Adam([theirs], lr=0.1)
+    for _ in range(5):
+        for p, opt in ((ours, mine), (theirs, ref)):
+            opt.zero_grad()
+            ((p - 1) ** 4).sum().backward()
+            opt.step()
+    torch.testing.assert_close(ours, theirs)
