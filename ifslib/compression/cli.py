@@ -15,7 +15,8 @@ import numpy as np
 import torch
 
 from ..errors import IFSError
-from ..progress import draw_bars
+from ..progress import draw_bars, note
+from .config import DECODE_TOL
 from .decode import decode
 from .fileformat import read, write
 from .method import METHODS, compress
@@ -61,6 +62,9 @@ def cmd_decompress(args: argparse.Namespace) -> None:
     Image.fromarray(pixels, mode="L").save(args.output)
     print(f"wrote {args.output}: {pixels.shape[1]} x {pixels.shape[0]} px (scale {args.scale:g}), "
           f"{result.iterations} iterations")
+    if result.change > DECODE_TOL:
+        note(f"ifslib decompress: the decoder had not settled after {result.iterations} iterations "
+             f"(a pixel still moved by {result.change:.2g}); the image is its last iterate")
 
 
 def _rate(value: str) -> float:
