@@ -6,6 +6,7 @@ The paper's pipeline, one folder a stage::
     raster/     leaves -> nearest leaf -> distance -> render
     targets/    image -> Target (mask, distance transform, sizes)
     scoring/    how close a drawing is: losses, metrics, the collage distance
+    compression/ fractal image compression of gray photographs: collage and attractor coding
     discovery/  a start read from the image: curve, shape, or a fractal's maps
     fitting/    one Adam run -> strategies -> fit -> FitResult
     studies/    sweeps of many fits
@@ -41,6 +42,7 @@ from .targets.target import Target, load_target  # noqa: E402
 from .scoring import losses, metrics  # noqa: E402
 from .scoring.losses import LOSSES, loss  # noqa: E402
 from .scoring.metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
+from . import compression  # noqa: E402
 from .discovery import auto, fractal, initialization  # noqa: E402
 from .discovery.initialization import best_fit_line, initialize  # noqa: E402
 from .discovery.plan import Plan, discover  # noqa: E402

@@ -1,10 +1,12 @@
-"""Command line: ``python -m ifslib render | fit | info`` (also installed as ``ifslib``).
+"""Command line: ``python -m ifslib render | fit | info | compress | decompress`` (also installed as ``ifslib``).
 
 Examples::
 
     python -m ifslib render koch --size 512 --depth 6 -o koch.png
     python -m ifslib fit target.png --pattern koch --steps 1500 -o fitted.json
     python -m ifslib info fitted.json
+    python -m ifslib compress photo.png -o photo.ifsc --bpp 0.25
+    python -m ifslib decompress photo.ifsc -o photo.png --scale 2
     python -m ifslib --version
 
 A command's result goes to standard output; progress goes to standard error, as live bars on a
@@ -190,15 +192,19 @@ def build_parser() -> argparse.ArgumentParser:
                       for code, text in EXIT_CODES.items())
     parser = argparse.ArgumentParser(
         prog="python -m ifslib", formatter_class=argparse.RawDescriptionHelpFormatter,
-        description="Differentiable iterated function systems: render an IFS, fit one to an image, or describe one.",
+        description="Differentiable iterated function systems: render an IFS, fit one to an image, or describe one; "
+                    "fractal-compress a photograph.",
         epilog="progress: live bars on standard error when it is a terminal; otherwise one line per stage.\n"
                f"exit codes:\n{codes}\n\n`python -m ifslib COMMAND --help` describes a command's options.")
     parser.add_argument("--version", action="version", version=f"ifslib {__version__} (torch {_torch_version()}, "
                         f"Python {sys.version.split()[0]})")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{render,fit,info}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{render,fit,info,compress,decompress}")
     _render_parser(sub)
     _fit_parser(sub)
     _info_parser(sub)
+    from .compression.cli import add_parsers
+
+    add_parsers(sub)
     return parser
 
 

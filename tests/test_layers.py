@@ -1,7 +1,8 @@
 """The house's one rule: a folder of the package imports only from the folders above it.
 
-The order is the pipeline's (docs/guide/design.md): geometry, raster, targets, scoring, discovery,
-fitting, studies, teaching, then the command line; the top-level helpers (errors, data, paths,
+The order is the pipeline's (docs/guide/design.md): geometry, raster, targets, scoring, compression
+(the gray images' coder: nothing from the binary fitting), discovery, fitting, studies, teaching, then
+the command line; the top-level helpers (errors, data, paths,
 threads, progress) may be imported from anywhere.
 """
 import ast
@@ -10,7 +11,7 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "ifslib"
-ORDER = ["geometry", "raster", "targets", "scoring", "discovery", "fitting", "studies", "teaching", "cli"]
+ORDER = ["geometry", "raster", "targets", "scoring", "compression", "discovery", "fitting", "studies", "teaching", "cli"]
 HELPERS = {"errors", "data", "paths", "threads", "progress"}
 
 

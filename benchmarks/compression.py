@@ -1,0 +1,186 @@
+"""Fractal image compression against JPEG, WebP and JPEG 2000, per image and rate, at no more bytes.
+
+For scikit-image's six photographs as gray (``--size`` pixels a side, default 256, resized with
+anti-aliasing from the 512² original), at each ``--bpp``: the collage coder and attractor coding
+(`ifslib.compression`), the file's bytes, PSNR and SSIM of the decoded image, encode seconds (attractor:
+the collage search included) and decode seconds (median of 3); then the best quality of JPEG
+(Pillow, ``optimize=True``), WebP (``method=6``) and JPEG 2000 (Pillow's OpenJPEG, a rate layer) whose
+file is no larger than the attractor coder's. A dash: the codec cannot get that small. Then, per image,
+attractor coding at the lowest rate JPEG reaches (quality 1), decoding at 2x against bicubic
+upscaling of the 1x decoding (both against the 2x original), and what a 512² image costs. The load
+average is printed first: the cores are shared, so times are upper bounds.
+
+    python benchmarks/compression.py [--size 256] [--bpp 0.15 0.25 0.5] [--images camera coins]
+"""
+from __future__ import annotations
+
+import argparse
+import io
+import os
+import statistics
+import time
+
+import numpy as np
+import torch
+from PIL import Image, features
+from skimage import color, data, transform
+from skimage.metrics import structural_similarity
+
+from ifslib.compression import compress, decode, to_bytes
+
+IMAGES = ("camera", "astronaut", "coffee", "coins", "chelsea", "rocket")
+
+
+def photo(name: str, size: int) -> np.ndarray:
+    """scikit-image's photograph ``name`` as gray ``(size, size)`` float64 in [0, 1] (a square crop, resized)."""
+    im = getattr(data, name)()
+    im = color.rgb2gray(im[..., :3]) if im.ndim == 3 else im / 255.0
+    side = min(im.shape)
+    top, left = (im.shape[0] - side) // 2, (im.shape[1] - side) // 2
+    return np.clip(transform.resize(im[top:top + side, left:left + side], (size, size), anti_aliasing=True), 0, 1)
+
+
+def psnr(a, b) -> float:
+    return float(10 * np.log10(1 / np.mean((np.asarray(a, float) - np.asarray(b, float)) ** 2)))
+
+
+def ssim(a, b) -> float:
+    return float(structural_similarity(np.asarray(a, float), np.asarray(b, float), data_range=1.0))
+
+
+def _pillow(gray: np.ndarray, fmt: str, **kw) -> tuple[int, np.ndarray]:
+    buf = io.BytesIO()
+    Image.fromarray((gray * 255).round().astype(np.uint8)).save(buf, fmt, **kw)
+    return buf.tell(), np.asarray(Image.open(io.BytesIO(buf.getvalue())).convert("L"), dtype=float) / 255
+
+
+def codec(gray: np.ndarray, name: str, quality: float) -> tuple[int, np.ndarray]:
+    """``(bytes, decoded)`` of one Pillow codec at ``quality`` (JPEG2000: a compression ratio's inverse)."""
+    if name == "JPEG":
+        return _pillow(gray, "JPEG", quality=int(quality), optimize=True)
+    if name == "WebP":
+        return _pillow(gray, "WEBP", quality=int(quality), method=6)
+    return _pillow(gray, "JPEG2000", quality_mode="rates", quality_layers=[100 / quality], irreversible=True)
+
+
+def best_under(gray: np.ndarray, name: str, limit: int):
+    """The codec's best ``(bytes, decoded)`` no larger than ``limit`` bytes, or None."""
+    lo, hi = (1, 95) if name != "WebP" else (0, 100)
+    best = None
+    if name == "JPEG2000":
+        lo, hi = 0.05, 100.0  # quality = 100 / compression ratio
+        for _ in range(18):
+            mid = (lo + hi) / 2
+            size, out = codec(gray, name, mid)
+            if size <= limit:
+                best, lo = (size, out), mid
+            else:
+                hi = mid
+        return best
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        size, out = codec(gray, name, mid)
+        if size <= limit:
+            best, lo = (size, out), mid + 1
+        else:
+            hi = mid - 1
+    return best
+
+
+def timed(fn, repeat: int = 1):
+    times, out = [], None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return out, statistics.median(times)
+
+
+def fractal(gray: np.ndarray, bpp: float, method: str) -> dict:
+    code, t_enc = timed(lambda: compress(gray, bpp=bpp, method=method))
+    decoded, t_dec = timed(lambda: decode(code), 3)
+    image = decoded.image.numpy()
+    return {"code": code, "bytes": len(to_bytes(code)), "psnr": psnr(image, gray), "ssim": ssim(image, gray),
+            "enc": t_enc, "dec": t_dec, "image": image}
+
+
+def cell(result) -> str:
+    return "—" if result is None else f"{result[0]} B {psnr(result[1], result[2]):.2f} / {ssim(result[1], result[2]):.3f}"
+
+
+def rate_table(names, rates, size, codecs) -> list[tuple[str, float, dict, dict]]:
+    print(f"\n## {size}² gray: PSNR (dB) / SSIM at no more bytes than attractor coding\n")
+    print("| image | bpp | collage | attractor | gain dB | " + " | ".join(codecs)
+          + " | encode s (collage / attractor) | decode s |")
+    print("|" + "---|" * (7 + len(codecs)))
+    rows = []
+    for name in names:
+        gray = photo(name, size)
+        for bpp in rates:
+            col, att = fractal(gray, bpp, "collage"), fractal(gray, bpp, "attractor")
+            others = []
+            for c in codecs:
+                got = best_under(gray, c, att["bytes"])
+                others.append(cell(None if got is None else (got[0], got[1], gray)))
+            print(f"| {name} | {bpp} | {col['bytes']} B {col['psnr']:.2f} / {col['ssim']:.3f} | {att['bytes']} B "
+                  f"{att['psnr']:.2f} / {att['ssim']:.3f} | {att['psnr'] - col['psnr']:+.2f} | " + " | ".join(others)
+                  + f" | {col['enc']:.1f} / {att['enc']:.1f} | {att['dec']:.3f} |", flush=True)
+            rows.append((name, bpp, col, att))
+    gains = [a["psnr"] - c["psnr"] for _, _, c, a in rows]
+    print(f"\nattractor - collage: mean {np.mean(gains):+.2f} dB, smallest {min(gains):+.2f} dB over {len(gains)} cells")
+    return rows
+
+
+def jpeg_floor(names, size) -> None:
+    print(f"\n## At the lowest rate JPEG reaches (quality 1, optimize=True), {size}²\n")
+    print("| image | JPEG bytes (bpp) | JPEG PSNR / SSIM | attractor bytes | attractor PSNR / SSIM |")
+    print("|---|---|---|---|---|")
+    for name in names:
+        gray = photo(name, size)
+        size_j, out = codec(gray, "JPEG", 1)
+        att = fractal(gray, 8 * size_j / gray.size, "attractor")
+        print(f"| {name} | {size_j} ({8 * size_j / gray.size:.3f}) | {psnr(out, gray):.2f} / {ssim(out, gray):.3f} | "
+              f"{att['bytes']} | {att['psnr']:.2f} / {att['ssim']:.3f} |", flush=True)
+
+
+def zoom(names, size, bpp) -> None:
+    print(f"\n## Decoding at 2x ({size}² code at {bpp} bpp) against the {2 * size}² original\n")
+    print("| image | fractal 2x PSNR / SSIM | bicubic of 1x PSNR / SSIM | difference dB |")
+    print("|---|---|---|---|")
+    for name in names:
+        gray, big = photo(name, size), photo(name, 2 * size)
+        code = compress(gray, bpp=bpp)
+        two = decode(code, 2).image.numpy()
+        one = decode(code).image.numpy().astype(np.float32)
+        cubic = np.clip(np.asarray(Image.fromarray(one, mode="F").resize((2 * size, 2 * size), Image.BICUBIC)), 0, 1)
+        print(f"| {name} | {psnr(two, big):.2f} / {ssim(two, big):.3f} | {psnr(cubic, big):.2f} / {ssim(cubic, big):.3f} "
+              f"| {psnr(two, big) - psnr(cubic, big):+.2f} |", flush=True)
+
+
+def large(name: str, size: int, bpp: float) -> None:
+    gray = photo(name, size)
+    col, att = fractal(gray, bpp, "collage"), fractal(gray, bpp, "attractor")
+    print(f"\n## {name} at {size}², {bpp} bpp\n\ncollage: {col['psnr']:.2f} dB, encoded in {col['enc']:.1f} s; "
+          f"attractor: {att['psnr']:.2f} dB, encoded in {att['enc']:.1f} s (collage search included); "
+          f"decoded in {att['dec']:.3f} s")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--size", type=int, default=256)
+    parser.add_argument("--bpp", type=float, nargs="+", default=[0.15, 0.25, 0.5])
+    parser.add_argument("--images", nargs="+", default=list(IMAGES))
+    parser.add_argument("--large", type=int, default=512, help="side of the one large image timed (0: none)")
+    args = parser.parse_args()
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; torch threads {torch.get_num_threads()}; "
+          f"Pillow JPEG 2000: {features.check('jpg_2000')}, WebP: {features.check('webp')}")
+    codecs = ["JPEG", "WebP"] + (["JPEG2000"] if features.check("jpg_2000") else [])
+    rate_table(args.images, args.bpp, args.size, codecs)
+    jpeg_floor(args.images, args.size)
+    zoom(args.images, args.size, 0.25)
+    if args.large:
+        large(args.images[0], args.large, 0.25)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,32 @@
+"""Fractal image compression: a partitioned IFS of a gray image, fitted block by block, decoded by iteration.
+
+The pipeline, one module a stage::
+
+    config     CodeOptions (the file's layout), RefineOptions, the tuned numbers
+    partition  the quadtree of range blocks, grown where a split buys the most error per bit
+    domains    the domain pool (blocks twice as large, averaged down) and the 8 isometries
+    quantize   contrast s and mean m to the integers the file stores
+    encode     the collage coder: least squares for every domain at once -> Code
+    code       Code: the blocks and their quantized maps
+    fileformat the compact binary file (header, quadtree flags, maps)
+    decode     iterate the maps from any start, at any scale -> the attractor
+    refine     attractor coding: the code refined through the decoder's fixed point
+    method     compress(image, bpp, method="collage" | "attractor")
+
+Typical use::
+
+    from ifslib.compression import compress, decode, write
+    code = compress(gray, bpp=0.25)            # gray: (h, w) floats in [0, 1]
+    write(code, "photo.ifsc")
+    image = decode(code, scale=2).image        # (2h, 2w) tensor
+"""
+from .code import Code
+from .config import CodeOptions, RefineOptions
+from .decode import Decoded, decode
+from .encode import encode
+from .fileformat import from_bytes, read, to_bytes, write
+from .method import METHODS, compress
+from .refine import refine
+
+__all__ = ["Code", "CodeOptions", "RefineOptions", "Decoded", "decode", "encode", "from_bytes", "read",
+           "to_bytes", "write", "METHODS", "compress", "refine"]

@@ -1,0 +1,102 @@
+"""The ``compress`` and ``decompress`` subcommands of ``python -m ifslib`` (registered by `ifslib.cli`).
+
+Examples::
+
+    python -m ifslib compress photo.png -o photo.ifsc --bpp 0.25
+    python -m ifslib decompress photo.ifsc -o photo.png --scale 2
+"""
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from ..errors import IFSError
+from ..progress import draw_bars, note
+from .config import DECODE_TOL
+from .decode import decode
+from .fileformat import read, write
+from .method import METHODS, compress
+
+
+def read_gray(path: str) -> np.ndarray:
+    """An image file as ``(h, w)`` gray levels in [0, 1] (colour converted by Pillow's luma)."""
+    from PIL import Image, UnidentifiedImageError
+
+    if not Path(path).is_file():
+        raise IFSError(f"no image file at {path!r}")
+    try:
+        with Image.open(path) as im:
+            return np.asarray(im.convert("L"), dtype=np.float32) / 255
+    except (UnidentifiedImageError, OSError) as exc:
+        raise IFSError(f"{path!r} is not an image Pillow can read (PNG, JPEG, ...): {exc}") from None
+
+
+def psnr(a: np.ndarray, b: np.ndarray) -> float:
+    """Peak signal-to-noise ratio in dB of two ``(h, w)`` images in [0, 1]."""
+    mse = float(np.mean((np.asarray(a, np.float64) - np.asarray(b, np.float64)) ** 2))
+    return float("inf") if mse == 0 else 10 * np.log10(1 / mse)
+
+
+def cmd_compress(args: argparse.Namespace) -> None:
+    t0 = time.perf_counter()
+    image = read_gray(args.image)
+    code = compress(image, bpp=args.bpp, quality=args.quality, method=args.method,
+                    progress=not args.quiet and draw_bars())
+    size = write(code, args.output)
+    decoded = decode(code).image.numpy()
+    print(f"wrote {args.output}: {size:,} bytes ({8 * size / image.size:.3f} bpp), {len(code)} blocks, "
+          f"{args.method} coding; decoded PSNR {psnr(decoded, image):.2f} dB; {time.perf_counter() - t0:.1f} s")
+
+
+def cmd_decompress(args: argparse.Namespace) -> None:
+    from PIL import Image
+
+    code = read(args.file)
+    result = decode(code, args.scale)
+    Path(args.output).parent.mkdir(parents=True, exist_ok=True)
+    pixels = (result.image.numpy() * 255).round().astype(np.uint8)
+    Image.fromarray(pixels, mode="L").save(args.output)
+    print(f"wrote {args.output}: {pixels.shape[1]} x {pixels.shape[0]} px (scale {args.scale:g}), "
+          f"{result.iterations} iterations")
+    if result.change > DECODE_TOL:
+        note(f"ifslib decompress: the decoder had not settled after {result.iterations} iterations "
+             f"(a pixel still moved by {result.change:.2g}); the image is its last iterate")
+
+
+def _rate(value: str) -> float:
+    try:
+        number = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {value!r}") from None
+    if not (number > 0 and np.isfinite(number)):
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {value!r}")
+    return number
+
+
+def add_parsers(sub) -> None:
+    """Add ``compress`` and ``decompress`` to the subparsers ``sub``."""
+    c = sub.add_parser("compress", help="fractal-compress a gray image (colour is converted to gray)",
+                       description="Fractal-compress an image: a partitioned IFS fitted block by block by the "
+                                   "collage theorem, then (attractor) refined through the decoder.")
+    c.add_argument("image", help="image file (PNG, JPEG, ...); colour is converted to gray")
+    rate = c.add_mutually_exclusive_group(required=True)
+    rate.add_argument("--bpp", type=_rate, help="file size in bits per pixel, header included (e.g. 0.25)")
+    rate.add_argument("--quality", type=_rate, metavar="Q",
+                      help="split blocks until the collage's PSNR reaches Q dB (e.g. 30)")
+    c.add_argument("--method", choices=METHODS, default="attractor",
+                   help="collage (the classic coder) or attractor (the same bits, refined through the decoder; "
+                        "the default)")
+    c.add_argument("--quiet", action="store_true", help="no progress bars")
+    c.add_argument("-o", "--output", required=True, help="compressed file to write (.ifsc)")
+    c.set_defaults(run=cmd_compress)
+    d = sub.add_parser("decompress", help="decode a compressed file to a PNG, at any scale",
+                       description="Decode a file written by `compress` by iterating its maps from a gray image.")
+    d.add_argument("file", help="a file written by `ifslib compress`")
+    d.add_argument("--scale", type=_rate, default=1.0,
+                   help="output pixels per image pixel (default 1; 2 doubles each side; a multiple of 0.5)")
+    d.add_argument("-o", "--output", required=True, help="PNG file to write")
+    d.set_defaults(run=cmd_decompress)

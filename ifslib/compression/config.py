@@ -1,0 +1,105 @@
+"""The coder's settings: the quadtree's block sizes, the bits of each quantized number, and the tuned numbers.
+
+`CodeOptions` is what a file's header records (the decoder needs it); `RefineOptions` is how hard the
+attractor coder works, and is not stored.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import IFSError
+
+#: the largest |s| the coder may choose: below 1 keeps each map's classic form s D + o a contraction; the
+#: centred form the file stores settles in a few passes anyway, and the bound keeps rounding from growing.
+S_MAX = 0.95
+#: bits of a block's contrast s: 32 levels S_MAX / 16 apart, from -S_MAX to 15/16 S_MAX (zero included);
+#: fewer bits leave a coarser s, more cost every non-flat block a bit.
+S_BITS = 5
+#: bits of a block's mean gray level: 128 levels from 0 to 1 (an error of at most 1/254, 0.4 % of the range).
+M_BITS = 7
+#: the largest range block, in pixels: larger saves bits on flat areas, costs a coarser first split.
+MAX_BLOCK = 32
+#: the smallest range block: a 4 px block costs about 25 bits (1.6 bits a pixel); 2 px ones would cost 6.
+MIN_BLOCK = 4
+#: the most domains per block size: more finds closer domains, at a search cost (and a domain index of
+#: log2 of it bits); 1024 keeps every 4 px block of a 256² image searchable in about a second.
+MAX_DOMAINS = 1024
+
+
+@dataclass(frozen=True)
+class CodeOptions:
+    """How a code is laid out (stored in the file's header).
+
+    Parameters
+    ----------
+    min_block, max_block : int
+        The smallest and largest range blocks (powers of two, 4 <= min_block <= max_block <= 128).
+        Domains are blocks twice as large on a lattice (`domains.domain_step`).
+    s_bits, m_bits : int
+        Bits of each block's contrast and of its mean gray level (2-8 and 4-10).
+    s_max : float
+        The largest |s| (0 < s_max < 1 keeps the decoder a contraction).
+    """
+
+    min_block: int = MIN_BLOCK
+    max_block: int = MAX_BLOCK
+    s_bits: int = S_BITS
+    m_bits: int = M_BITS
+    s_max: float = S_MAX
+
+    def __post_init__(self):
+        for name in ("min_block", "max_block"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 4 or value > 128 or value & (value - 1):
+                raise IFSError(f"{name} must be a power of two from 4 to 128, got {value!r}")
+        if self.min_block > self.max_block:
+            raise IFSError(f"min_block ({self.min_block}) must not exceed max_block ({self.max_block})")
+        for name, low, high in (("s_bits", 2, 8), ("m_bits", 4, 10)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+                raise IFSError(f"{name} must be an integer from {low} to {high}, got {value!r}")
+        if not (isinstance(self.s_max, (int, float)) and 0 < self.s_max < 1):
+            raise IFSError(f"s_max must be a number in (0, 1) (|s| < 1 keeps the decoder contracting), got {self.s_max!r}")
+
+    @property
+    def sizes(self) -> list[int]:
+        """The range block sizes, largest first."""
+        out, size = [], self.max_block
+        while size >= self.min_block:
+            out.append(size)
+            size //= 2
+        return out
+
+
+@dataclass(frozen=True)
+class RefineOptions:
+    """How the attractor coder refines a collage code.
+
+    Parameters
+    ----------
+    searches : int
+        Rounds of the local search that picks each block's domain and isometry again from the decoded
+        image (0: keep the collage's choices). Each round costs about one collage search.
+    steps : int
+        Adam steps on the quantized contrasts and means through the decoder's fixed point (0: none).
+    lr : float
+        Adam's step, in quantization levels.
+    """
+
+    searches: int = 3
+    steps: int = 30
+    lr: float = 0.3
+
+    def __post_init__(self):
+        for name in ("searches", "steps"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise IFSError(f"{name} must be an integer >= 0, got {value!r}")
+        if not (isinstance(self.lr, (int, float)) and self.lr > 0):
+            raise IFSError(f"lr must be a number > 0, got {self.lr!r}")
+
+
+#: the decoder stops when no pixel changed by more than this (gray levels in [0, 1]) in one iteration.
+DECODE_TOL = 1e-4
+#: the decoder's cap on iterations: with |s| <= 0.95 and the means stored, 10-20 usually suffice.
+DECODE_MAX_ITER = 100

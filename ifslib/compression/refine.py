@@ -1,0 +1,176 @@
+"""Attractor coding: improve a collage code for the image the decoder returns, not for the collage.
+
+Two moves, each kept only when the decoded image gets closer to the target, with the file's layout
+unchanged (same partition, same flat blocks, so the same bits):
+
+1. a local search on the discrete choices: each block's domain and isometry are searched again with
+   the domain pool cut from the current decoded image instead of the original;
+2. gradient descent on the quantized contrasts and means through the decoder's fixed point. The
+   gradient is the fixed point's implicit derivative: for x* = T(x*; s, m), dL/d(s, m) = v^T dT/d(s, m)
+   with v = g + J^T v (J = dT/dx, g = dL/dx*), solved by iterating (it converges as T contracts).
+   Quantization is kept by a straight-through estimate: the forward pass uses the rounded levels.
+"""
+from __future__ import annotations
+
+import torch
+from tqdm.auto import tqdm
+
+from ..errors import IFSError
+from .code import Code
+from .config import DECODE_MAX_ITER, DECODE_TOL, RefineOptions
+from .decode import Plan, fixed_point, iterate, plan, start_image
+from .domains import pool_with_isometries
+from .encode import check_image, pad, search
+from .quantize import dequantize_m, dequantize_s, zero_s
+
+
+def implicit_fixed_point(p: Plan, s: torch.Tensor, m: torch.Tensor, start: torch.Tensor,
+                         tol: float = DECODE_TOL, max_iter: int = DECODE_MAX_ITER) -> torch.Tensor:
+    """The decoder's fixed point ``(H, W)``, differentiable in ``s`` and ``m`` ``(L,)`` by its implicit derivative.
+
+    The forward pass iterates without a graph; the backward pass solves v = g + J^T v by iteration
+    (to ``tol`` relative to g, at most ``max_iter`` times), then back-propagates v through one step.
+    """
+    with torch.no_grad():
+        star, _, _ = fixed_point(p, s.detach(), m.detach(), start, tol, max_iter)
+    out = iterate(p, star, s, m)
+    if not out.requires_grad:
+        return out
+    x0 = star.clone().requires_grad_()
+    with torch.enable_grad():
+        f0 = iterate(p, x0, s.detach(), m.detach())
+
+    def adjoint(g: torch.Tensor) -> torch.Tensor:
+        v = g
+        for _ in range(max_iter):
+            new = g + torch.autograd.grad(f0, x0, v, retain_graph=True)[0]
+            done = float((new - v).abs().max()) <= tol * max(float(g.abs().max()), 1e-30)
+            v = new
+            if done:
+                break
+        return v
+
+    out.register_hook(adjoint)
+    return out
+
+
+def decoded_error(code: Code, target: torch.Tensor, p: Plan | None = None, start=None) -> tuple[float, torch.Tensor]:
+    """``(mean squared error of the decoded image against target (h, w), the padded fixed point)``."""
+    p = plan(code) if p is None else p
+    start = start_image(p, None, target.dtype) if start is None else start
+    with torch.no_grad():
+        x, _, _ = fixed_point(p, code.s(target.dtype), code.m(target.dtype), start)
+    h, w = target.shape
+    return float(((x[:h, :w].clamp(0, 1) - target) ** 2).mean()), x
+
+
+def search_again(code: Code, target: torch.Tensor, decoded: torch.Tensor) -> Code:
+    """Every non-flat block's domain, isometry, s and m searched with the pool cut from ``decoded`` ``(H, W)``."""
+    fields = {name: getattr(code, name).clone() for name in ("domain", "iso", "s_idx", "m_idx")}
+    for size in code.options.sizes:
+        at = torch.nonzero((code.size == size) & ~code.flat)[:, 0]
+        if len(at) == 0:
+            continue
+        a = torch.arange(size)
+        rows = (code.y[at, None, None] + a[:, None]) * target.shape[1] + code.x[at, None, None] + a
+        blocks = target.reshape(-1)[rows.reshape(len(at), -1)]
+        fit = search(blocks, pool_with_isometries(decoded, size), code.options, torch.ones(len(at), dtype=torch.bool))
+        for name in fields:
+            fields[name][at] = getattr(fit, name)
+    return code.with_maps(**fields)
+
+
+def _levels(latent: torch.Tensor, low: int, high: int) -> torch.Tensor:
+    """Rounded levels in [low, high] in the forward pass, the identity in the backward pass."""
+    return latent + (latent.round().clamp(low, high) - latent).detach()
+
+
+class Adam:
+    """Adam (torch.optim.Adam's defaults: betas 0.9, 0.999, eps 1e-8) on a few tensors.
+
+    Written out because torch.optim's first use imports torch._dynamo, 6.5 s measured on the shared
+    machine: more than a whole 256² refinement takes.
+    """
+
+    def __init__(self, params: list[torch.Tensor], lr: float, betas=(0.9, 0.999), eps: float = 1e-8):
+        self.params, self.lr, self.betas, self.eps, self.t = params, lr, betas, eps, 0
+        self.m = [torch.zeros_like(p) for p in params]
+        self.v = [torch.zeros_like(p) for p in params]
+
+    @torch.no_grad()
+    def step(self) -> None:
+        self.t += 1
+        b1, b2 = self.betas
+        for p, m, v in zip(self.params, self.m, self.v):
+            g = p.grad if p.grad is not None else torch.zeros_like(p)
+            m.mul_(b1).add_(g, alpha=1 - b1)
+            v.mul_(b2).addcmul_(g, g, value=1 - b2)
+            step = self.lr / (1 - b1**self.t)
+            p.addcdiv_(m, (v / (1 - b2**self.t)).sqrt_().add_(self.eps), value=-step)
+
+    def zero_grad(self) -> None:
+        for p in self.params:
+            p.grad = None
+
+
+def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: bool = False) -> Code:
+    """Adam on the blocks' s and m levels through the fixed point; the best quantized code seen is returned."""
+    o, p = code.options, plan(code)
+    h, w = target.shape
+    zero, flat = zero_s(o), code.flat
+    s_lat = code.s_idx.to(target.dtype).requires_grad_()
+    m_lat = code.m_idx.to(target.dtype).requires_grad_()
+    opt = Adam([s_lat, m_lat], lr=lr)
+    best_err, x = decoded_error(code, target, p)
+    best = code
+    for _ in tqdm(range(steps), desc="attractor descent", disable=not progress, leave=False):
+        s_level = _levels(s_lat, 0, 2 * zero - 1)
+        # a non-flat block keeps a non-zero s (its domain's bits stay in the file); a flat one stays flat
+        bump = torch.where(s_lat.detach() >= zero, 1.0, -1.0)
+        s_level = torch.where(flat, float(zero), torch.where(s_level.detach() == zero, s_level + bump, s_level))
+        m_level = _levels(m_lat, 0, 2**o.m_bits - 1)
+        x = implicit_fixed_point(p, dequantize_s(s_level, o, target.dtype), dequantize_m(m_level, o, target.dtype),
+                                 x.detach())
+        loss = ((x[:h, :w] - target) ** 2).mean()
+        err = float(((x[:h, :w].detach().clamp(0, 1) - target) ** 2).mean())
+        if err < best_err:
+            best_err = err
+            best = code.with_maps(s_idx=s_level.detach().round().long(), m_idx=m_level.detach().round().long())
+        opt.zero_grad()
+        loss.backward()
+        opt.step()
+    return best
+
+
+def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress: bool = False) -> Code:
+    """Attractor coding: ``code`` improved for its decoded image's distance to ``image``, at the same bits.
+
+    Parameters
+    ----------
+    code : Code
+        A code of ``image`` (from `encode.encode`).
+    image : array or torch.Tensor
+        ``(h, w)`` gray levels in [0, 1], the code's size.
+    options : RefineOptions
+    progress : bool
+        Show bars over the steps.
+
+    Returns
+    -------
+    Code
+        Same partition and flat blocks as ``code`` (so the same file size); never decodes worse.
+    """
+    target = check_image(image).float()
+    if tuple(target.shape) != (code.height, code.width):
+        raise IFSError(f"the image is {tuple(target.shape)} but the code is of a {code.height} x {code.width} image")
+    padded = pad(target, code.options)
+    best_err, x = decoded_error(code, target)
+    for _ in range(options.searches):
+        candidate = search_again(code, padded, x)
+        err, new_x = decoded_error(candidate, target)
+        if err >= best_err:
+            break
+        code, best_err, x = candidate, err, new_x
+    if options.steps:
+        code = descend(code, target, options.steps, options.lr, progress)
+    return code

@@ -1,0 +1,69 @@
+"""Attractor coding: the fixed point's implicit gradient against finite differences; refinement keeps the bits."""
+import pytest
+import torch
+
+from ifslib.compression.config import CodeOptions, RefineOptions
+from ifslib.compression.decode import fixed_point, plan
+from ifslib.compression.encode import encode
+from ifslib.compression.fileformat import to_bytes
+from ifslib.compression.refine import decoded_error, implicit_fixed_point, refine
+from ifslib.errors import IFSError
+from compression_images import photo
+
+O = CodeOptions(min_block=4, max_block=16)
+
+
+def test_the_implicit_gradient_matches_finite_differences():
+    code = encode(photo(32, seed=2), O, bpp=1.5)
+    p = plan(code)
+    weights = torch.rand(32, 32, dtype=torch.float64, generator=torch.Generator().manual_seed(1))
+    start = torch.full((32, 32), 0.5, dtype=torch.float64)
+
+    def loss(s, m):
+        x, _, _ = fixed_point(p, s, m, start, tol=1e-14, max_iter=2000)
+        return float((weights * x).sum())
+
+    s = code.s(torch.float64).requires_grad_()
+    m = code.m(torch.float64).requires_grad_()
+    (weights * implicit_fixed_point(p, s, m, start, tol=1e-13, max_iter=2000)).sum().backward()
+    eps = 1e-6
+    for i in (0, len(code) // 2, len(code) - 1):
+        for value, grad in ((s, s.grad), (m, m.grad)):
+            up, down = value.detach().clone(), value.detach().clone()
+            up[i] += eps
+            down[i] -= eps
+            args = (up, m.detach()) if value is s else (s.detach(), up)
+            args_down = (down, m.detach()) if value is s else (s.detach(), down)
+            numeric = (loss(*args) - loss(*args_down)) / (2 * eps)
+            assert float(grad[i]) == pytest.approx(numeric, rel=1e-5, abs=1e-7)
+
+
+def test_refinement_decodes_closer_at_the_same_bytes():
+    image = photo(48, seed=4)
+    code = encode(image, O, bpp=1.0)
+    better = refine(code, image, RefineOptions(searches=2, steps=8))
+    assert len(to_bytes(better)) == len(to_bytes(code))
+    assert torch.equal(better.size, code.size) and torch.equal(better.flat, code.flat)
+    before, _ = decoded_error(code, image)
+    after, _ = decoded_error(better, image)
+    assert after < before
+
+
+def test_refine_refuses_another_image():
+    code = encode(photo(32), O, bpp=1.0)
+    with pytest.raises(IFSError, match="code is of a 32 x 32"):
+        refine(code, photo(48), RefineOptions(steps=1))
+
+
+def test_the_written_out_adam_matches_torch_optim():
+    from ifslib.compression.refine import Adam
+
+    start = torch.tensor([0.3, -1.2, 2.0], dtype=torch.float64)
+    ours, theirs = start.clone().requires_grad_(), start.clone().requires_grad_()
+    mine, ref = Adam([ours], lr=0.1), torch.optim.Adam([theirs], lr=0.1)
+    for _ in range(5):
+        for p, opt in ((ours, mine), (theirs, ref)):
+            opt.zero_grad()
+            ((p - 1) ** 4).sum().backward()
+            opt.step()
+    torch.testing.assert_close(ours, theirs)
