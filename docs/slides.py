@@ -70,7 +70,8 @@ class Condense:
     text_cols: int = 96         # ... and as wide as the slide at that font
     figure_aspect: float = 2.1  # width / height of the room a figure has under a heading and over a caption
     split_below: float = 0.6    # a figure drawn narrower than this share of the room is cut into its rows
-    min_gap: float = 0.004      # a blank band at least this share of a figure's height separates two rows
+    min_gap: float = 0.004      # a blank line at least this share of a figure's size separates two panels
+    min_band: float = 0.15      # a row (column) of panels is at least this share of the figure's height (width)
 
 
 CONDENSE = Condense()
@@ -341,9 +342,42 @@ def exercise_slide(statement: list[str], answer, where: str) -> Slide:
     return slide
 
 
-def figure_rows(png: bytes) -> list[bytes]:
-    """A tall figure (a grid of panels) cut at its blank rows into pieces each about as wide as a
-    slide's room for a figure; a figure that fits the room well is returned whole."""
+def _bands(blank, size: int) -> list[tuple[int, int]]:
+    """The stretches of non-blank lines between blank gaps, each at least ``min_band`` of ``size``
+    (a smaller one, a title or a row of tick labels, joins the band after it, or the last)."""
+    gap = max(2, round(CONDENSE.min_gap * size))
+    bands, start, run = [], None, 0
+    for i, empty in enumerate(list(blank) + [True] * gap):
+        run = run + 1 if empty else 0
+        if not empty and start is None:
+            start = i
+        if start is not None and run == gap:
+            bands.append([start, i - gap + 1])
+            start = None
+    merged = []
+    for band in bands:
+        if merged and merged[-1][1] - merged[-1][0] < CONDENSE.min_band * size:
+            merged[-1][1] = band[1]
+        else:
+            merged.append(band)
+    if len(merged) > 1 and merged[-1][1] - merged[-1][0] < CONDENSE.min_band * size:
+        last = merged.pop()
+        merged[-1][1] = last[1]
+    return [tuple(b) for b in merged]
+
+
+def _png(image) -> bytes:
+    import io
+
+    buffer = io.BytesIO()
+    image.save(buffer, format="PNG")
+    return buffer.getvalue()
+
+
+def figure_pieces(png: bytes) -> list[bytes]:
+    """A figure laid out for the slide's room: a tall grid of panels cut at its blank rows into
+    pieces about as wide as the room, a strip of panels so long that it is drawn larger in two rows
+    folded; else unchanged."""
     import io
 
     import numpy as np
@@ -351,30 +385,31 @@ def figure_rows(png: bytes) -> list[bytes]:
 
     image = Image.open(io.BytesIO(png)).convert("RGBA")
     width, height = image.size
-    if width / height >= CONDENSE.split_below * CONDENSE.figure_aspect:
-        return [png]
     pixels = np.asarray(image)
-    blank = ((pixels[..., 3] < 10) | (pixels[..., :3].min(axis=-1) > 245)).all(axis=1)
-    cuts, run = [0], 0
-    for y, empty in enumerate(blank):
-        run = run + 1 if empty else 0
-        if run == max(2, round(CONDENSE.min_gap * height)):
-            cuts.append(y)
-    cuts.append(height)
-    pieces, top = [], 0
-    for a, b in zip(cuts[1:-1], cuts[2:]):      # grow a piece while the next row still fits the room
-        if width / (b - top) < CONDENSE.figure_aspect and a > top:
-            pieces.append((top, a))
-            top = a
-    pieces.append((top, height))
-    if len(pieces) == 1:
-        return [png]
-    out = []
-    for top, bottom in pieces:
-        buffer = io.BytesIO()
-        image.crop((0, top, width, bottom)).save(buffer, format="PNG")
-        out.append(buffer.getvalue())
-    return out
+    blank = (pixels[..., 3] < 10) | (pixels[..., :3].min(axis=-1) > 245)
+    aspect = width / height
+    if aspect < CONDENSE.split_below * CONDENSE.figure_aspect:
+        rows = _bands(blank.all(axis=1), height)
+        if len(rows) < 2:
+            return [png]
+        pieces, top = [], rows[0][0]
+        for previous, row in zip(rows, rows[1:]):      # a piece ends before the row that makes it too tall
+            if width / (row[1] - top) < CONDENSE.figure_aspect:
+                pieces.append((top, previous[1]))
+                top = row[0]
+        pieces.append((top, rows[-1][1]))
+        return [_png(image.crop((0, a, width, b))) for a, b in pieces] if len(pieces) > 1 else [png]
+    if aspect / 4 > CONDENSE.figure_aspect:            # folded in two rows, it is drawn larger
+        cols = _bands(blank.all(axis=0), width)
+        if len(cols) < 4:
+            return [png]
+        half = len(cols) // 2
+        left, right = image.crop((0, 0, cols[half][0], height)), image.crop((cols[half][0], 0, width, height))
+        folded = Image.new("RGBA", (max(left.width, right.width), 2 * height), (255, 255, 255, 255))
+        folded.paste(left, (0, 0))
+        folded.paste(right, (0, height))
+        return [_png(folded)]
+    return [png]
 
 
 def _image_src(out) -> list[str]:
@@ -389,7 +424,7 @@ def _image_src(out) -> list[str]:
             payload = "".join(payload.split())
             if mime == "image/png":
                 found += [f"data:{mime};base64,{base64.b64encode(p).decode()}"
-                          for p in figure_rows(base64.b64decode(payload))]
+                          for p in figure_pieces(base64.b64decode(payload))]
             else:
                 found.append(f"data:{mime};base64,{payload}")
             break
@@ -478,19 +513,22 @@ class SectionSlides:
         self.statement = None
 
     def code(self, cell) -> None:
-        images = [src for out in cell.get("outputs", []) for src in _image_src(out)]
+        figures = [pieces for out in cell.get("outputs", []) for pieces in [_image_src(out)] if pieces]
         text = "".join(_text_of(out) for out in cell.get("outputs", [])).strip("\n")
         code = pre(cell.source, "code")
         caption = caption_of(self.last)
-        for src in images:
-            self.slides.append(Slide(self.section.title, "figure", _figure(src, caption), [code], caption))
+        for pieces in figures:
+            for i, src in enumerate(pieces):
+                part = f" (row {i + 1} of {len(pieces)})" if len(pieces) > 1 else ""
+                notes = [code] if i == 0 else [f"<p>Row {i + 1} of {len(pieces)} of the figure, a slide each.</p>"]
+                self.slides.append(Slide(self.section.title, "figure", _figure(src, caption + part), notes, caption))
             code = ""
         lines = text.splitlines()
         if text and len(lines) <= CONDENSE.text_lines and max(map(len, lines)) <= CONDENSE.text_cols:
             self.slides.append(Slide(self.section.title, "number", pre(text, "output") + _caption(caption), [code], caption))
         elif text:
             self.slides[-1].notes += [code, "<p>Its output:</p>" + pre(text)]
-        elif code and not images and not _imports_only(cell.source):
+        elif code and not figures and not _imports_only(cell.source):
             self.slides[-1].notes.append(code)
         self.last = None
 
