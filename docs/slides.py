@@ -71,6 +71,7 @@ class Condense:
     figure_aspect: float = 2.1  # width / height of the room a figure has under a heading and over a caption
     split_below: float = 0.6    # a figure drawn narrower than this share of the room is cut into its rows
     min_gap: float = 0.004      # a blank line at least this share of a figure's size separates two panels
+    keep_rows: float = 0.8      # a grid's next row joins its slide unless the slide's picture then shrinks below this
     min_band: float = 0.15      # a row (column) of panels is at least this share of the figure's height (width)
 
 
@@ -266,7 +267,7 @@ def sections(nb) -> list[Section]:
     """The notebook cut at its ``#``, ``##`` and ``###`` headings (cells before the first: the title's)."""
     found = [Section(1, "", [])]
     for cell in nb.cells:
-        head = heading(cell)
+        head = None if _nbgrader(cell) else heading(cell)   # "### BEGIN SOLUTION" is no heading
         if head and head[0] <= 3 and (found[-1].cells or found[-1].title):
             found.append(Section(head[0], head[1], []))
         elif head and head[0] <= 3:
@@ -392,9 +393,12 @@ def figure_pieces(png: bytes) -> list[bytes]:
         rows = _bands(blank.all(axis=1), height)
         if len(rows) < 2:
             return [png]
+        def scale(h):               # how much the room magnifies a piece h pixels tall
+            return min(1 / width, 1 / (CONDENSE.figure_aspect * h))
+
         pieces, top = [], rows[0][0]
-        for previous, row in zip(rows, rows[1:]):      # a piece ends before the row that makes it too tall
-            if width / (row[1] - top) < CONDENSE.figure_aspect:
+        for previous, row in zip(rows, rows[1:]):      # a piece ends before a row that would shrink it
+            if scale(row[1] - top) < CONDENSE.keep_rows * scale(previous[1] - top):
                 pieces.append((top, previous[1]))
                 top = row[0]
         pieces.append((top, rows[-1][1]))
@@ -475,7 +479,7 @@ class SectionSlides:
         self.opening.body = "<ul>" + "".join(f"<li>{md(b, inline=True)}</li>" for b in lines) + "</ul>" if lines else ""
         self.opening.notes.insert(0, md("\n\n".join(self.prose)) if self.prose else "")
         shown = {s.caption for s in self.slides[1:]}
-        if len(self.slides) > 1 and self.section.level > 1 and set(lines) <= shown:
+        if len(self.slides) > 1 and self.section.level > 1 and lines and set(lines) <= shown:
             # an opening that would only repeat its figures' captions: its notes go to the next slide
             self.slides[1].notes[:0] = self.opening.notes
             return self.slides[1:]
