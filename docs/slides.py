@@ -192,14 +192,20 @@ def visible_length(text: str) -> int:
     return len(re.sub(r"[*`_\\]", "", text))
 
 
-def first_sentence(text: str) -> str:
-    """The first sentence of a paragraph (not cut inside a formula, code or link)."""
+def sentences(text: str) -> list[str]:
+    """The sentences of a paragraph (never cut inside a formula, code or link, nor after "e.g.")."""
     text = " ".join(text.split())
-    spans = _spans(text)
+    spans, found, start = _spans(text), [], 0
     for match in _SENTENCE_END.finditer(text):
         if _outside(match.start(), spans):
-            return text[:match.end()]
-    return text
+            found.append(text[start:match.end()].strip())
+            start = match.end()
+    return found + ([text[start:].strip()] if text[start:].strip() else [])
+
+
+def first_sentence(text: str) -> str:
+    """The first sentence of a paragraph."""
+    return (sentences(text) or [""])[0]
 
 
 def shorten(text: str, limit: int) -> str | None:
@@ -323,14 +329,14 @@ def exercise_slide(statement: list[str], answer, where: str) -> Slide:
     title = lead.group(1).strip() if lead else "Exercise"
     text = [statement[0][lead.end():] if lead else statement[0]]
     text += [p for p in statement[1:] if not p.lstrip().startswith("<")]
-    body, used = [], 0
-    for sentence in re.split(r"(?<=[.?!])\s+(?=[A-Z(`$])", " ".join(" ".join(text).split())):
+    body, used, every = [], 0, sentences(" ".join(text))
+    for sentence in every:
         if used + visible_length(sentence) > CONDENSE.statement_chars:
             break
         body.append(sentence)
         used += visible_length(sentence)
     body = body or [shorten(first_sentence(text[0]), CONDENSE.statement_chars) or title]
-    more = " …" if len(body) < len(re.findall(r"[.?!](?:\s|$)", " ".join(text))) else ""
+    more = " …" if len(body) < len(every) else ""
     slide = Slide(title, "exercise", f'<div class="statement">{md(" ".join(body) + more)}</div>')
     slide.notes.append(md("\n\n".join(statement)))
     if answer is None:
@@ -708,40 +714,45 @@ def remote_assets(page: str, base: Path = OUT) -> list[str]:
 
 
 
-def build(lectures: list[Lecture], notebooks: Path = ROOT / "notebooks") -> list[str]:
-    """Write one deck per lecture and an index; return the problems found (remote assets)."""
-    OUT.mkdir(parents=True, exist_ok=True)
+def build(lectures: list[Lecture], notebooks: Path = ROOT / "notebooks", out: Path = OUT) -> list[str]:
+    """Write one deck per lecture and an index into ``out``; return the problems found (remote assets)."""
+    out.mkdir(parents=True, exist_ok=True)
     problems = []
     for lecture in lectures:
         columns = lecture_columns(lecture, notebooks)
         page = deck_html(lecture, columns)
-        target = OUT / f"{lecture.deck}.html"
+        target = out / f"{lecture.deck}.html"
         target.write_text(page, encoding="utf-8")
-        problems += [f"{target.relative_to(ROOT)} loads {r}" for r in remote_assets(page)]
+        problems += [f"{target} loads {r}" for r in remote_assets(page, out)]
         slides = [s for c in columns for s in c]
         kinds = {k: sum(s.kind == k for s in slides) for k in ("figure", "number", "exercise")}
-        print(f"{target.relative_to(ROOT)}: {len(slides)} slides in {len(columns)} columns "
+        print(f"{target}: {len(slides)} slides in {len(columns)} columns "
               f"({kinds['figure']} figures, {kinds['number']} numbers, {kinds['exercise']} exercises), "
               f"{sum(bool(''.join(s.notes)) for s in slides)} with speaker notes, {len(page) // 1024} KiB")
-    (OUT / "index.html").write_text(index_html(lectures), encoding="utf-8")
+    (out / "index.html").write_text(index_html(lectures), encoding="utf-8")
     return problems
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("decks", nargs="*", help="only these decks (lecture1 ...); default: all")
+    parser.add_argument("--notebooks", type=Path, default=ROOT / "notebooks", help="the notebooks' folder")
+    parser.add_argument("--out", type=Path, default=OUT,
+                        help="the decks' folder, a sibling of build/npm (default build/slides)")
     args = parser.parse_args(argv)
+    out = args.out.resolve()
     missing = [f for f in REVEAL_FILES if not (NPM / "reveal.js" / f).is_file()]
-    missing += [] if (OUT / MATHJAX_URL).resolve().is_file() else ["mathjax"]
+    missing += [] if (out / MATHJAX_URL).resolve().is_file() else ["mathjax"]
     if missing:
-        sys.exit(f"missing under {NPM}: {missing}: run `make slides` (it installs reveal.js and mathjax from npm)")
+        sys.exit(f"missing under {NPM} (as seen from {out}): {missing}: run `make slides` "
+                 "(it installs reveal.js and mathjax from npm)")
     try:
         lectures = load_lectures()
-        check_coverage(lectures, ROOT / "notebooks")
+        check_coverage(lectures, args.notebooks)
         chosen = [lec for lec in lectures if not args.decks or lec.deck in args.decks]
         if not chosen:
             raise DeckError(f"no deck named {args.decks}; the decks are {[lec.deck for lec in lectures]}")
-        problems = build(chosen)
+        problems = build(chosen, args.notebooks, out)
     except DeckError as err:
         sys.exit(f"error: {err}")
     for problem in problems:
