@@ -27,7 +27,18 @@ import yaml
 ROOT = Path(__file__).resolve().parent.parent
 SLIDES = Path(os.environ.get("IFSLIB_SLIDES", ROOT / "build" / "slides")).resolve()
 LECTURES = yaml.safe_load((ROOT / "docs" / "slides" / "lectures.yaml").read_text(encoding="utf-8"))
-DECKS = {lec["deck"]: [p["notebook"] for p in lec["parts"]] for lec in LECTURES}
+
+
+def _notebooks(parts) -> list[Path]:
+    """The notebooks a deck is built from: by name, or by number ("09": 09_*.ipynb); absent ones left out."""
+    folder = ROOT / "notebooks"
+    return [path for p in parts for name in [str(p["notebook"])]
+            for path in ([folder / f"{name}.ipynb"] if (folder / f"{name}.ipynb").is_file()
+                         else sorted(folder.glob(f"{name}_*.ipynb")))]
+
+
+#: the decks `make slides` builds: those with a notebook there (a lecture of notebooks to come has none)
+DECKS = {lec["deck"]: found for lec in LECTURES for found in [_notebooks(lec["parts"])] if found}
 VIEWPORT = {"width": 1280, "height": 720}
 MIN_SLIDES = 4          # "more than a few"
 FIGURE_SHARE = 0.6      # a figure's drawn width over the slide's, or height over the slide's, at least
@@ -68,12 +79,12 @@ _MEASURE = """() => {
 }"""
 
 
-def _has_math(notebooks: list[str]) -> bool:
+def _has_math(notebooks: list[Path]) -> bool:
     """Whether the notebooks' markdown holds a formula (``$...$``, ``$$``, ``\\(`` or ``\\[``)."""
     import nbformat
 
-    text = "\n".join(c.source for name in notebooks for c in nbformat.read(
-        ROOT / "notebooks" / f"{name}.ipynb", as_version=4).cells if c.cell_type == "markdown")
+    text = "\n".join(c.source for path in notebooks for c in nbformat.read(path, as_version=4).cells
+                     if c.cell_type == "markdown")
     text = re.sub(r"`[^`]*`", "", text)
     return bool(INLINE_DOLLARS.search(text)) or any(m in text for m in ("$$", "\\(", "\\["))
 

@@ -82,8 +82,20 @@ NOT_BULLETS = ("**How long it runs", "**What you need first", "Parameters")
 
 @dataclasses.dataclass(frozen=True)
 class Part:
-    notebook: str
-    sections: tuple[str, ...] | None     # heading prefixes of the `##` sections kept; None: all
+    notebook: str                       # a notebook's name, or its number ("09": the one 09_*.ipynb)
+    sections: tuple[str, ...] | None    # heading prefixes of the `##` sections kept; None: all
+    optional: bool = False              # a notebook still to come: left out while it is not there
+
+    def path(self, notebooks: Path) -> Path | None:
+        """The notebook's file, None for an optional one that is not there (else DeckError)."""
+        found = [notebooks / f"{self.notebook}.ipynb"] if (notebooks / f"{self.notebook}.ipynb").is_file() \
+            else sorted(notebooks.glob(f"{self.notebook}_*.ipynb"))
+        if len(found) == 1:
+            return found[0]
+        if not found and self.optional:
+            return None
+        raise DeckError(f"{LECTURES.relative_to(ROOT)} names notebook {self.notebook!r}, which matches "
+                        f"{[p.name for p in found] or 'nothing'} in {notebooks}")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -118,11 +130,12 @@ def load_lectures(path: Path = LECTURES) -> list[Lecture]:
     lectures = []
     for entry in raw:
         unknown = set(entry) - {"deck", "title", "parts", "bullets"}
+        unknown |= {k for p in entry.get("parts", []) for k in p if k not in ("notebook", "sections", "optional")}
         if unknown or not {"deck", "title", "parts"} <= set(entry):
             raise DeckError(f"{path}: lecture {entry.get('deck')!r} needs deck, title and parts "
                             f"(and optionally bullets); unknown keys {sorted(unknown)}")
-        parts = tuple(Part(p["notebook"], tuple(p["sections"]) if "sections" in p else None)
-                      for p in entry["parts"])
+        parts = tuple(Part(str(p["notebook"]), tuple(p["sections"]) if "sections" in p else None,
+                           bool(p.get("optional", False))) for p in entry["parts"])
         bullets = {k: tuple(v) for k, v in (entry.get("bullets") or {}).items()}
         lectures.append(Lecture(entry["deck"], entry["title"], parts, bullets))
     return lectures
@@ -130,11 +143,8 @@ def load_lectures(path: Path = LECTURES) -> list[Lecture]:
 
 def check_coverage(lectures: list[Lecture], notebooks: Path) -> None:
     """Raise when a lecture names a missing notebook or a lecture notebook is in no lecture."""
-    listed = {p.notebook for lec in lectures for p in lec.parts}
+    listed = {path.stem for lec in lectures for p in lec.parts for path in [p.path(notebooks)] if path}
     present = {p.stem for p in notebooks.glob(NOTEBOOK_GLOB)}
-    if listed - present:
-        raise DeckError(f"{LECTURES.relative_to(ROOT)} names notebooks that are not in notebooks/: "
-                        f"{sorted(listed - present)}")
     if present - listed:
         raise DeckError(f"notebooks {sorted(present - listed)} are in no lecture: add each to a lecture's "
                         f"parts in {LECTURES.relative_to(ROOT)} (the course page says which)")
@@ -574,7 +584,9 @@ def lecture_columns(lecture: Lecture, notebooks: Path) -> list[list[Slide]]:
     title = Slide(lecture.title, "title", notes=[course_notes(lecture.title)])
     columns, used = [[title]], set()
     for part in lecture.parts:
-        path = notebooks / f"{part.notebook}.ipynb"
+        path = part.path(notebooks)
+        if path is None:
+            continue
         nb = nbformat.read(path, as_version=4)
         names = []
         for sec in pick(sections(nb), part, f"notebooks/{path.name}"):
@@ -719,6 +731,9 @@ def build(lectures: list[Lecture], notebooks: Path = ROOT / "notebooks", out: Pa
     out.mkdir(parents=True, exist_ok=True)
     problems = []
     for lecture in lectures:
+        if not any(part.path(notebooks) for part in lecture.parts):
+            print(f"{lecture.deck}: none of its notebooks is there yet, no deck")
+            continue
         columns = lecture_columns(lecture, notebooks)
         page = deck_html(lecture, columns)
         target = out / f"{lecture.deck}.html"

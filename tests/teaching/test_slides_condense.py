@@ -155,3 +155,11 @@ def test_the_real_decks_show_no_worked_answer_and_note_every_one():
         assert all("BEGIN SOLUTION" not in s.body for s in shown), lecture.deck
         assert all("answer" in "".join(s.notes) for s in shown if s.kind == "exercise"), lecture.deck
         assert all(any("".join(s.notes).strip() for s in column) for column in columns), lecture.deck
+
+
+def test_a_part_is_found_by_its_number_and_an_optional_one_may_be_missing(tmp_path):
+    (tmp_path / "09_measures.ipynb").write_text("{}")
+    assert slides.Part("09", None).path(tmp_path).name == "09_measures.ipynb"
+    assert slides.Part("10", None, optional=True).path(tmp_path) is None
+    with pytest.raises(slides.DeckError, match="matches nothing"):
+        slides.Part("10", None).path(tmp_path)
