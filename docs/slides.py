@@ -66,11 +66,12 @@ class Condense:
     bullet_chars: int = 110     # visible characters of a line: two lines of the slide at most
     caption_chars: int = 150    # a figure's caption: two lines under the picture
     statement_chars: int = 360  # an exercise's statement on its slide: five lines; longer ones cut
-    text_lines: int = 10        # a printed output shown as a slide: what a 20 px font fits under a heading
-    text_cols: int = 96         # ... and as wide as the slide at that font
+    text_lines: int = 12        # a printed output on a slide, in lines as set (longer ones wrap): what fits
+    text_cols: int = 86         # characters of a line of output at 22 px across the slide; longer lines wrap
     figure_aspect: float = 2.1  # width / height of the room a figure has under a heading and over a caption
     split_below: float = 0.6    # a figure drawn narrower than this share of the room is cut into its rows
     min_gap: float = 0.004      # a blank line at least this share of a figure's size separates two panels
+    room: int = 520             # px under a heading that short slides may share (of about 600: a margin)
     keep_rows: float = 0.8      # a grid's next row joins its slide unless the slide's picture then shrinks below this
     min_band: float = 0.15      # a row (column) of panels is at least this share of the figure's height (width)
 
@@ -113,6 +114,7 @@ class Slide:
     body: str = ""              # HTML on the slide
     notes: list[str] = dataclasses.field(default_factory=list)   # HTML in the speaker notes
     caption: str = ""           # a figure's or number's caption (markdown)
+    height: float = 0           # about how tall its body is, in the slide's pixels (figures: the whole room)
 
 
 class DeckError(Exception):
@@ -494,12 +496,14 @@ class SectionSlides:
         lines = list(bullets) if bullets else self.bullets()
         self.opening.body = "<ul>" + "".join(f"<li>{md(b, inline=True)}</li>" for b in lines) + "</ul>" if lines else ""
         self.opening.notes.insert(0, md("\n\n".join(self.prose)) if self.prose else "")
-        shown = {s.caption for s in self.slides[1:]}
-        if len(self.slides) > 1 and self.section.level > 1 and lines and set(lines) <= shown:
-            # an opening that would only repeat its figures' captions: its notes go to the next slide
+        self.opening.height = sum(_text_height(b, 30, 1190) + 16 for b in lines)
+        shown = [s.caption for s in self.slides[1:]]
+        if len(self.slides) > 1 and self.section.level > 1 and self.slides[1].kind in ("figure", "number") \
+                and all(_repeats(b, shown) for b in lines):
+            # an opening that is empty or would only repeat its figures' captions: its notes go to the next slide
             self.slides[1].notes[:0] = self.opening.notes
             return self.slides[1:]
-        return self.slides
+        return merge_short(self.slides, set(lines))
 
     def bullets(self) -> list[str]:
         found = []
@@ -543,14 +547,46 @@ class SectionSlides:
                 notes = [code] if i == 0 else [f"<p>Row {i + 1} of {len(pieces)} of the figure, a slide each.</p>"]
                 self.slides.append(Slide(self.section.title, "figure", _figure(src, caption + part), notes, caption))
             code = ""
-        lines = text.splitlines()
-        if text and len(lines) <= CONDENSE.text_lines and max(map(len, lines)) <= CONDENSE.text_cols:
-            self.slides.append(Slide(self.section.title, "number", pre(text, "output") + _caption(caption), [code], caption))
+        rows = sum(-(-max(len(line), 1) // CONDENSE.text_cols) for line in text.splitlines())
+        if text and rows <= CONDENSE.text_lines:
+            height = 30 * rows + 52 + (_text_height(caption, 24, 1190) + 10 if caption else 0)
+            self.slides.append(Slide(self.section.title, "number", pre(text, "output") + _caption(caption), [code],
+                                     caption, height))
         elif text:
             self.slides[-1].notes += [code, "<p>Its output:</p>" + pre(text)]
         elif code and not figures and not _imports_only(cell.source):
             self.slides[-1].notes.append(code)
         self.last = None
+
+
+def _text_height(text: str, font: int, width: int) -> float:
+    """About how tall ``text`` is set at ``font`` px in a box ``width`` px wide (1.3 lines apart)."""
+    per_line = width / (0.48 * font)          # characters a line of this font holds
+    return -(-visible_length(text) // per_line) * 1.3 * font
+
+
+def _repeats(line: str, others) -> bool:
+    """Whether ``line`` says what one of ``others`` says (the same sentence, cut or not)."""
+    line = line.removesuffix(" …")
+    return bool(line) and any(o and (o.removesuffix(" …").startswith(line) or line.startswith(o.removesuffix(" …")))
+                              for o in others)
+
+
+def merge_short(slides: list[Slide], bullets: set[str]) -> list[Slide]:
+    """Slides with a printed number joined to the slide before them (an opening or another number)
+    while both fit under one heading; a caption that repeats one of the opening's lines is dropped."""
+    out = slides[:1]
+    for slide in slides[1:]:
+        last = out[-1]
+        if slide.kind == "number" and last.kind in ("opening", "number") and last.height + slide.height <= CONDENSE.room:
+            body = slide.body.replace(_caption(slide.caption), "") if _repeats(slide.caption, bullets) else slide.body
+            last.body += body
+            last.notes += slide.notes
+            last.height += slide.height
+            last.kind = "number" if last.kind == "number" else "opening"
+        else:
+            out.append(slide)
+    return out
 
 
 def _imports_only(source: str) -> bool:

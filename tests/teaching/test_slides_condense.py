@@ -88,11 +88,12 @@ def test_a_section_becomes_short_slides_with_the_rest_in_the_notes():
     assert [(s.level, s.title) for s in secs] == [(1, "9. A lesson"), (2, "Counting")]
     title = slides.SectionSlides(secs[0], "t").build()
     assert len(title) == 1 and "size = 64" not in str(title)          # the parameters cell is skipped
-    opening, number, exercise = slides.SectionSlides(secs[1], "t").build()
+    opening, exercise = slides.SectionSlides(secs[1], "t").build()
     bullets = re.findall(r"<li>(.*?)</li>", opening.body)
     assert 1 <= len(bullets) <= slides.CONDENSE.bullets and "A second sentence" not in opening.body
     assert "A second sentence" in "".join(opening.notes)                # the whole prose is in the notes
-    assert number.kind == "number" and "a: 1" in number.body and "draw()" in "".join(number.notes)
+    # the two-line output shares the opening's slide (both short); its code is in the notes
+    assert "a: 1" in opening.body and "draw()" not in opening.body and "draw()" in "".join(opening.notes)
     assert exercise.kind == "exercise" and exercise.title == "Exercise 2 (apply)"
     assert "How many leaves" in exercise.body and "8 ** 4" not in exercise.body and "Hint" not in exercise.body
     notes = "".join(exercise.notes)
@@ -163,3 +164,13 @@ def test_a_part_is_found_by_its_number_and_an_optional_one_may_be_missing(tmp_pa
     assert slides.Part("10", None, optional=True).path(tmp_path) is None
     with pytest.raises(slides.DeckError, match="matches nothing"):
         slides.Part("10", None).path(tmp_path)
+
+
+def test_short_numbers_share_a_slide_only_while_they_fit():
+    def number(height):
+        return slides.Slide("s", "number", f"<pre>{height}</pre>", ["code"], "", height)
+
+    room = slides.CONDENSE.room
+    merged = slides.merge_short([slides.Slide("s", "opening", "<ul></ul>", height=100), number(100), number(room)], set())
+    assert [s.kind for s in merged] == ["opening", "number"] and "<pre>100</pre>" in merged[0].body
+    assert merged[1].body == f"<pre>{room}</pre>"
