@@ -2,7 +2,7 @@
 
 Each deck of ``docs/slides/lectures.yaml`` is opened as a ``file://`` page with every request that is
 not a file (or inline data) blocked and recorded: no request may leave the disk. reveal.js must be
-initialised, MathJax (the local copy) must have typeset the formulas (no raw ``\\(`` or ``$$`` left in
+initialised with its speaker-notes plugin, MathJax (the local copy) must have typeset the formulas (no raw ``\\(`` or ``$$`` left in
 any slide's text outside code), and the right arrow key must move to the next slide. Then every slide
 is shown in turn and measured:
 
@@ -123,6 +123,7 @@ def _open(page, name: str):
 def test_deck_opens_offline_and_moves(offline, shots, name):
     page, asked = offline
     _open(page, name)
+    assert page.evaluate("() => Reveal.hasPlugin('notes')"), f"{name}: no speaker view (reveal.js's notes plugin)"
     total = page.evaluate("() => Reveal.getTotalSlides()")
     assert total > MIN_SLIDES, f"{name}: only {total} slides"
     typeset = page.locator(".reveal .slides mjx-container").count()

@@ -262,8 +262,14 @@ def md(text: str, inline: bool = False) -> str:
     return out
 
 
+#: code in the speaker notes: the speaker view shows the notes without the deck's style sheet
+NOTES_PRE = "white-space: pre-wrap; font-size: 0.75em; line-height: 1.3"
+
+
 def pre(text: str, cls: str = "") -> str:
-    return f'<pre class="{cls}">{html.escape(text)}</pre>' if cls else f"<pre>{html.escape(text)}</pre>"
+    """``text`` preformatted: on a slide with the class ``cls``, in the notes (no class) wrapped."""
+    attr = f'class="{cls}"' if cls else f'style="{NOTES_PRE}"'
+    return f"<pre {attr}>{html.escape(text)}</pre>"
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -539,7 +545,7 @@ class SectionSlides:
     def code(self, cell) -> None:
         figures = [pieces for out in cell.get("outputs", []) for pieces in [_image_src(out)] if pieces]
         text = "".join(_text_of(out) for out in cell.get("outputs", [])).strip("\n")
-        code = pre(cell.source, "code")
+        code = pre(cell.source)
         caption = caption_of(self.last)
         for pieces in figures:
             for i, src in enumerate(pieces):
@@ -781,6 +787,10 @@ def build(lectures: list[Lecture], notebooks: Path = ROOT / "notebooks", out: Pa
               f"({kinds['figure']} figures, {kinds['number']} numbers, {kinds['exercise']} exercises), "
               f"{sum(bool(''.join(s.notes)) for s in slides)} with speaker notes, {len(page) // 1024} KiB")
     (out / "index.html").write_text(index_html(lectures), encoding="utf-8")
+    if len(lectures) == len(load_lectures()):     # a whole build: decks of an earlier layout go
+        for stale in sorted(set(out.glob("*.html")) - {out / f"{lec.deck}.html" for lec in lectures} - {out / "index.html"}):
+            stale.unlink()
+            print(f"{stale}: removed (no such deck now)")
     return problems
 
 
