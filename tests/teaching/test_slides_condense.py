@@ -174,3 +174,15 @@ def test_short_numbers_share_a_slide_only_while_they_fit():
     merged = slides.merge_short([slides.Slide("s", "opening", "<ul></ul>", height=100), number(100), number(room)], set())
     assert [s.kind for s in merged] == ["opening", "number"] and "<pre>100</pre>" in merged[0].body
     assert merged[1].body == f"<pre>{room}</pre>"
+
+
+def test_talking_points_of_the_lecture_file_replace_the_bullets_and_must_match_a_section(tmp_path):
+    nbformat.write(_exercise_notebook(), tmp_path / "09_lesson.ipynb")
+    lecture = slides.Lecture("t", "Lecture 9: t", (slides.Part("09", None),), {"Count": ("One point.", "Two.")})
+    columns = slides.lecture_columns(lecture, tmp_path)
+    opening = columns[2][0]
+    assert re.findall(r"<li>(.*?)</li>", opening.body) == ["One point.", "Two."]
+    assert "A second sentence" in "".join(opening.notes)
+    stale = slides.Lecture("t", "Lecture 9: t", lecture.parts, {"Gone": ("x",)})
+    with pytest.raises(slides.DeckError, match=r"bullets for \['Gone'\] match no section"):
+        slides.lecture_columns(stale, tmp_path)
