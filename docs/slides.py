@@ -630,11 +630,14 @@ def lecture_columns(lecture: Lecture, notebooks: Path) -> list[list[Slide]]:
         if path is None:
             continue
         nb = nbformat.read(path, as_version=4)
-        names = []
-        for sec in pick(sections(nb), part, f"notebooks/{path.name}"):
+        names, kept = [], pick(sections(nb), part, f"notebooks/{path.name}")
+        # a notebook shown in part: its title slide lists the parts shown, not the whole lesson's intro
+        shown = tuple(_title_md(s.title) for s in kept if s.level == 2)[:CONDENSE.bullets] if part.sections else None
+        for sec in kept:
             keys = [k for k in lecture.bullets if sec.title.startswith(k)]
             used.update(keys)
-            slides = SectionSlides(sec, f"notebooks/{path.name}").build(lecture.bullets[keys[0]] if keys else None)
+            points = lecture.bullets[keys[0]] if keys else shown if sec.level == 1 else None
+            slides = SectionSlides(sec, f"notebooks/{path.name}").build(points)
             slides[0].notes.append(f"<p><em>notebooks/{path.name}, {html.escape(sec.title)}</em></p>")
             if sec.level == 3 and len(columns) > 1:
                 columns[-1] += slides
@@ -649,9 +652,13 @@ def lecture_columns(lecture: Lecture, notebooks: Path) -> list[list[Slide]]:
     return columns
 
 
+def _title_md(text: str) -> str:
+    """A heading's text as markdown that stays one line ("1. IFS" is a title, not a list)."""
+    return re.sub(r"^(\d+)\.", r"\1\\.", text)
+
+
 def _title(text: str) -> str:
-    """A heading's text as inline HTML ("1. IFS" is a title, not a list)."""
-    return md(re.sub(r"^(\d+)\.", r"\1\\.", text), inline=True)
+    return md(_title_md(text), inline=True)
 
 
 def slide_html(slide: Slide) -> str:
