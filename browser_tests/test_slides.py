@@ -1,10 +1,11 @@
-"""The lecture decks (``make slides`` -> ``build/slides/DECK.html``) opened from disk in Chromium at 1280 x 720.
+"""The lecture decks (``make slides`` -> ``build/slides/DECK.html``) opened from disk in Chromium at
+1280 x 720.
 
-Each deck of ``docs/slides/lectures.yaml`` is opened as a ``file://`` page with every request that is
-not a file (or inline data) blocked and recorded: no request may leave the disk. reveal.js must be
-initialised with its speaker-notes plugin, MathJax (the local copy) must have typeset the formulas (no raw ``\\(`` or ``$$`` left in
-any slide's text outside code), and the right arrow key must move to the next slide. Then every slide
-is shown in turn and measured:
+Each deck of ``docs/slides/lectures.yaml`` is opened as a ``file://`` page with every request that
+is not a file (or inline data) blocked and recorded: no request may leave the disk. reveal.js must
+be initialised with its speaker-notes plugin, MathJax (the local copy) must have typeset the
+formulas (no raw ``\\(`` or ``$$`` left in any slide's text outside code), and the right arrow key
+must move to the next slide. Then every slide is shown in turn and measured:
 
 * nothing overflows: every element of the slide lies within the slide's box, and the slide's page
   does not scroll;
@@ -12,8 +13,8 @@ is shown in turn and measured:
   the slide's text are at least ``MIN_FONT_PX`` tall, in the slide's own pixels;
 * every column (a lecture section: a notebook's title or one of its ``##`` steps) has speaker notes.
 
-A screenshot of every slide goes to ``build/browser/slides/DECK/H-V.png``. Without the decks the tests
-FAIL: run ``make slides`` first. ``IFSLIB_SLIDES`` points them at another folder.
+A screenshot of every slide goes to ``build/browser/slides/DECK/H-V.png``. Without the decks the
+tests FAIL: run ``make slides`` first. ``IFSLIB_SLIDES`` points them at another folder.
 """
 from __future__ import annotations
 
@@ -65,7 +66,8 @@ _MEASURE = """() => {
     if (r.left < box.left - 1 || r.right > box.right + 1 || r.top < box.top - 1 || r.bottom > box.bottom + 1)
       out.push(`${e.tagName.toLowerCase()}.${e.className} ${Math.round(r.left - box.left)},${Math.round(r.top - box.top)}`
                + ` to ${Math.round(r.right - box.left)},${Math.round(r.bottom - box.top)}`);
-    if (!e.closest('mjx-container') && e.childNodes.length && [...e.childNodes].some(n => n.nodeType === 3 && n.textContent.trim()))
+    const text = [...e.childNodes].some(n => n.nodeType === 3 && n.textContent.trim());
+    if (text && !e.closest('mjx-container'))
       fonts.push(parseFloat(getComputedStyle(e).fontSize));
   }
   for (const img of page.querySelectorAll('.figure img')) {

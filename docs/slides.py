@@ -3,26 +3,31 @@
 One reveal.js deck per lecture of the course (``docs/slides/lectures.yaml`` lists each lecture's
 notebooks and sections), condensed from the notebooks' cells and their stored outputs: nothing is
 executed and no notebook is written. Slides are across (one column per ``##`` section) and down (the
-slides of a section). What a slide holds:
+slides of a section). What a slide holds, at 1280 x 720 (``Condense`` holds the limits):
 
-* a section's **opening slide**: its heading and at most ``Condense.bullets`` short lines, the first
-  sentence of each paragraph cut at a clause (or the talking points the lecture file gives);
+* a section's **opening slide**: its heading and at most four short lines, the first sentence of
+  each paragraph cut at a clause (or the talking points the lecture file gives); an opening that is
+  empty or only repeats its figure's caption gives way to the figure;
 * a **figure**: each picture a code cell stored, as large as the slide allows, under the section's
-  heading and over a caption (the first sentence of the paragraph before the cell);
-* a **number**: a short printed output (at most ``Condense.text_lines`` lines);
-* an **exercise**: its statement (cut if long); the worked answer is never on a slide.
+  heading and over a caption (the first sentence of the paragraph before the cell); a tall grid of
+  panels is cut at its blank rows, a slide per row or per few rows, so that its labels stay legible;
+* a **number**: a short printed output (at most twelve lines as set); short numbers share the slide
+  before them while both fit;
+* an **exercise**: its statement (cut between sentences if long); the worked answer is never on a slide.
 
 Everything else goes to the **speaker notes** (``<aside class="notes">``, key ``S``) of the slide it
 belongs to: the section's whole prose, every code cell, long outputs, exercise hints, and the worked
-answers (the ``### BEGIN SOLUTION`` blocks of the instructor's notebooks, and model answers of
-written exercises). Skipped: the ``parameters`` cell and the short paragraph that introduces it,
-nbgrader's test cells, interactive widgets (they need a kernel) and warnings on stderr.
+answers (the ``### BEGIN SOLUTION`` blocks of the instructor's notebooks, and model answers and
+rubrics of written exercises). The first slide's notes are the lecture's objectives, class plan and
+homework from the course page. Skipped: the ``parameters`` cell and the short paragraph that
+introduces it, nbgrader's test cells, interactive widgets (they need a kernel), warnings on stderr.
 
 Offline: reveal.js and MathJax are the npm packages under ``build/npm`` (``make slides`` installs
 them), referenced by paths relative to ``build/slides/``; the build fails when a deck would load an
 ``http(s)://`` script or style sheet (the style sheets it links are read too, with their
-``@import``s), when reveal.js or MathJax is missing, or when the lecture file names a notebook or
-section that is not there (or leaves a notebook out).
+``@import``s), when reveal.js or MathJax is missing, when the lecture file names a notebook or
+section that is not there, or when a lecture notebook is in no lecture. ``--notebooks DIR`` builds
+from another folder of notebooks, ``--out DIR`` (beside ``build/npm``) into another folder.
 """
 
 from __future__ import annotations
