@@ -78,7 +78,7 @@ class Condense:
     min_gap: float = 0.004      # a blank line at least this share of a figure's size separates two panels
     room: int = 520             # px under a heading that short slides may share (of about 600: a margin)
     keep_rows: float = 0.8      # a grid's next row joins its slide unless the slide's picture then shrinks below this
-    min_band: float = 0.15      # a row (column) of panels is at least this share of the figure's height (width)
+    label_band: float = 0.4     # a band of a figure shorter than this share of its tallest is a title or labels
 
 
 CONDENSE = Condense()
@@ -373,8 +373,8 @@ def exercise_slide(statement: list[str], answer, where: str) -> Slide:
 
 
 def _bands(blank, size: int) -> list[tuple[int, int]]:
-    """The stretches of non-blank lines between blank gaps, each at least ``min_band`` of ``size``
-    (a smaller one, a title or a row of tick labels, joins the band after it, or the last)."""
+    """The stretches of non-blank lines between blank gaps (rows of panels), a short one (a title or a
+    line of labels, under ``label_band`` of the tallest) joined to the nearer of its neighbours."""
     gap = max(2, round(CONDENSE.min_gap * size))
     bands, start, run = [], None, 0
     for i, empty in enumerate(list(blank) + [True] * gap):
@@ -382,18 +382,20 @@ def _bands(blank, size: int) -> list[tuple[int, int]]:
         if not empty and start is None:
             start = i
         if start is not None and run == gap:
-            bands.append([start, i - gap + 1])
+            bands.append((start, i - gap + 1))
             start = None
-    merged = []
-    for band in bands:
-        if merged and merged[-1][1] - merged[-1][0] < CONDENSE.min_band * size:
-            merged[-1][1] = band[1]
-        else:
-            merged.append(band)
-    if len(merged) > 1 and merged[-1][1] - merged[-1][0] < CONDENSE.min_band * size:
-        last = merged.pop()
-        merged[-1][1] = last[1]
-    return [tuple(b) for b in merged]
+    while len(bands) > 1:
+        tallest = max(b - a for a, b in bands)
+        small = [i for i, (a, b) in enumerate(bands) if b - a < CONDENSE.label_band * tallest]
+        if not small:
+            break
+        i = min(small, key=lambda k: bands[k][1] - bands[k][0])
+        above = bands[i][0] - bands[i - 1][1] if i > 0 else size
+        below = bands[i + 1][0] - bands[i][1] if i + 1 < len(bands) else size
+        j = i - 1 if above <= below else i + 1
+        lo, hi = min(i, j), max(i, j)
+        bands[lo:hi + 1] = [(bands[lo][0], bands[hi][1])]
+    return bands
 
 
 def _png(image) -> bytes:

@@ -186,3 +186,16 @@ def test_talking_points_of_the_lecture_file_replace_the_bullets_and_must_match_a
     stale = slides.Lecture("t", "Lecture 9: t", lecture.parts, {"Gone": ("x",)})
     with pytest.raises(slides.DeckError, match=r"bullets for \['Gone'\] match no section"):
         slides.lecture_columns(stale, tmp_path)
+
+
+def test_a_line_of_labels_stays_with_the_row_it_is_nearer():
+    """Each row of panels has a label line 4 px under it and the next row 14 px further: a cut
+    between rows keeps each row's labels (02's captions under its panels)."""
+    width, rows = 228, []
+    for _ in range(4):
+        rows += [np.zeros((60, width)), np.full((4, width), 255), np.zeros((6, width)), np.full((14, width), 255)]
+    pixels = np.concatenate(rows).astype(np.uint8)
+    out = io.BytesIO()
+    Image.fromarray(pixels).convert("RGB").save(out, format="PNG")
+    pieces = slides.figure_pieces(out.getvalue())
+    assert [_size(p)[1] for p in pieces] == [70] * 4
