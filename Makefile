@@ -51,7 +51,7 @@ $(MATHJAX) $(REVEAL) &:
 book: $(VENV)/.installed-docs $(MATHJAX)  ## static HTML book of the notebooks (stored outputs, warnings as errors) in build/book/html
 	$(PY) docs/build.py
 
-slides: $(VENV)/.installed-docs $(REVEAL)  ## reveal.js slides of each lecture notebook (stored outputs, offline) in build/slides/
+slides: $(VENV)/.installed-docs $(REVEAL)  ## a reveal.js deck per lecture (docs/slides/lectures.yaml; stored outputs, speaker notes, offline) in build/slides/
 	$(PY) docs/slides.py
 
 student: $(VENV)/.installed  ## student edition of the notebooks (solutions stubbed, outputs cleared) in build/student, each executed and checked

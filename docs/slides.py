@@ -1,56 +1,57 @@
-"""Slides for the lectures: ``python docs/slides.py [PREFIX ...]`` (``make slides``).
+"""Lecture slides: ``python docs/slides.py [DECK ...]`` (``make slides``) -> ``build/slides/DECK.html``.
 
-One reveal.js deck per lecture notebook (``notebooks/[0-9][0-9]_*.ipynb``, or those whose name starts
-with a PREFIX given), written to ``build/slides/NAME.html`` by nbconvert's ``SlidesExporter`` from the
-notebook's own cells and their stored outputs: nothing is executed, and the notebook file is never
-written (the slide types are given to an in-memory copy).
+One reveal.js deck per lecture of the course (``docs/slides/lectures.yaml`` lists each lecture's
+notebooks and sections), condensed from the notebooks' cells and their stored outputs: nothing is
+executed and no notebook is written. Slides are across (one column per ``##`` section) and down (the
+slides of a section). What a slide holds, at 1280 x 720 (``Condense`` holds the limits):
 
-Which cell goes where (the notebooks carry no ``slideshow`` metadata; this rule gives each cell one,
-from the lesson's structure):
+* a section's **opening slide**: its heading and at most four short lines, the first sentence of
+  each paragraph cut at a clause (or the talking points the lecture file gives); an opening that is
+  empty or only repeats its figure's caption gives way to the figure;
+* a **figure**: each picture a code cell stored, as large as the slide allows, under the section's
+  heading and over a caption (the first sentence of the paragraph before the cell); a tall grid of
+  panels is cut at its blank rows, a slide per row or per few rows, so that its labels stay legible;
+* a **number**: a short printed output (at most twelve lines as set); short numbers share the slide
+  before them while both fit;
+* an **exercise**: its statement (cut between sentences if long); the worked answer is never on a slide.
 
-* a markdown cell that opens with a ``#`` or ``##`` heading starts a **slide** (a step of the lesson,
-  left to right);
-* any other markdown cell (a ``###`` heading, the sentence of why, an exercise) starts a **sub-slide**
-  (downwards, within the step);
-* a code cell right after a short markdown cell (at most ``SHORT_MARKDOWN`` lines) is a **fragment** of
-  that sub-slide: the explanation shows first, the call and its picture or number appear on the next
-  key press; a code cell after a longer explanation or after another code cell starts a sub-slide of
-  its own;
-* **skipped**: the ``parameters`` cell (the preset's sizes, set by ``notebooks/run.py``), the one- or
-  two-line markdown cell that introduces it, and empty cells;
-* **speaker notes** (shown only in the speaker view, key ``S``): cells tagged ``solution``, markdown
-  cells nbgrader marks as solutions, and every cell of a ``#``/``##`` section whose title starts with
-  "Solution", so the students' screen does not show the answers; in an exercise cell, a worked answer
-  between nbgrader's ``### BEGIN SOLUTION`` and ``### END SOLUTION`` becomes ``...  # YOUR CODE HERE``
-  and the cell's stored output is dropped (as in the student edition, ``notebooks/student.py``);
-* long outputs are shrunk: a text output keeps its first ``MAX_LINES`` lines and says how many were
-  cut; pictures are scaled to fit the slide (CSS); an interactive widget, which needs a kernel, is
-  replaced by a line saying so; a sub-slide still taller than the screen scrolls.
+Everything else goes to the **speaker notes** (``<aside class="notes">``, key ``S``) of the slide it
+belongs to: the section's whole prose, every code cell, long outputs, exercise hints, and the worked
+answers (the ``### BEGIN SOLUTION`` blocks of the instructor's notebooks, and model answers and
+rubrics of written exercises). The first slide's notes are the lecture's objectives, class plan and
+homework from the course page. Skipped: the ``parameters`` cell and the short paragraph that
+introduces it, nbgrader's test cells, interactive widgets (they need a kernel), warnings on stderr.
 
 Offline: reveal.js and MathJax are the npm packages under ``build/npm`` (``make slides`` installs
-them), referenced by paths relative to ``build/slides/``, so a deck opens from disk with no network;
-require.js, jQuery, mermaid and the widget manager, which the template would take from a CDN, are left
-out (the decks do not use them). The script fails when a written deck still names an ``http(s)://``
-script or style sheet (the local style sheets it links are read too, with their ``@import``s: most
-reveal.js themes import Google Fonts, so the theme is "white", whose fonts ship with reveal.js), or
-when reveal.js or MathJax is missing.
+them), referenced by paths relative to ``build/slides/``; the build fails when a deck would load an
+``http(s)://`` script or style sheet (the style sheets it links are read too, with their
+``@import``s), when reveal.js or MathJax is missing, when the lecture file names a notebook or
+section that is not there, or when a lecture notebook is in no lecture. ``--notebooks DIR`` builds
+from another folder of notebooks, ``--out DIR`` (beside ``build/npm``) into another folder.
 """
 
 from __future__ import annotations
 
 import argparse
-import copy
+import base64
+import dataclasses
+import html
 import html.parser
 import re
 import sys
+import textwrap
 from pathlib import Path
 
 import nbformat
+import yaml
 
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
 OUT = ROOT / "build" / "slides"
 NPM = ROOT / "build" / "npm" / "node_modules"
+LECTURES = DOCS / "slides" / "lectures.yaml"
+CSS = DOCS / "slides" / "slides.css"
+COURSE = DOCS / "guide" / "course.md"
 NOTEBOOK_GLOB = "[0-9][0-9]_*.ipynb"
 #: reveal.js and MathJax as seen from a deck in build/slides/ (opened as a file).
 REVEAL_PREFIX = "../npm/node_modules/reveal.js"
@@ -58,127 +59,670 @@ MATHJAX_URL = "../npm/node_modules/mathjax/es5/tex-mml-chtml.js"
 #: "white": its fonts are reveal.js's own files ("simple" and most others @import Google Fonts).
 THEME = "white"
 REVEAL_FILES = ("dist/reveal.js", "dist/reveal.css", f"dist/theme/{THEME}.css", "plugin/notes/notes.js")
-MAX_LINES = 12          # lines of a text output kept on a slide
-SHORT_MARKDOWN = 6      # lines: a code cell after a longer explanation starts its own sub-slide
 WIDGET_MIME = "application/vnd.jupyter.widget-view+json"
-#: nbgrader's markers of a worked answer inside an exercise cell (see notebooks/student.py).
-SOLUTION_BLOCK = re.compile(r"^([ \t]*)### BEGIN SOLUTION[ \t]*\n.*?^[ \t]*### END SOLUTION[ \t]*(\n|$)", re.M | re.S)
-WIDGET_NOTE = "(an interactive widget: run the notebook in JupyterLab to use it)"
-
-# The reveal template of nbconvert, with what it takes from a CDN replaced by the local copies:
-# MathJax 3 (the template's script speaks MathJax 2), reveal.js loaded by <script> (no require.js).
-TEMPLATE = r"""{%- extends 'index.html.j2' -%}
-{%- block html_head_js -%}{%- endblock html_head_js -%}
-{% block jupyter_widgets %}{% endblock jupyter_widgets %}
-{%- block html_head_js_mathjax -%}
-<script>
-window.MathJax = {
-  tex: {inlineMath: [['$', '$'], ['\\(', '\\)']], displayMath: [['$$', '$$'], ['\\[', '\\]']],
-        processEscapes: true, processEnvironments: true, tags: 'ams'},
-  options: {ignoreHtmlClass: 'jp-OutputArea|highlight', processHtmlClass: 'jp-MarkdownOutput'}
-};
-</script>
-<script src="{{ resources.mathjax_url }}"></script>
-{%- endblock html_head_js_mathjax -%}
-{%- block html_head_css -%}
-<style type="text/css">
-/* the theme's sizes are for a few words a slide; a lesson's paragraphs and code need smaller ones */
-.reveal { --r-main-font-size: 26px; --r-heading1-size: 1.7em; --r-heading2-size: 1.35em;
-          --r-heading3-size: 1.1em; --r-heading-text-transform: none; }
-.reveal .slides { text-align: left; }
-:root { --jp-code-font-size: 16px; --jp-cell-prompt-width: 72px; }   /* an 88-character line fits */
-/* a sub-slide taller than the screen scrolls (mouse wheel) instead of running off it */
-.reveal .slides > section:not(.stack), .reveal .slides > section > section {
-  height: 100%; overflow-y: auto; }
-.reveal .jp-OutputArea-output img { max-height: 480px; width: auto; }
-.reveal .jp-OutputArea-output pre { max-height: 320px; overflow: auto; }
-.reveal .jp-InputArea pre { max-height: 300px; overflow: auto; }
-</style>
-{%- endblock html_head_css -%}
-{% block footer_js %}
-<script src="{{ resources.reveal.url_prefix }}/dist/reveal.js"></script>
-<script src="{{ resources.reveal.url_prefix }}/plugin/notes/notes.js"></script>
-<script>
-Reveal.initialize({
-  controls: true, progress: true, history: true, center: false,
-  transition: "{{ resources.reveal.transition | default('slide', true) }}",
-  slideNumber: "c/t",
-  width: {{ resources.reveal.width | default('1100', true) }},
-  height: {{ resources.reveal.height | default('750', true) }},
-  plugins: [RevealNotes]
-});
-</script>
-{% endblock footer_js %}
-"""
+IMAGE_MIMES = ("image/png", "image/jpeg", "image/svg+xml")
 
 
-def _heading(cell) -> tuple[int, str] | None:
+@dataclasses.dataclass(frozen=True)
+class Condense:
+    """How much a slide holds; what does not fit goes to the speaker notes."""
+
+    bullets: int = 4            # lines under a heading: more than four is a paragraph read aloud
+    bullet_chars: int = 110     # visible characters of a line: two lines of the slide at most
+    caption_chars: int = 150    # a figure's caption: two lines under the picture
+    statement_chars: int = 360  # an exercise's statement on its slide: five lines; longer ones cut
+    text_lines: int = 12        # a printed output on a slide, in lines as set (longer ones wrap): what fits
+    text_cols: int = 86         # characters of a line of output at 22 px across the slide; longer lines wrap
+    figure_aspect: float = 2.1  # width / height of the room a figure has under a heading and over a caption
+    split_below: float = 0.6    # a figure drawn narrower than this share of the room is cut into its rows
+    min_gap: float = 0.004      # a blank line at least this share of a figure's size separates two panels
+    room: int = 520             # px under a heading that short slides may share (of about 600: a margin)
+    keep_rows: float = 0.8      # a grid's next row joins its slide unless the slide's picture then shrinks below this
+    label_band: float = 0.4     # a band of a figure shorter than this share of its tallest is a title or labels
+
+
+CONDENSE = Condense()
+#: paragraphs that stay in the notes: for the one who runs the notebook, not for the room
+NOT_BULLETS = ("**How long it runs", "**What you need first", "Parameters")
+
+
+@dataclasses.dataclass(frozen=True)
+class Part:
+    notebook: str                       # a notebook's name, or its number ("09": the one 09_*.ipynb)
+    sections: tuple[str, ...] | None    # heading prefixes of the `##` sections kept; None: all
+    optional: bool = False              # a notebook still to come: left out while it is not there
+
+    def path(self, notebooks: Path) -> Path | None:
+        """The notebook's file, None for an optional one that is not there (else DeckError)."""
+        found = [notebooks / f"{self.notebook}.ipynb"] if (notebooks / f"{self.notebook}.ipynb").is_file() \
+            else sorted(notebooks.glob(f"{self.notebook}_*.ipynb"))
+        if len(found) == 1:
+            return found[0]
+        if not found and self.optional:
+            return None
+        raise DeckError(f"{LECTURES.relative_to(ROOT)} names notebook {self.notebook!r}, which matches "
+                        f"{[p.name for p in found] or 'nothing'} in {notebooks}")
+
+
+@dataclasses.dataclass(frozen=True)
+class Lecture:
+    deck: str
+    title: str
+    parts: tuple[Part, ...]
+    bullets: dict = dataclasses.field(default_factory=dict)   # heading prefix -> talking points
+
+
+@dataclasses.dataclass
+class Slide:
+    title: str
+    kind: str                   # "title", "opening", "figure", "number", "exercise"
+    body: str = ""              # HTML on the slide
+    notes: list[str] = dataclasses.field(default_factory=list)   # HTML in the speaker notes
+    caption: str = ""           # a figure's or number's caption (markdown)
+    height: float = 0           # about how tall its body is, in the slide's pixels (figures: the whole room)
+
+
+class DeckError(Exception):
+    """A lecture file or notebook the decks cannot be built from: the message says what to change."""
+
+
+# ---------------------------------------------------------------------------------------------------
+# The lecture file
+
+def load_lectures(path: Path = LECTURES) -> list[Lecture]:
+    """The lectures of ``path``, checked: every key known, every part a notebook name."""
+    raw = yaml.safe_load(path.read_text(encoding="utf-8"))
+    if not isinstance(raw, list):
+        raise DeckError(f"{path}: expected a list of lectures")
+    lectures = []
+    for entry in raw:
+        unknown = set(entry) - {"deck", "title", "parts", "bullets"}
+        unknown |= {k for p in entry.get("parts", []) for k in p if k not in ("notebook", "sections", "optional")}
+        if unknown or not {"deck", "title", "parts"} <= set(entry):
+            raise DeckError(f"{path}: lecture {entry.get('deck')!r} needs deck, title and parts "
+                            f"(and optionally bullets); unknown keys {sorted(unknown)}")
+        parts = tuple(Part(str(p["notebook"]), tuple(p["sections"]) if "sections" in p else None,
+                           bool(p.get("optional", False))) for p in entry["parts"])
+        bullets = {k: tuple(v) for k, v in (entry.get("bullets") or {}).items()}
+        lectures.append(Lecture(entry["deck"], entry["title"], parts, bullets))
+    return lectures
+
+
+def check_coverage(lectures: list[Lecture], notebooks: Path) -> None:
+    """Raise when a lecture names a missing notebook or a lecture notebook is in no lecture."""
+    listed = {path.stem for lec in lectures for p in lec.parts for path in [p.path(notebooks)] if path}
+    present = {p.stem for p in notebooks.glob(NOTEBOOK_GLOB)}
+    if present - listed:
+        raise DeckError(f"notebooks {sorted(present - listed)} are in no lecture: add each to a lecture's "
+                        f"parts in {LECTURES.relative_to(ROOT)} (the course page says which)")
+
+
+# ---------------------------------------------------------------------------------------------------
+# Markdown: paragraphs, sentences, short lines
+
+_PROTECT = re.compile(r"\$\$.+?\$\$|\$[^$\n]+?\$|`[^`\n]*`|\[[^\]\n]*\]\([^)\n]*\)", re.S)
+_SENTENCE_END = re.compile(r"(?<![ (]e\.g)(?<!i\.e)(?<!Eq)(?<!Fig)(?<!etc)(?<!vs)[.!?](?=\s+[A-Z(*$`\[])")
+_HEADING = re.compile(r"\s*(#{1,6})\s+(.*)")
+
+
+def heading(cell) -> tuple[int, str] | None:
     """(level, title) of the markdown heading a cell opens with, else None."""
-    match = re.match(r"\s*(#{1,6})\s+(.*)", cell.source)
-    return (len(match.group(1)), match.group(2).strip()) if cell.cell_type == "markdown" and match else None
+    match = _HEADING.match(cell.source)
+    if cell.cell_type != "markdown" or not match:
+        return None
+    return len(match.group(1)), match.group(2).strip()
 
 
-def _shrink_outputs(cell) -> None:
-    for out in cell.get("outputs", []):
-        data = out.get("data", {})
-        if WIDGET_MIME in data:
-            out["data"] = {"text/plain": WIDGET_NOTE}
-            continue
-        for key, text in ((k, data[k]) for k in ("text/plain",) if k in data):
-            data[key] = _cut(text)
-        if out.get("output_type") == "stream":
-            out["text"] = _cut(out["text"])
+def paragraphs(source: str) -> list[str]:
+    """Blank-line separated blocks of ``source``, keeping code fences, ``$$`` and <details> whole."""
+    blocks, current = [], []
+    for line in source.splitlines():
+        if not line.strip() and current and _balanced("\n".join(current)):
+            blocks.append("\n".join(current))
+            current = []
+        elif line.strip() or current:
+            current.append(line)
+    if current:
+        blocks.append("\n".join(current))
+    return blocks
 
 
-def _cut(text: str) -> str:
-    lines = text.splitlines()
-    if len(lines) <= MAX_LINES:
+def _balanced(text: str) -> bool:
+    return (text.count("```") % 2 == 0 and text.count("$$") % 2 == 0
+            and text.count("<details") == text.count("</details>"))
+
+
+def _spans(text: str) -> list[tuple[int, int]]:
+    return [m.span() for m in _PROTECT.finditer(text)]
+
+
+def _outside(pos: int, spans) -> bool:
+    return all(not (a < pos < b) for a, b in spans)
+
+
+def visible_length(text: str) -> int:
+    """About how many characters ``text`` shows once rendered: markup dropped, formulas by their glyphs."""
+    text = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", text)
+    # a formula's glyphs are wider than text and never break across lines: each counts 1.5
+    text = re.sub(r"\$+([^$]*)\$+", lambda m: "x" * round(1.5 * len(re.sub(r"\\[a-zA-Z]+|[{}_^\\ ]", lambda c: (
+        "x" if len(c.group()) > 1 else ""), m.group(1)))), text)
+    return len(re.sub(r"[*`_\\]", "", text))
+
+
+def sentences(text: str) -> list[str]:
+    """The sentences of a paragraph (never cut inside a formula, code or link, nor after "e.g.")."""
+    text = " ".join(text.split())
+    spans, found, start = _spans(text), [], 0
+    for match in _SENTENCE_END.finditer(text):
+        if _outside(match.start(), spans):
+            found.append(text[start:match.end()].strip())
+            start = match.end()
+    return found + ([text[start:].strip()] if text[start:].strip() else [])
+
+
+def first_sentence(text: str) -> str:
+    """The first sentence of a paragraph."""
+    return (sentences(text) or [""])[0]
+
+
+def shorten(text: str, limit: int) -> str | None:
+    """``text`` if it shows at most ``limit`` characters, else cut at the last clause (``,;:``) that
+    fits, with an ellipsis; None when no clause of a third of ``limit`` or more fits."""
+    text = " ".join(text.split())
+    if visible_length(text) <= limit:
         return text
-    return "\n".join(lines[:MAX_LINES] + [f"... ({len(lines) - MAX_LINES} more lines in the notebook)"])
+    spans = _spans(text)
+    cuts = [m.start() for m in re.finditer(r"[,;:](?=\s)| \(| (?:and|but|so|since|while|which|where) ",
+                                           text) if _outside(m.start(), spans)]
+    cuts = [c for c in cuts if limit // 3 <= visible_length(text[:c]) <= limit - 1]
+    if not cuts:
+        return None
+    return text[:max(cuts)].rstrip(" ,;:") + " …"
 
 
-def slide_types(nb) -> list[str]:
-    """The slide type of each cell of ``nb`` by the rule of this module's docstring."""
-    types, previous, lines, in_solutions = [], None, 0, False
-    cells = nb.cells
-    for index, cell in enumerate(cells):
-        head = _heading(cell)
-        if head and head[0] <= 2:
-            in_solutions = head[1].lower().startswith("solution")
-        tags = cell.metadata.get("tags", [])
-        before_parameters = (index + 1 < len(cells) and "parameters" in cells[index + 1].metadata.get("tags", [])
-                             and cell.cell_type == "markdown" and not head
-                             and len(cell.source.strip().splitlines()) <= 2)
-        if not cell.source.strip() or "parameters" in tags or before_parameters:
-            kind = "skip"
-        elif in_solutions or "solution" in tags or "solutions" in tags or (
-                cell.cell_type == "markdown" and cell.metadata.get("nbgrader", {}).get("solution")):
-            kind = "notes"
-        elif head and head[0] <= 2:
-            kind = "slide"
-        elif cell.cell_type == "markdown":
-            kind = "subslide"
+def bullet_of(paragraph: str) -> str | None:
+    """A short line standing for a paragraph: its first sentence, cut if long; None for a list."""
+    if re.match(r"\s*([-*+]|\d+\.)\s", paragraph) or paragraph.lstrip().startswith(("<", "```", "$$", "|")):
+        return None
+    head = re.match(r"#{1,6}\s+(.*)", paragraph.strip())
+    if head:
+        return shorten(f"**{head.group(1).strip()}**", CONDENSE.bullet_chars)
+    sentence = first_sentence(paragraph)
+    return shorten(re.sub(r"^\*\*([^*]+?)[.:]?\*\*[.:]?\s*", r"**\1:** ", sentence), CONDENSE.bullet_chars)
+
+
+def list_items(paragraph: str) -> list[str]:
+    """The items of a markdown list paragraph (each joined onto one line)."""
+    items = re.split(r"(?m)^\s*(?:[-*+]|\d+\.)\s+", paragraph)
+    return [" ".join(i.split()) for i in items if i.strip()] if re.match(r"\s*([-*+]|\d+\.)\s", paragraph) else []
+
+
+def md(text: str, inline: bool = False) -> str:
+    """Markdown to HTML (formulas left for MathJax)."""
+    from nbconvert.filters.markdown_mistune import markdown2html_mistune
+
+    out = markdown2html_mistune(text).strip()
+    if inline and out.startswith("<p>") and out.endswith("</p>") and out.count("<p>") == 1:
+        out = out[3:-4]
+    return out
+
+
+#: code in the speaker notes: the speaker view shows the notes without the deck's style sheet
+NOTES_PRE = "white-space: pre-wrap; font-size: 0.75em; line-height: 1.3"
+
+
+def pre(text: str, cls: str = "") -> str:
+    """``text`` preformatted: on a slide with the class ``cls``, in the notes (no class) wrapped."""
+    attr = f'class="{cls}"' if cls else f'style="{NOTES_PRE}"'
+    return f"<pre {attr}>{html.escape(text)}</pre>"
+
+
+# ---------------------------------------------------------------------------------------------------
+# Notebooks: sections, and the slides of a section
+
+SOLUTION_BLOCK = re.compile(r"^[ \t]*### BEGIN SOLUTION[ \t]*\n(.*?)^[ \t]*### END SOLUTION", re.M | re.S)
+MARK_SCHEME = re.compile(r"=== BEGIN MARK SCHEME ===(.*?)=== END MARK SCHEME ===", re.S)
+EXERCISE = re.compile(r"\s*\*\*(Exercise[^*]*?)[.:]?\*\*[.:]?\s*")
+
+
+@dataclasses.dataclass
+class Section:
+    level: int                  # 1: the notebook's title, 2: a step of the lesson, 3: a part of a step
+    title: str
+    cells: list
+
+
+def sections(nb) -> list[Section]:
+    """The notebook cut at its ``#``, ``##`` and ``###`` headings (cells before the first: the title's)."""
+    found = [Section(1, "", [])]
+    for cell in nb.cells:
+        head = None if _nbgrader(cell) else heading(cell)   # "### BEGIN SOLUTION" is no heading
+        if head and head[0] <= 3 and (found[-1].cells or found[-1].title):
+            found.append(Section(head[0], head[1], []))
+        elif head and head[0] <= 3:
+            found[-1].level, found[-1].title = head
+        found[-1].cells.append(cell)
+    return found
+
+
+def pick(secs: list[Section], part: Part, where: str) -> list[Section]:
+    """The title and the sections of ``part`` (a ``###`` goes with the ``##`` above it)."""
+    if part.sections is None:
+        return secs
+    tops = [s.title for s in secs if s.level == 2]
+    for prefix in part.sections:
+        if not any(t.startswith(prefix) for t in tops):
+            raise DeckError(f"{LECTURES.relative_to(ROOT)}: {where} has no `##` section starting with "
+                            f"{prefix!r}; its sections are now {tops}")
+    kept, keep = [], True
+    for sec in secs:
+        if sec.level <= 2:
+            keep = sec.level == 1 or sec.title.startswith(part.sections)
+        if keep:
+            kept.append(sec)
+    return kept
+
+
+def _nbgrader(cell) -> dict:
+    return cell.metadata.get("nbgrader", {})
+
+
+def _is_test(cell) -> bool:
+    return bool(_nbgrader(cell).get("grade")) and not _nbgrader(cell).get("solution")
+
+
+def _skipped(cells, index) -> bool:
+    """The parameters cell, the short paragraph introducing it, nbgrader tests, empty cells."""
+    cell = cells[index]
+    after = cells[index + 1] if index + 1 < len(cells) else None
+    intro = (cell.cell_type == "markdown" and after is not None and "parameters" in after.metadata.get("tags", [])
+             and not heading(cell) and len(cell.source.strip().splitlines()) <= 3)
+    return not cell.source.strip() or "parameters" in cell.metadata.get("tags", []) or intro or _is_test(cell)
+
+
+def solution_text(cell) -> str:
+    """The worked answer of an exercise cell: its BEGIN/END SOLUTION blocks (else the whole cell)."""
+    blocks = SOLUTION_BLOCK.findall(cell.source) or MARK_SCHEME.findall(cell.source)
+    return "\n".join(textwrap.dedent(b).strip("\n") for b in blocks) if blocks else cell.source
+
+
+def exercise_slide(statement: list[str], answer, where: str) -> Slide:
+    """An exercise's slide: its title and statement (cut when long); hint and worked answer in the notes."""
+    lead = EXERCISE.match(statement[0])
+    title = lead.group(1).strip() if lead else "Exercise"
+    text = [statement[0][lead.end():] if lead else statement[0]]
+    text += [p for p in statement[1:] if not p.lstrip().startswith("<")]
+    body, used, every = [], 0, sentences(" ".join(text))
+    for sentence in every:
+        if used + visible_length(sentence) > CONDENSE.statement_chars:
+            break
+        body.append(sentence)
+        used += visible_length(sentence)
+    body = body or [shorten(first_sentence(text[0]), CONDENSE.statement_chars) or title]
+    more = " …" if len(body) < len(every) else ""
+    slide = Slide(title, "exercise", f'<div class="statement">{md(" ".join(body) + more)}</div>')
+    slide.notes.append(md("\n\n".join(statement)))
+    if answer is None:
+        slide.notes.append(f"<p><em>No worked answer in {where}.</em></p>")
+    elif answer.cell_type == "code":
+        slide.notes.append("<p><strong>Worked answer</strong> (the notebook's solution block):</p>"
+                           + pre(solution_text(answer)))
+    else:
+        slide.notes.append("<p><strong>Model answer and rubric:</strong></p>" + md(solution_text(answer)))
+    return slide
+
+
+def _bands(blank, size: int) -> list[tuple[int, int]]:
+    """The stretches of non-blank lines between blank gaps (rows of panels), a short one (a title or a
+    line of labels, under ``label_band`` of the tallest) joined to the nearer of its neighbours."""
+    gap = max(2, round(CONDENSE.min_gap * size))
+    bands, start, run = [], None, 0
+    for i, empty in enumerate(list(blank) + [True] * gap):
+        run = run + 1 if empty else 0
+        if not empty and start is None:
+            start = i
+        if start is not None and run == gap:
+            bands.append((start, i - gap + 1))
+            start = None
+    while len(bands) > 1:
+        tallest = max(b - a for a, b in bands)
+        small = [i for i, (a, b) in enumerate(bands) if b - a < CONDENSE.label_band * tallest]
+        if not small:
+            break
+        i = min(small, key=lambda k: bands[k][1] - bands[k][0])
+        above = bands[i][0] - bands[i - 1][1] if i > 0 else size
+        below = bands[i + 1][0] - bands[i][1] if i + 1 < len(bands) else size
+        j = i - 1 if above <= below else i + 1
+        lo, hi = min(i, j), max(i, j)
+        bands[lo:hi + 1] = [(bands[lo][0], bands[hi][1])]
+    return bands
+
+
+def _png(image) -> bytes:
+    import io
+
+    buffer = io.BytesIO()
+    image.save(buffer, format="PNG")
+    return buffer.getvalue()
+
+
+def figure_pieces(png: bytes) -> list[bytes]:
+    """A figure laid out for the slide's room: a tall grid of panels cut at its blank rows into
+    pieces about as wide as the room, a strip of panels so long that it is drawn larger in two rows
+    folded; else unchanged."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    image = Image.open(io.BytesIO(png)).convert("RGBA")
+    width, height = image.size
+    pixels = np.asarray(image)
+    blank = (pixels[..., 3] < 10) | (pixels[..., :3].min(axis=-1) > 245)
+    aspect = width / height
+    if aspect < CONDENSE.split_below * CONDENSE.figure_aspect:
+        rows = _bands(blank.all(axis=1), height)
+        if len(rows) < 2:
+            return [png]
+        def scale(h):               # how much the room magnifies a piece h pixels tall
+            return min(1 / width, 1 / (CONDENSE.figure_aspect * h))
+
+        pieces, top = [], rows[0][0]
+        for previous, row in zip(rows, rows[1:]):      # a piece ends before a row that would shrink it
+            if scale(row[1] - top) < CONDENSE.keep_rows * scale(previous[1] - top):
+                pieces.append((top, previous[1]))
+                top = row[0]
+        pieces.append((top, rows[-1][1]))
+        return [_png(image.crop((0, a, width, b))) for a, b in pieces] if len(pieces) > 1 else [png]
+    if aspect / 4 > CONDENSE.figure_aspect:            # folded in two rows, it is drawn larger
+        cols = _bands(blank.all(axis=0), width)
+        if len(cols) < 4:
+            return [png]
+        half = len(cols) // 2
+        left, right = image.crop((0, 0, cols[half][0], height)), image.crop((cols[half][0], 0, width, height))
+        folded = Image.new("RGBA", (max(left.width, right.width), 2 * height), (255, 255, 255, 255))
+        folded.paste(left, (0, 0))
+        folded.paste(right, (0, height))
+        return [_png(folded)]
+    return [png]
+
+
+def _image_src(out) -> list[str]:
+    data = out.get("data", {})
+    found = []
+    for mime in IMAGE_MIMES:
+        if mime in data:
+            payload = data[mime]
+            if mime == "image/svg+xml":
+                text = payload if isinstance(payload, str) else "".join(payload)
+                payload = base64.b64encode(text.encode()).decode()
+            payload = "".join(payload.split())
+            if mime == "image/png":
+                found += [f"data:{mime};base64,{base64.b64encode(p).decode()}"
+                          for p in figure_pieces(base64.b64decode(payload))]
+            else:
+                found.append(f"data:{mime};base64,{payload}")
+            break
+    return found
+
+
+def _text_of(out) -> str:
+    if out.get("output_type") == "stream":
+        return out["text"] if out.get("name") == "stdout" else ""
+    data = out.get("data", {})
+    if out.get("output_type") == "execute_result" and set(data) <= {"text/plain"}:
+        text = data.get("text/plain", "")
+        return "" if text.startswith("<") else text
+    return ""
+
+
+def caption_of(paragraph: str | None) -> str:
+    if not paragraph or paragraph.lstrip().startswith(("<", "```", "|")):
+        return ""
+    return shorten(first_sentence(paragraph), CONDENSE.caption_chars) or ""
+
+
+class SectionSlides:
+    """The slides of one section, cell by cell: ``SectionSlides(sec, where).build(bullets)``."""
+
+    def __init__(self, section: Section, where: str):
+        self.section, self.where = section, where
+        self.opening = Slide(section.title, "title" if section.level == 1 else "opening")
+        self.slides = [self.opening]
+        self.prose: list[str] = []          # paragraphs that are not exercises: the opening's bullets
+        self.statement: list[str] | None = None     # an exercise waiting for its answer cell
+        self.last: str | None = None        # the paragraph just before a cell: a figure's caption
+
+    def build(self, bullets: tuple[str, ...] | None = None) -> list[Slide]:
+        cells = self.section.cells
+        for index, cell in enumerate(cells):
+            if _skipped(cells, index):
+                continue
+            if _nbgrader(cell).get("solution"):
+                self.exercise(cell)
+            elif cell.cell_type == "markdown":
+                self.markdown(cell)
+            else:
+                self.code(cell)
+        if self.statement:
+            self.exercise(None)
+        lines = list(bullets) if bullets else self.bullets()
+        self.opening.body = "<ul>" + "".join(f"<li>{md(b, inline=True)}</li>" for b in lines) + "</ul>" if lines else ""
+        self.opening.notes.insert(0, md("\n\n".join(self.prose)) if self.prose else "")
+        self.opening.height = sum(_text_height(b, 30, 1190) + 16 for b in lines)
+        shown = [s.caption for s in self.slides[1:]]
+        if len(self.slides) > 1 and self.section.level > 1 and self.slides[1].kind in ("figure", "number") \
+                and all(_repeats(b, shown) for b in lines):
+            # an opening that is empty or would only repeat its figures' captions: its notes go to the next slide
+            self.slides[1].notes[:0] = self.opening.notes
+            return self.slides[1:]
+        return merge_short(self.slides, set(lines))
+
+    def bullets(self) -> list[str]:
+        found = []
+        for paragraph in (p for p in self.prose if not p.lstrip().startswith(NOT_BULLETS)):
+            items = list_items(paragraph)
+            found += [s for s in (shorten(i, CONDENSE.bullet_chars) for i in items) if s] if items \
+                else [b for b in [bullet_of(paragraph)] if b]
+        return found[:CONDENSE.bullets]
+
+    def markdown(self, cell) -> None:
+        source = _HEADING.sub("", cell.source, count=1) if heading(cell) else cell.source
+        in_statement = False        # the paragraphs after an exercise's first, in its cell, are its own
+        for paragraph in paragraphs(source):
+            if EXERCISE.match(paragraph):
+                if self.statement:
+                    self.exercise(None)
+                self.statement, in_statement = [paragraph], True
+            elif self.statement is not None and (in_statement or paragraph.lstrip().startswith("<details")):
+                self.statement.append(paragraph)
+            else:
+                self.prose.append(paragraph)
+                self.last = paragraph
+
+    def exercise(self, answer) -> None:
+        if answer is not None and answer.cell_type == "code" and not self.statement:
+            self.statement = ["**Exercise.** (its statement is not in the markdown cell before it)"]
+        if self.statement:
+            self.slides.append(exercise_slide(self.statement, answer, self.where))
+        elif answer is not None:        # a written answer cell with the statement in its own text
+            self.slides[-1].notes.append("<p><strong>Model answer:</strong></p>" + md(solution_text(answer)))
+        self.statement = None
+
+    def code(self, cell) -> None:
+        figures = [pieces for out in cell.get("outputs", []) for pieces in [_image_src(out)] if pieces]
+        text = "".join(_text_of(out) for out in cell.get("outputs", [])).strip("\n")
+        code = pre(cell.source)
+        caption = caption_of(self.last)
+        for pieces in figures:
+            for i, src in enumerate(pieces):
+                part = f" (row {i + 1} of {len(pieces)})" if len(pieces) > 1 else ""
+                notes = [code] if i == 0 else [f"<p>Row {i + 1} of {len(pieces)} of the figure, a slide each.</p>"]
+                self.slides.append(Slide(self.section.title, "figure", _figure(src, caption + part), notes, caption))
+            code = ""
+        rows = sum(-(-max(len(line), 1) // CONDENSE.text_cols) for line in text.splitlines())
+        if text and rows <= CONDENSE.text_lines:
+            height = 30 * rows + 52 + (_text_height(caption, 24, 1190) + 10 if caption else 0)
+            self.slides.append(Slide(self.section.title, "number", pre(text, "output") + _caption(caption), [code],
+                                     caption, height))
+        elif text:
+            self.slides[-1].notes += [code, "<p>Its output:</p>" + pre(text)]
+        elif code and not figures and not _imports_only(cell.source):
+            self.slides[-1].notes.append(code)
+        self.last = None
+
+
+def _text_height(text: str, font: int, width: int) -> float:
+    """About how tall ``text`` is set at ``font`` px in a box ``width`` px wide (1.3 lines apart)."""
+    per_line = width / (0.48 * font)          # characters a line of this font holds
+    return -(-visible_length(text) // per_line) * 1.3 * font
+
+
+def _repeats(line: str, others) -> bool:
+    """Whether ``line`` says what one of ``others`` says (the same sentence, cut or not)."""
+    line = line.removesuffix(" …")
+    return bool(line) and any(o and (o.removesuffix(" …").startswith(line) or line.startswith(o.removesuffix(" …")))
+                              for o in others)
+
+
+def merge_short(slides: list[Slide], bullets: set[str]) -> list[Slide]:
+    """Slides with a printed number joined to the slide before them (an opening or another number)
+    while both fit under one heading; a caption that repeats one of the opening's lines is dropped."""
+    out = slides[:1]
+    for slide in slides[1:]:
+        last = out[-1]
+        if slide.kind == "number" and last.kind in ("opening", "number") and last.height + slide.height <= CONDENSE.room:
+            body = slide.body.replace(_caption(slide.caption), "") if _repeats(slide.caption, bullets) else slide.body
+            last.body += body
+            last.notes += slide.notes
+            last.height += slide.height
+            last.kind = "number" if last.kind == "number" else "opening"
         else:
-            kind = "fragment" if previous == "markdown" and lines <= SHORT_MARKDOWN else "subslide"
-        if kind not in ("skip", "notes"):
-            previous, lines = cell.cell_type, len(cell.source.strip().splitlines())
-        types.append(kind)
-    return types
+            out.append(slide)
+    return out
 
 
-def lecture_copy(nb):
-    """An in-memory copy of ``nb`` with slide types and shrunk outputs, and no saved widget state."""
-    nb = copy.deepcopy(nb)
-    nb.metadata.pop("widgets", None)
-    for cell, kind in zip(nb.cells, slide_types(nb)):
-        cell.metadata["slideshow"] = {"slide_type": kind}
-        if cell.cell_type == "code" and kind != "notes" and SOLUTION_BLOCK.search(cell.source):
-            cell.source = SOLUTION_BLOCK.sub(lambda m: f"{m.group(1)}...  # YOUR CODE HERE\n", cell.source).rstrip()
-            cell.outputs = []        # the stored output ran the worked answer
-        if cell.cell_type == "code":
-            _shrink_outputs(cell)
-    return nb
+def _imports_only(source: str) -> bool:
+    return all(re.match(r"\s*(import|from)\s", line) or not line.strip() for line in source.splitlines())
 
+
+def _caption(text: str) -> str:
+    return f'<p class="caption">{md(text, inline=True)}</p>' if text else ""
+
+
+def _figure(src: str, caption: str) -> str:
+    return f'<div class="figure"><img src="{src}" alt="{html.escape(caption or "a figure")}"></div>' + _caption(caption)
+
+
+# ---------------------------------------------------------------------------------------------------
+# Decks
+
+def course_notes(title: str, course: Path = COURSE) -> str:
+    """The course page's objectives, class plan and homework for the lecture ``title`` (speaker notes)."""
+    key = title.split(":")[0].strip()
+    text = course.read_text(encoding="utf-8") if course.is_file() else ""
+    match = re.search(rf"^## {re.escape(key)}\b.*?$(.*?)(?=^## |\Z)", text, re.M | re.S)
+    if not match:
+        return f"<p>The course page ({course.relative_to(ROOT)}) has no section for {key}.</p>"
+    kept = [p for p in paragraphs(match.group(1)) if p.startswith(("**Objectives", "**In class", "**At home"))]
+    return md("\n\n".join(kept)) if kept else md(match.group(1))
+
+
+def lecture_columns(lecture: Lecture, notebooks: Path) -> list[list[Slide]]:
+    """The deck's columns (left to right), each a list of slides (top to bottom)."""
+    title = Slide(lecture.title, "title", notes=[course_notes(lecture.title)])
+    columns, used = [[title]], set()
+    for part in lecture.parts:
+        path = part.path(notebooks)
+        if path is None:
+            continue
+        nb = nbformat.read(path, as_version=4)
+        names, kept = [], pick(sections(nb), part, f"notebooks/{path.name}")
+        # a notebook shown in part: its title slide lists the parts shown, not the whole lesson's intro
+        shown = tuple(_title_md(s.title) for s in kept if s.level == 2)[:CONDENSE.bullets] if part.sections else None
+        for sec in kept:
+            keys = [k for k in lecture.bullets if sec.title.startswith(k)]
+            used.update(keys)
+            points = lecture.bullets[keys[0]] if keys else shown if sec.level == 1 else None
+            slides = SectionSlides(sec, f"notebooks/{path.name}").build(points)
+            slides[0].notes.append(f"<p><em>notebooks/{path.name}, {html.escape(sec.title)}</em></p>")
+            if sec.level == 3 and len(columns) > 1:
+                columns[-1] += slides
+            else:
+                columns.append(slides)
+            names.append(sec.title) if sec.level == 1 else None
+        title.body += "".join(f"<li>{_title(n)}</li>" for n in names)
+    title.body = f"<ul>{title.body}</ul>"
+    stale = set(lecture.bullets) - used
+    if stale:
+        raise DeckError(f"{LECTURES.relative_to(ROOT)}: {lecture.deck}'s bullets for {sorted(stale)} match no section")
+    return columns
+
+
+def _title_md(text: str) -> str:
+    """A heading's text as markdown that stays one line ("1. IFS" is a title, not a list)."""
+    return re.sub(r"^(\d+)\.", r"\1\\.", text)
+
+
+def _title(text: str) -> str:
+    return md(_title_md(text), inline=True)
+
+
+def slide_html(slide: Slide) -> str:
+    tag = "h1" if slide.kind == "title" else "h2"
+    notes = "".join(n for n in slide.notes if n)
+    return (f'<section class="{slide.kind}"><div class="page"><{tag}>{_title(slide.title)}</{tag}>'
+            f"{slide.body}</div>\n<aside class=\"notes\">{notes}</aside></section>\n")
+
+
+PAGE = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1.0">
+<title>{title}</title>
+<link rel="stylesheet" href="{reveal}/dist/reveal.css">
+<link rel="stylesheet" href="{reveal}/dist/theme/{theme}.css">
+<style>
+{css}
+</style>
+<script>
+window.MathJax = {{
+  tex: {{inlineMath: [['$', '$'], ['\\\\(', '\\\\)']], displayMath: [['$$', '$$'], ['\\\\[', '\\\\]']],
+        processEscapes: true}},
+  options: {{ignoreHtmlClass: 'notes|tex2jax_ignore', processHtmlClass: 'tex2jax_process'}}
+}};
+</script>
+<script src="{mathjax}"></script>
+</head><body>
+<div class="reveal"><div class="slides">
+{slides}</div></div>
+<script src="{reveal}/dist/reveal.js"></script>
+<script src="{reveal}/plugin/notes/notes.js"></script>
+<script>
+Reveal.initialize({{width: {width}, height: {height}, margin: 0.02, center: false, hash: true,
+  controls: false, slideNumber: "c/t", transition: "fade", plugins: [RevealNotes]}});
+</script>
+</body></html>
+"""
+WIDTH, HEIGHT = 1280, 720       # the slide's box: a 720p projector, and the browser test's viewport
+
+
+def deck_html(lecture: Lecture, columns: list[list[Slide]]) -> str:
+    body = ""
+    for column in columns:
+        inner = "".join(slide_html(s) for s in column)
+        body += f"<section>\n{inner}</section>\n" if len(column) > 1 else inner
+    return PAGE.format(title=html.escape(lecture.title), reveal=REVEAL_PREFIX, theme=THEME, mathjax=MATHJAX_URL,
+                       css=CSS.read_text(encoding="utf-8"), slides=body, width=WIDTH, height=HEIGHT)
+
+
+def index_html(lectures: list[Lecture]) -> str:
+    items = "".join(f'<li><a href="{lec.deck}.html">{html.escape(lec.title)}</a></li>' for lec in lectures)
+    return (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>Lecture slides</title></head>'
+            f"<body><h1>Lecture slides</h1><ul>{items}</ul><p>Key S opens the speaker notes.</p></body></html>\n")
+
+
+# ---------------------------------------------------------------------------------------------------
+# Offline: no deck may load a script or style sheet from the network
 
 _CSS_URL = re.compile(r"""(?:@import\s*(?:url\()?|url\()\s*['"]?([^'")\s]+)""")
 _REMOTE = re.compile(r"\s*(https?:)?//")
@@ -237,48 +781,55 @@ def remote_assets(page: str, base: Path = OUT) -> list[str]:
     return parser.found
 
 
-def exporter():
-    import jinja2
-    from nbconvert import SlidesExporter
 
-    return SlidesExporter(
-        extra_loaders=[jinja2.DictLoader({"ifslib_slides.html.j2": TEMPLATE})],
-        template_file="ifslib_slides.html.j2",
-        reveal_url_prefix=REVEAL_PREFIX, mathjax_url=MATHJAX_URL, reveal_theme=THEME,
-        embed_images=True)
-
-
-def build(paths: list[Path]) -> list[str]:
-    """Write one deck per notebook; return the problems found (remote assets, too few slides)."""
-    OUT.mkdir(parents=True, exist_ok=True)
-    slides, problems = exporter(), []
-    for path in paths:
-        nb = nbformat.read(path, as_version=4)
-        body, _ = slides.from_notebook_node(lecture_copy(nb), resources={
-            "metadata": {"name": path.stem, "path": str(path.parent)}})
-        target = OUT / f"{path.stem}.html"
-        target.write_text(body, encoding="utf-8")
-        remote = remote_assets(body)
-        problems += [f"{target.relative_to(ROOT)} loads {r}" for r in remote]
-        kinds = slide_types(nb)
-        print(f"{target.relative_to(ROOT)}: {kinds.count('slide')} slides, {kinds.count('subslide')} sub-slides, "
-              f"{kinds.count('fragment')} fragments, {kinds.count('notes')} notes, {len(body) // 1024} KiB")
+def build(lectures: list[Lecture], notebooks: Path = ROOT / "notebooks", out: Path = OUT) -> list[str]:
+    """Write one deck per lecture and an index into ``out``; return the problems found (remote assets)."""
+    out.mkdir(parents=True, exist_ok=True)
+    problems = []
+    for lecture in lectures:
+        if not any(part.path(notebooks) for part in lecture.parts):
+            print(f"{lecture.deck}: none of its notebooks is there yet, no deck")
+            continue
+        columns = lecture_columns(lecture, notebooks)
+        page = deck_html(lecture, columns)
+        target = out / f"{lecture.deck}.html"
+        target.write_text(page, encoding="utf-8")
+        problems += [f"{target} loads {r}" for r in remote_assets(page, out)]
+        slides = [s for c in columns for s in c]
+        kinds = {k: sum(s.kind == k for s in slides) for k in ("figure", "number", "exercise")}
+        print(f"{target}: {len(slides)} slides in {len(columns)} columns "
+              f"({kinds['figure']} figures, {kinds['number']} numbers, {kinds['exercise']} exercises), "
+              f"{sum(bool(''.join(s.notes)) for s in slides)} with speaker notes, {len(page) // 1024} KiB")
+    (out / "index.html").write_text(index_html(lectures), encoding="utf-8")
+    if len(lectures) == len(load_lectures()):     # a whole build: decks of an earlier layout go
+        for stale in sorted(set(out.glob("*.html")) - {out / f"{lec.deck}.html" for lec in lectures} - {out / "index.html"}):
+            stale.unlink()
+            print(f"{stale}: removed (no such deck now)")
     return problems
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("prefixes", nargs="*", help="only the notebooks whose name starts with one of these")
+    parser.add_argument("decks", nargs="*", help="only these decks (lecture1 ...); default: all")
+    parser.add_argument("--notebooks", type=Path, default=ROOT / "notebooks", help="the notebooks' folder")
+    parser.add_argument("--out", type=Path, default=OUT,
+                        help="the decks' folder, a sibling of build/npm (default build/slides)")
     args = parser.parse_args(argv)
+    out = args.out.resolve()
     missing = [f for f in REVEAL_FILES if not (NPM / "reveal.js" / f).is_file()]
-    missing += [] if (OUT / MATHJAX_URL).resolve().is_file() else ["mathjax"]
+    missing += [] if (out / MATHJAX_URL).resolve().is_file() else ["mathjax"]
     if missing:
-        sys.exit(f"missing under {NPM}: {missing}: run `make slides` (it installs reveal.js and mathjax from npm)")
-    paths = [p for p in sorted((ROOT / "notebooks").glob(NOTEBOOK_GLOB))
-             if not args.prefixes or p.name.startswith(tuple(args.prefixes))]
-    if not paths:
-        sys.exit(f"no notebooks/{NOTEBOOK_GLOB} matches {args.prefixes}")
-    problems = build(paths)
+        sys.exit(f"missing under {NPM} (as seen from {out}): {missing}: run `make slides` "
+                 "(it installs reveal.js and mathjax from npm)")
+    try:
+        lectures = load_lectures()
+        check_coverage(lectures, args.notebooks)
+        chosen = [lec for lec in lectures if not args.decks or lec.deck in args.decks]
+        if not chosen:
+            raise DeckError(f"no deck named {args.decks}; the decks are {[lec.deck for lec in lectures]}")
+        problems = build(chosen, args.notebooks, out)
+    except DeckError as err:
+        sys.exit(f"error: {err}")
     for problem in problems:
         print("error:", problem, file=sys.stderr)
     return 1 if problems else 0
