@@ -63,16 +63,23 @@ class MeasureOptions:
         Pushes at each finer grid (2, 4, .. ``supersample`` cells a pixel), each started from the
         coarser grid's mass split evenly: the coarse grid's blur shrinks like ``sum p_i s_i^2`` a push
         (0.63 for the fern: 12 pushes leave 0.4 %).
+    max_lost : float
+        Share of the mass the last push may lose outside the frame before `measure_from_maps` refuses
+        (`MAX_LOST_MASS`: an attractor that leaves the frame has no measure on it); a fit, whose maps
+        may wander out on the way, passes 1 (the mass kept is renormalised to 1 after every push).
     """
 
     iterations: int = 64
     supersample: int = 4
     refine: int = 12
+    max_lost: float = MAX_LOST_MASS
 
     def __post_init__(self) -> None:
         check_int(self.iterations, "iterations", 1)
         check_int(self.supersample, "supersample", 1)
         check_int(self.refine, "refine", 1)
+        if not (isinstance(self.max_lost, (int, float)) and 0 <= self.max_lost <= 1):
+            raise IFSError(f"max_lost must be a share from 0 to 1, got {self.max_lost!r}")
         if self.supersample & (self.supersample - 1):
             raise IFSError(f"supersample must be a power of 2 (1, 2, 4, ..), got {self.supersample}")
 
@@ -228,7 +235,7 @@ def measure_from_maps(maps: torch.Tensor, probabilities, size: int,
     while mass.shape[0] < fine:  # each finer grid starts from the coarser one's mass, split evenly
         mass = mass.repeat_interleave(2, 0).repeat_interleave(2, 1) / 4
         mass, lost = _settle(mass, maps, p, options.refine)
-    if lost > MAX_LOST_MASS:
+    if lost > options.max_lost:
         raise IFSError(f"the last push lost {lost:.2%} of the mass outside the frame [-0.5, 0.5]^2: "
                        "the attractor does not fit in the frame; scale the IFS into it")
     k = options.supersample
