@@ -77,7 +77,7 @@ class IFS:
         self.fixed = tuple(sorted(set(int(i) for i in fixed)))
         self.sigma = None if sigma is None else float(sigma)
         self.meta = dict(meta or {})
-        self.probabilities = None if probabilities is None else check_probabilities(probabilities, len(self.rules))
+        self.probabilities = probabilities
         self.validate()
 
     # -- checks --------------------------------------------------------------------------------
@@ -132,6 +132,15 @@ class IFS:
             if not lo >= MIN_SINGULAR:
                 raise IFSError(f"rule {i} ({self.rules[i].kind}) is degenerate: its smallest singular value is "
                                f"{lo:.3g} (< {MIN_SINGULAR:g}), so it flattens the figure onto a line or a point")
+
+    @property
+    def probabilities(self) -> tuple[float, ...] | None:
+        """One probability per rule (each > 0, summing to 1), or None for the default; checked when set."""
+        return self._probabilities
+
+    @probabilities.setter
+    def probabilities(self, value) -> None:
+        self._probabilities = None if value is None else check_probabilities(value, len(self.rules))
 
     # -- maps ----------------------------------------------------------------------------------
     def maps(self, gradient: str = "exact") -> torch.Tensor:

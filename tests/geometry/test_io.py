@@ -119,3 +119,13 @@ def test_probabilities_checked_on_the_object():
     with pytest.raises(ifslib.IFSError, match="not booleans"):
         ifslib.IFS([[0, 0], [1, 0]], [{"kind": "segment", "from": [0, 1], "to": [0, 0]}],
                    [{"kind": "segment", "points": [0, 1]}], probabilities=[True])
+
+
+def test_probabilities_checked_when_set():
+    fern = ifslib.patterns.fern()
+    with pytest.raises(ifslib.IFSError, match="sum to 1"):
+        fern.probabilities = (0.5, 0.5, 0.5, 0.5)
+    fern.probabilities = [0.01, 0.85, 0.07, 0.07]
+    assert fern.probabilities == (0.01, 0.85, 0.07, 0.07) and fern.clone().probabilities == fern.probabilities
+    fern.probabilities = None
+    assert fern.probabilities is None
