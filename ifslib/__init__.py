@@ -34,12 +34,13 @@ from .geometry.leaves import expand  # noqa: E402
 from .geometry.primitives import Primitive  # noqa: E402
 from .geometry.rules import Rule, rule_maps  # noqa: E402
 from .raster.chaos import chaos_game  # noqa: E402
+from .raster.measure import chaos_measure, invariant_measure  # noqa: E402
 from .raster.distance import distance_field  # noqa: E402
 from .raster.nearest import nearest_leaf, pixel_centres  # noqa: E402
 from .raster.render import default_sigma, render  # noqa: E402
 from . import data  # noqa: E402
 from .targets.target import Target, load_target  # noqa: E402
-from .scoring import losses, metrics  # noqa: E402
+from .scoring import dimension, losses, metrics  # noqa: E402
 from .scoring.losses import LOSSES, loss  # noqa: E402
 from .scoring.metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
 from . import compression  # noqa: E402
@@ -49,6 +50,7 @@ from .discovery.plan import Plan, discover  # noqa: E402
 from .fitting import strategies  # noqa: E402
 from .fitting.batch import fit_many  # noqa: E402
 from .fitting.fit import fit  # noqa: E402
+from .fitting.measure_fit import fit_measure  # noqa: E402
 from .fitting.options import Checkpoint, RunOptions, StrategyOptions  # noqa: E402
 from .fitting.result import FitResult, History, Stage  # noqa: E402
 from .studies import sweep  # noqa: E402
@@ -71,7 +73,7 @@ def __getattr__(name: str):
 __version__ = "0.1.0"
 
 __all__ = ["Checkpoint", "FitResult", "History", "Plan", "RunOptions", "Stage", "StrategyOptions", "discover", "IFS", "IFSError", "LOSSES", "Primitive", "Rule", "Target", "animate", "auto", "best_fit_line", "fractal",
-           "chamfer", "chaos_game", "configure_threads", "crossings", "data", "default_sigma", "distance_field", "evaluate",
-           "exercises", "expand", "f1", "figures", "fit", "fit_many", "initialization", "initialize", "iou",
+           "chamfer", "chaos_game", "chaos_measure", "configure_threads", "crossings", "data", "default_sigma", "dimension", "distance_field", "evaluate",
+           "exercises", "expand", "f1", "figures", "fit", "fit_many", "fit_measure", "initialization", "initialize", "invariant_measure", "iou",
            "landscape", "load_ifs", "load_target", "loss", "losses", "metrics", "nearest_leaf", "patterns",
            "pixel_centres", "point_error", "render", "rule_maps", "save_ifs", "strategies", "sweep"]

@@ -182,7 +182,31 @@ def cmd_info(args: argparse.Namespace) -> None:
             if rule.kind == "affine" else ""
         print(f"rule {i}: {rule.kind} {list(rule.source)} -> {list(rule.target)}  contraction {s:.4f}{shape}")
         print(f"  [[{t[0, 0]: .4f} {t[0, 1]: .4f} {t[0, 2]: .4f}]\n   [{t[1, 0]: .4f} {t[1, 1]: .4f} {t[1, 2]: .4f}]]")
+    _print_measure(ifs)
     print(f"leaves at depth {depth}: {leaf_count_text(ifs, depth)}")
+
+
+def _print_measure(ifs) -> None:
+    """``info``'s lines on the measure and the dimension: the probabilities (whose) and Moran's root."""
+    from .errors import IFSError
+    from .scoring.dimension import ifs_scales, similarity_dimension
+
+    p = ifs.measure_probabilities().tolist()
+    whose = "the file's" if ifs.probabilities is not None else "default: in proportion to |det|, with a floor"
+    print(f"probabilities ({whose}): " + ", ".join(f"{x:.4f}" for x in p))
+    scales, similar = ifs_scales(ifs)
+    try:
+        dimension = similarity_dimension(scales)
+    except IFSError:
+        print("similarity dimension: none (a map does not contract)")
+        return
+    if similar:
+        print(f"similarity dimension (Moran's equation): {dimension:.4f} (the attractor's dimension when "
+              "the copies do not overlap; less when they do)")
+    else:
+        print(f"similarity dimension: not defined, the maps are not similarities; Moran's equation with "
+              f"their largest singular values gives {dimension:.4f}, an upper bound of the box dimension "
+              "(itself at most 2 in the plane)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -267,7 +291,8 @@ def _fit_parser(sub) -> None:
 
 def _info_parser(sub) -> None:
     """``info``'s options."""
-    i = sub.add_parser("info", help="print an IFS's maps, contraction factors and leaf count")
+    i = sub.add_parser("info", help="print an IFS's maps, contraction factors, leaf count, probabilities and "
+                                         "similarity dimension")
     i.add_argument("spec", help="an ifslib/1 JSON file, or a pattern name")
     i.add_argument("--depth", type=int, help="depth for the leaf count (default: the file's)")
     i.set_defaults(run=cmd_info)

@@ -6,6 +6,7 @@ leaf tensor that requires grad: fitting moves them. `IFS.maps` builds the rules'
 from __future__ import annotations
 
 import copy
+import math
 from typing import Any, Iterable, Sequence
 
 import numpy as np
@@ -51,16 +52,22 @@ class IFS:
         Free-form metadata (a fit's history, say), saved in the JSON file.
     dtype : torch.dtype
         Floating type of ``points`` (float32 by default; float64 on request).
+    probabilities : sequence of float, optional
+        One probability per rule, each > 0, summing to 1: how often the chaos game picks each map,
+        and so the invariant measure (the gray levels) of the attractor. None (the default) means
+        in proportion to ``|det L_i|`` with a floor for nearly singular maps
+        (`ifslib.geometry.attractor.chaos_probabilities`); `measure_probabilities` says which.
 
     Raises
     ------
     IFSError
-        On a bad shape, a NaN point, an out-of-range index or a negative depth.
+        On a bad shape, a NaN point, an out-of-range index, a negative depth or bad probabilities.
     """
 
     def __init__(self, points: Any, rules: Sequence[Rule | dict], primitives: Sequence[Primitive | dict],
                  depth: int = 3, name: str = "", fixed: Iterable[int] = (), sigma: float | None = None,
-                 meta: dict | None = None, dtype: torch.dtype = torch.float32) -> None:
+                 meta: dict | None = None, dtype: torch.dtype = torch.float32,
+                 probabilities: Sequence[float] | None = None) -> None:
         pts = torch.as_tensor(points.detach() if isinstance(points, torch.Tensor) else points, dtype=dtype)
         self.points = pts.clone().requires_grad_(True)
         self.rules = [_as_rule(r) for r in rules]
@@ -70,6 +77,7 @@ class IFS:
         self.fixed = tuple(sorted(set(int(i) for i in fixed)))
         self.sigma = None if sigma is None else float(sigma)
         self.meta = dict(meta or {})
+        self.probabilities = probabilities
         self.validate()
 
     # -- checks --------------------------------------------------------------------------------
@@ -102,6 +110,9 @@ class IFS:
         check_depth(self.depth)
         if self.sigma is not None:
             check_sigma(self.sigma)
+        if self.probabilities is not None and len(self.probabilities) != len(self.rules):
+            raise IFSError(f"the IFS has {len(self.rules)} rules but {len(self.probabilities)} probabilities; "
+                           "give one per rule (or none for the default)")
 
     def check_contractive(self, depth: int | None = None, maps: torch.Tensor | None = None) -> None:
         """Raise `IFSError` if, while ``depth`` > 0, a rule's map does not contract or is degenerate.
@@ -122,6 +133,15 @@ class IFS:
                 raise IFSError(f"rule {i} ({self.rules[i].kind}) is degenerate: its smallest singular value is "
                                f"{lo:.3g} (< {MIN_SINGULAR:g}), so it flattens the figure onto a line or a point")
 
+    @property
+    def probabilities(self) -> tuple[float, ...] | None:
+        """One probability per rule (each > 0, summing to 1), or None for the default; checked when set."""
+        return self._probabilities
+
+    @probabilities.setter
+    def probabilities(self, value) -> None:
+        self._probabilities = None if value is None else check_probabilities(value, len(self.rules))
+
     # -- maps ----------------------------------------------------------------------------------
     def maps(self, gradient: str = "exact") -> torch.Tensor:
         """The rules' maps as ``(m, 3, 3)`` homogeneous matrices, differentiable in ``points``.
@@ -133,6 +153,20 @@ class IFS:
         """
         self.validate()
         return rule_maps(self.points, self.rules, gradient)
+
+    def measure_probabilities(self, maps: torch.Tensor | None = None) -> torch.Tensor:
+        """Each map's probability, ``(m,)`` float64 (no gradient): the given ``probabilities``, or the default.
+
+        The default is in proportion to ``|det L_i|`` with a floor of
+        `ifslib.geometry.attractor.CHAOS_FLOOR` times the largest, so a flattening map (a fern's
+        stem) is still chosen: `ifslib.geometry.attractor.chaos_probabilities` of ``maps`` (these
+        rules' maps when None).
+        """
+        if self.probabilities is not None:
+            return torch.tensor(self.probabilities, dtype=torch.float64)
+        from .attractor import chaos_probabilities  # attractor imports this module
+
+        return chaos_probabilities(self.maps().detach() if maps is None else maps)
 
     def scales(self) -> torch.Tensor:
         """Contraction factor of each rule, ``(m,)`` (no gradient): its map's largest singular value."""
@@ -183,6 +217,33 @@ class IFS:
                 f"primitives={len(self.primitives)} {'/'.join(prims)}, depth={self.depth})")
 
 
+#: How far from 1 the sum of given probabilities may be (a file's decimals rounded, say).
+PROBABILITY_SUM_TOLERANCE = 1e-6
+
+
+def check_probabilities(probabilities: Any, m: int) -> tuple[float, ...]:
+    """Return ``m`` probabilities as a tuple of floats if each is finite and > 0 and they sum to 1, else raise `IFSError`.
+
+    A probability of 0 is refused: that map would never be drawn, so its rule should be removed.
+    """
+    try:
+        values = tuple(float(p) for p in (probabilities.tolist() if hasattr(probabilities, "tolist") else probabilities))
+    except (TypeError, ValueError):
+        raise IFSError(f"probabilities must be a list of {m} numbers, got {probabilities!r}") from None
+    if any(isinstance(p, bool) for p in probabilities):
+        raise IFSError(f"probabilities must be numbers, not booleans: {probabilities!r}")
+    if len(values) != m:
+        raise IFSError(f"the IFS has {m} rules but {len(values)} probabilities; give one per rule (or none for the default)")
+    bad = [i for i, p in enumerate(values) if not (math.isfinite(p) and p > 0)]
+    if bad:
+        raise IFSError(f"probability of rule(s) {bad} is not a finite number > 0 ({[values[i] for i in bad]}); "
+                       "a map never chosen should be removed from the IFS")
+    total = math.fsum(values)
+    if abs(total - 1) > PROBABILITY_SUM_TOLERANCE:
+        raise IFSError(f"probabilities must sum to 1, they sum to {total:.9g}; divide each by their sum")
+    return values
+
+
 def check_depth(depth: Any) -> int:
     """Return ``depth`` if it is an int >= 0, else raise `IFSError`."""
     return check_int(depth, "depth", 0)
@@ -202,4 +263,4 @@ def check_sigma(sigma: Any) -> float:
     return sigma
 
 
-__all__ = ["IFS", "Rule", "Primitive", "check_depth", "check_gradient_mode", "check_rule_lengths"]
+__all__ = ["IFS", "PROBABILITY_SUM_TOLERANCE", "Rule", "Primitive", "check_depth", "check_probabilities", "check_gradient_mode", "check_rule_lengths"]

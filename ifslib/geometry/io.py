@@ -2,7 +2,9 @@
 
 One small JSON document holds an IFS (see docs/guide/conventions.md): ``format``, ``name``,
 ``points``, ``rules`` (``kind``, ``from``, ``to``), ``primitives`` (``kind``, ``points``, optional
-``radius``), ``depth``, and the optional ``fixed``, ``sigma`` and ``meta``. Its JSON Schema (draft
+``radius``), ``depth``, and the optional ``fixed``, ``sigma``, ``probabilities`` (one per rule, each
+> 0, summing to 1: the chaos game's choice of maps and so the invariant measure; absent, the
+default of `ifslib.IFS.measure_probabilities`) and ``meta``. Its JSON Schema (draft
 2020-12) ships beside this module, ``ifslib-1.schema.json``, and `schema` returns it; what a schema
 cannot say (an index below the number of points, finite numbers, a whole number written as ``3``
 and not ``3.0``) the reader checks as well. Whether a rule's source has non-zero length and its map
@@ -113,9 +115,14 @@ def ifs_from_dict(doc: dict) -> IFS:
         prims.append({"kind": _require(prim, "kind", where),
                       "points": _indices(_require(prim, "points", where), f"{where} 'points'"),
                       "radius": prim.get("radius", 0.0)})
+    probabilities = doc.get("probabilities")
+    if probabilities is not None and (not isinstance(probabilities, list) or not all(
+            isinstance(p, (int, float)) and not isinstance(p, bool) for p in probabilities)):
+        raise IFSError(f"'probabilities' must be a list of numbers, one per rule, got {probabilities!r}")
     try:
         return IFS(points, rules, prims, depth=doc["depth"], name=doc.get("name", ""),
-                   fixed=_indices(doc.get("fixed", []), "'fixed'"), sigma=doc.get("sigma"), meta=doc.get("meta"))
+                   fixed=_indices(doc.get("fixed", []), "'fixed'"), sigma=doc.get("sigma"), meta=doc.get("meta"),
+                   probabilities=probabilities)
     except IFSError:
         raise
     except (TypeError, KeyError) as exc:  # pragma: no cover - defensive
@@ -144,6 +151,8 @@ def ifs_to_dict(ifs: IFS) -> dict:
         doc["fixed"] = list(ifs.fixed)
     if ifs.sigma is not None:
         doc["sigma"] = ifs.sigma
+    if ifs.probabilities is not None:
+        doc["probabilities"] = list(ifs.probabilities)
     if ifs.meta:
         doc["meta"] = ifs.meta
     return doc

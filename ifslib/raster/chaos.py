@@ -3,8 +3,9 @@
 Every map's fixed point lies on the attractor, and so does the image of any point of it under any
 map: a chain that starts at a fixed point and applies randomly chosen maps never leaves the
 attractor (up to float64 rounding). Many chains run side by side, each from the fixed point of a
-randomly chosen map. The maps are chosen with probabilities in proportion to the area they keep
-(``|det L_i|``), with a floor so that a map that flattens (a fern's stem) is still visited.
+randomly chosen map. The maps are chosen with the IFS's probabilities, or by default in proportion
+to the area they keep (``|det L_i|``), with a floor so that a map that flattens (a fern's stem) is
+still visited (`ifslib.IFS.measure_probabilities`).
 
 This is the independent reference of the tests (no leaves, no bound, no search of ours) and the
 classic way to draw an attractor: `chaos_field` turns the points into a distance field of the same
@@ -89,7 +90,7 @@ def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
     rng = np.random.default_rng(seed)
     chains = min(CHAINS, n)
     steps = math.ceil(n / chains)
-    p = chaos_probabilities(maps_t).numpy()
+    p = ifs.measure_probabilities(maps_t).numpy()
     current = fixed[rng.choice(m, size=chains, p=p)]
     out = np.empty((steps, chains, 2))
     for k in range(steps):
@@ -115,14 +116,14 @@ def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
     maps : numpy.ndarray
         ``(K, 2, 3)`` float64 composed maps ``T_w`` (K may be 0: the window misses the attractor).
     weight : numpy.ndarray
-        ``(K,)`` each word's probability under `chaos_probabilities`.
+        ``(K,)`` each word's probability under `ifslib.IFS.measure_probabilities`.
     """
     window = check_window(window)
     with torch.no_grad():
         maps = ifs.to(torch.float64).maps()
         check_contractive_maps(maps, ifs.rules)
         centre, radius = attractor_ball(maps)
-        p = chaos_probabilities(maps)
+        p = ifs.measure_probabilities(maps)
         scale = COPY_SHARE * math.hypot(window[2] - window[0], window[3] - window[1]) / 2
         nodes, weight = torch.eye(3, dtype=torch.float64)[None, :2], torch.ones(1, dtype=torch.float64)
         done_maps, done_weight = [], []

@@ -81,3 +81,51 @@ def test_missing_and_malformed_files(tmp_path):
     bad.write_text("{not json")
     with pytest.raises(ValueError, match="is not valid JSON"):
         ifslib.load_ifs(bad)
+
+
+def test_probabilities_round_trip(tmp_path):
+    fern = ifslib.patterns.fern()
+    fern.probabilities = (0.01, 0.85, 0.07, 0.07)
+    back = ifslib.load_ifs(ifslib.save_ifs(fern, tmp_path / "fern.json"))
+    assert back.probabilities == (0.01, 0.85, 0.07, 0.07)
+    torch.testing.assert_close(back.measure_probabilities(), torch.tensor([0.01, 0.85, 0.07, 0.07], dtype=torch.float64))
+
+
+def test_a_file_without_probabilities_reads_as_before(tmp_path):
+    """An old file has no probabilities: none are written back, and the default (|det|, with a floor) is used."""
+    ifs = ifslib.load_ifs(_doc())
+    assert ifs.probabilities is None and "probabilities" not in ifslib.geometry.io.ifs_to_dict(ifs)
+    torch.testing.assert_close(ifs.measure_probabilities(), torch.tensor([0.5, 0.5], dtype=torch.float64))
+
+
+@pytest.mark.parametrize("probabilities, message", [
+    ([0.5], r"2 rules but 1 probabilities"),
+    ([0.5, 0.6], r"sum to 1, they sum to 1\.1; divide each by their sum"),
+    ([0.0, 1.0], r"rule\(s\) \[0\] is not a finite number > 0"),
+    ([float("nan"), 1.0], r"rule\(s\) \[0\] is not a finite number > 0"),
+    ([-0.5, 1.5], r"rule\(s\) \[0\] is not a finite number > 0"),
+    (["a", 1.0], r"'probabilities' must be a list of numbers"),
+    (0.5, r"'probabilities' must be a list of numbers"),
+])
+def test_bad_probabilities(probabilities, message):
+    with pytest.raises(ifslib.IFSError, match=message):
+        ifslib.load_ifs(_doc(probabilities=probabilities))
+
+
+def test_probabilities_checked_on_the_object():
+    with pytest.raises(ifslib.IFSError, match="4 rules but 3 probabilities"):
+        ifslib.IFS(ifslib.patterns.koch().points, ifslib.patterns.koch().rules, ifslib.patterns.koch().primitives,
+                   probabilities=[0.2, 0.3, 0.5])
+    with pytest.raises(ifslib.IFSError, match="not booleans"):
+        ifslib.IFS([[0, 0], [1, 0]], [{"kind": "segment", "from": [0, 1], "to": [0, 0]}],
+                   [{"kind": "segment", "points": [0, 1]}], probabilities=[True])
+
+
+def test_probabilities_checked_when_set():
+    fern = ifslib.patterns.fern()
+    with pytest.raises(ifslib.IFSError, match="sum to 1"):
+        fern.probabilities = (0.5, 0.5, 0.5, 0.5)
+    fern.probabilities = [0.01, 0.85, 0.07, 0.07]
+    assert fern.probabilities == (0.01, 0.85, 0.07, 0.07) and fern.clone().probabilities == fern.probabilities
+    fern.probabilities = None
+    assert fern.probabilities is None

@@ -179,6 +179,12 @@ REFUSED = {
     "sigma zero": _doc(sigma=0),
     "sigma negative": _doc(sigma=-0.01),
     "sigma too large": _doc(sigma=1e4),
+    "probabilities not a list": _doc(probabilities=0.5),
+    "probabilities empty": _doc(probabilities=[]),
+    "a probability of zero": _doc(probabilities=[0, 1]),
+    "a negative probability": _doc(probabilities=[-0.5, 1.5]),
+    "a probability as text": _doc(probabilities=["0.5", 0.5]),
+    "a probability as a boolean": _doc(probabilities=[True, 0.5]),
 }
 
 
@@ -212,6 +218,9 @@ BEYOND_A_SCHEMA = {
     "depth written 2.0": _doc(depth=2.0),
     "an index written 1.0": _rule(to=[0, 1.0]),
     "a coordinate that is not finite": _doc(points=[[float("nan"), 0], [1, 0], [0, 1], [1, 1]]),
+    "probabilities that do not sum to 1": _doc(probabilities=[0.3, 0.3]),
+    "fewer probabilities than rules": _doc(probabilities=[1.0]),
+    "a probability that is not finite": _doc(probabilities=[float("nan"), 0.5]),
 }
 
 

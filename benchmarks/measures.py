@@ -1,0 +1,93 @@
+"""The goals of issue 47, measured: the invariant measure two ways, the measure fit, and box counting.
+
+    python benchmarks/measures.py            # every goal (about 15 min of one core)
+    python benchmarks/measures.py --quick    # smaller sizes, a few minutes
+
+Prints, for the fern (Barnsley's probabilities), the Koch curve and the Sierpinski triangle (even
+probabilities) and the triangle with (0.5, 0.3, 0.2): the L1 distance of the normalised images of the chaos game's histogram (10^8 points)
+and of the deterministic push at 256 px; the fern's probabilities fitted with the maps given, and
+maps and probabilities fitted from a jittered start (density correlation); box counting on 10^6
+chaos-game points against Moran's root for the triangle, the Koch curve and the carpet.
+"""
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+import torch
+
+import ifslib
+from ifslib.fitting.measure_fit import MeasureFitOptions, correlation, fit_measure
+from ifslib.raster.measure import MeasureOptions, chaos_measure, invariant_measure, l1_distance, measure_from_maps
+from ifslib.scoring import dimension
+
+BARNSLEY = (0.01, 0.85, 0.07, 0.07)
+#: (pattern, probabilities, supersample): the finer the cells, the closer (the Koch curve's few lit cells are cheap).
+MEASURES = (("fern", BARNSLEY, 16), ("koch", None, 32), ("sierpinski_triangle", None, 16),
+            ("sierpinski_triangle", (0.5, 0.3, 0.2), 32))
+
+
+def with_probabilities(name: str, p) -> ifslib.IFS:
+    ifs = ifslib.patterns.by_name(name).to(torch.float64)
+    ifs.probabilities = p
+    return ifs
+
+
+def measures(size: int, points: int, quick: bool) -> None:
+    print(f"invariant measure at {size} px: L1 of normalised images, push vs chaos game ({points:,} points)")
+    for name, p, supersample in MEASURES:
+        ifs = with_probabilities(name, p)
+        t0 = time.perf_counter()
+        chaos = chaos_measure(ifs, size, n=points)
+        t1 = time.perf_counter()
+        for s in ((4,) if quick else (4, supersample)):
+            t2 = time.perf_counter()
+            with torch.no_grad():
+                pushed = invariant_measure(ifs, size, MeasureOptions(supersample=s))
+            print(f"  {name:>20} {'even' if p is None else p[0]:>5} supersample {s:>2}: L1 {l1_distance(pushed, chaos):.4f} "
+                  f"(push {time.perf_counter() - t2:.1f} s, chaos game {t1 - t0:.1f} s)", flush=True)
+
+
+def fits(size: int, steps: int) -> None:
+    fern = with_probabilities("fern", BARNSLEY)
+    target = chaos_measure(fern, size, n=4_000_000)
+    t0 = time.perf_counter()
+    given = fit_measure(ifslib.patterns.fern(), target, MeasureFitOptions(steps=steps))
+    error = max(abs(a - b) for a, b in zip(given.probabilities, BARNSLEY))
+    print(f"fern at {size} px, maps given, from the default probabilities: largest error {error:.4f} "
+          f"({', '.join(f'{x:.4f}' for x in given.probabilities)}), {time.perf_counter() - t0:.1f} s", flush=True)
+    start = ifslib.patterns.fern().to(torch.float64).jittered(0.015, np.random.default_rng(0))
+    with torch.no_grad():
+        before = correlation(measure_from_maps(start.maps(), start.measure_probabilities(), size,
+                                               MeasureFitOptions().measure), target)
+    t0 = time.perf_counter()
+    both = fit_measure(start, target, MeasureFitOptions(steps=steps * 4 // 3, map_lr=0.001, fit_maps=True))
+    print(f"fern at {size} px, maps and probabilities from the fern's points jittered by 0.015: density "
+          f"correlation {before:.3f} -> {both.correlation:.3f}, probabilities "
+          f"{', '.join(f'{x:.4f}' for x in both.probabilities)}, {time.perf_counter() - t0:.1f} s", flush=True)
+
+
+def dimensions(points: int, finest: int) -> None:
+    print(f"box counting on {points:,} chaos-game points, boxes 1/8 .. 1/{finest}")
+    for name in ("sierpinski_triangle", "koch", "sierpinski_carpet"):
+        ifs = ifslib.patterns.by_name(name)
+        moran = dimension.ifs_similarity_dimension(ifs)
+        t0 = time.perf_counter()
+        fit = dimension.box_counting_points(ifslib.chaos_game(ifs, points), finest=finest)
+        print(f"  {name:>20}: Moran {moran:.4f}, box counting {fit.dimension:.4f} +- {fit.stderr:.4f}, "
+              f"off by {fit.dimension - moran:+.4f} ({time.perf_counter() - t0:.1f} s)", flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="smaller sizes (not the goals' sizes)")
+    args = parser.parse_args()
+    if args.quick:
+        measures(128, 10_000_000, True), fits(32, 60), dimensions(300_000, 256)
+    else:
+        measures(256, 100_000_000, False), fits(64, 150), dimensions(1_000_000, 512)
+
+
+if __name__ == "__main__":
+    main()
