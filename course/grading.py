@@ -22,6 +22,9 @@ from pathlib import Path
 
 import nbformat
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from run_edition import with_quick_values  # noqa: E402  one way to inject the quick values, here and there
+
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 CONFIG = Path(__file__).resolve().parent / "nbgrader_config.py"
@@ -31,18 +34,6 @@ ASSIGNMENT = "ifs"
 def is_graded(book) -> bool:
     """Whether a notebook has nbgrader cells (an answer or a test)."""
     return any(cell.metadata.get("nbgrader") for cell in book.cells)
-
-
-def with_quick_values(book):
-    """``book`` with its quick values (``metadata["ifslib"]["quick"]``) injected after the parameters cell."""
-    quick = book.metadata.get("ifslib", {}).get("quick", {})
-    where = [i for i, c in enumerate(book.cells) if "parameters" in c.metadata.get("tags", [])]
-    if not quick or not where:
-        return book
-    cell = nbformat.v4.new_code_cell("# quick values (CI)\n" + "".join(f"{k} = {v!r}\n" for k, v in quick.items()))
-    cell.metadata["tags"] = ["injected-parameters"]
-    book.cells.insert(where[0] + 1, cell)
-    return book
 
 
 def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[str]:
@@ -82,17 +73,17 @@ def generate(course: Path) -> Path:
 
 @dataclass(frozen=True)
 class Score:
-    """One student's autograded assignment: points from the tests, and cells left for a person."""
+    """One student's autograded assignment: the tests' points, and the written answers."""
 
     student: str
-    auto: float
+    auto: float          # points the test cells gave
     auto_max: float
-    manual_cells: int
-    manual_max: float
+    written: int         # written answer cells (markdown, graded by a person)
+    manual_cells: int    # of them, those nbgrader left for manual grading (an unchanged one gets 0 at once)
 
     def line(self) -> str:
         return (f"{self.student}: auto points {self.auto:g} of {self.auto_max:g}, "
-                f"manual cells {self.manual_cells} ({self.manual_max:g} points, written answers)")
+                f"manual cells {self.manual_cells} of {self.written} written answers")
 
 
 def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
@@ -108,10 +99,13 @@ def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
         for student in submissions:
             grades = [grade for notebook in book.find_submission(ASSIGNMENT, student).notebooks
                       for grade in notebook.grades]
-            auto = [g for g in grades if g.auto_score is not None or not g.needs_manual_grade]
-            manual = [g for g in grades if g.needs_manual_grade]
-            scores.append(Score(student, sum(g.auto_score or 0 for g in auto), sum(g.max_score for g in auto),
-                                len(manual), sum(g.max_score for g in manual)))
+            tests = [g for g in grades if g.cell_type == "code"]
+            written = [g for g in grades if g.cell_type == "markdown"]
+            scores.append(Score(student, sum(g.auto_score or 0 for g in tests), sum(g.max_score for g in tests),
+                                len(written), sum(bool(g.needs_manual_grade) for g in written)))
+            failed = [g.name for g in tests if (g.auto_score or 0) < g.max_score]
+            if failed and student == "instructor":
+                print(f"  {student}: tests that failed: {', '.join(failed)}", flush=True)
     return scores
 
 
@@ -124,10 +118,10 @@ def check(course: Path, names: list[str]) -> int:
     problems = []
     if instructor.auto != instructor.auto_max or instructor.auto_max == 0:
         problems.append("the instructor's source does not get every auto-graded point")
+    if instructor.manual_cells != instructor.written:
+        problems.append("a written answer of the instructor's source was not left for manual grading")
     if blank.auto != 0:
         problems.append("the blank release gets auto-graded points")
-    if instructor.manual_cells != blank.manual_cells:
-        problems.append("the two submissions leave different cells for manual grading")
     for problem in problems:
         print(f"FAILED: {problem}", flush=True)
     return 1 if problems else 0

@@ -171,10 +171,11 @@ def test_real_notebooks_student_edition_holds_no_solution_line(path):
 def test_check_fails_on_a_notebook_that_checks_answers_but_marks_none(tmp_path, capsys):
     source = tmp_path / "notebooks"
     source.mkdir()
-    worked = notebook(v4.new_code_cell("T3 = [[1, 0, 0]]\nassert ifslib.exercises.check_koch_map(T3, 3)"))
+    worked = notebook(v4.new_code_cell("leaf_count = lambda m, p, k: p * m ** k\n"
+                                       "ifslib.exercises.run_answer(leaf_count, 'leaf count', 8, 1, 4)"))
     nbformat.write(worked, source / "00_tutorial.ipynb")
     assert student.main([str(tmp_path / "student"), "--source", str(source), "--check"]) == 1  # no kernel started
-    assert "00_tutorial.ipynb: FAILED: calls ifslib.exercises" in capsys.readouterr().out
+    assert "00_tutorial.ipynb: FAILED: runs ifslib.exercises" in capsys.readouterr().out
 
 
 def test_book_check_finds_a_solution_shown_outside_a_fold(tmp_path):
