@@ -186,3 +186,19 @@ def test_book_check_finds_a_solution_shown_outside_a_fold(tmp_path):
     shown = ('<pre><span class="n">r3</span> <span class="o">=</span> <span class="n">np</span><span class="o">.'
              '</span><span class="n">sqrt</span><span class="p">(</span><span class="mi">3</span>)</pre>')
     assert "r3 = np.sqrt(3)" in book_build.check_folded(tmp_path / "lesson.ipynb", page, shown)[0]
+
+
+def test_quick_values_are_injected_after_the_parameters_cell_as_papermill_does():
+    grading = student._grading()
+    book = notebook(v4.new_code_cell("size = 128\nsteps = 200", metadata={"tags": ["parameters"]}),
+                    v4.new_code_cell("print(size, steps)"))
+    book.metadata["ifslib"] = {"quick": {"size": 64, "steps": 20}}
+    quick = grading.with_quick_values(book)
+    where = [c.source for c in quick.cells].index("size = 128\nsteps = 200")
+    injected = quick.cells[where + 1]
+    assert injected.metadata["tags"] == ["injected-parameters"]
+    namespace = {}
+    exec(quick.cells[where].source + "\n" + injected.source, namespace)
+    assert (namespace["size"], namespace["steps"]) == (64, 20)
+    plain = notebook(v4.new_code_cell("size = 128", metadata={"tags": ["parameters"]}))
+    assert len(grading.with_quick_values(plain).cells) == len(plain.cells)   # no quick values: unchanged
