@@ -202,3 +202,17 @@ def test_quick_values_are_injected_after_the_parameters_cell_as_papermill_does()
     assert (namespace["size"], namespace["steps"]) == (64, 20)
     plain = notebook(v4.new_code_cell("size = 128", metadata={"tags": ["parameters"]}))
     assert len(grading.with_quick_values(plain).cells) == len(plain.cells)   # no quick values: unchanged
+
+
+def test_book_folds_a_written_answers_model_answer_in_place(tmp_path):
+    written = v4.new_markdown_cell("### BEGIN SOLUTION\n**Model answer.** By induction on $K$.\n\n"
+                                   "**Rubric (2 points).** 1 point: the base case.\n### END SOLUTION",
+                                   metadata={"nbgrader": {**GRADER, "grade_id": "proof", "points": 2}})
+    nbformat.write(notebook(v4.new_markdown_cell("**Exercise 4.** Prove it."), written), tmp_path / "in.ipynb")
+    assert book_build.fold_solutions(tmp_path / "in.ipynb", tmp_path / "out.ipynb") == 1
+    cell = nbformat.read(tmp_path / "out.ipynb", as_version=4).cells[-1]
+    assert cell.source.startswith("<details><summary>Show the model answer</summary>")
+    assert "BEGIN SOLUTION" not in cell.source and "**Rubric (2 points).**" in cell.source
+    page = book_build.ROOT / "build" / "lesson.html"  # only named in the messages
+    folded = "<p>Prove it.</p><details><summary>Show</summary><p>By induction on K.</p></details>"
+    assert book_build.check_folded(tmp_path / "in.ipynb", page, folded) == []
