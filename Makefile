@@ -16,11 +16,11 @@ export IFSLIB_DATA
 $(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep]'
+	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,grading]'
 	touch $@
 
 $(VENV)/.installed-docs: $(VENV)/.installed
-	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,docs,browser]'
+	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,grading,docs,browser]'
 	touch $@
 
 setup: $(VENV)/.installed $(VENV)/.installed-docs  ## create .venv and install ifslib (editable) with all its extras, at the tested versions (constraints.txt)
@@ -54,7 +54,7 @@ book: $(VENV)/.installed-docs $(MATHJAX)  ## static HTML book of the notebooks (
 slides: $(VENV)/.installed-docs $(REVEAL)  ## a reveal.js deck per lecture (docs/slides/lectures.yaml; stored outputs, speaker notes, offline) in build/slides/
 	$(PY) docs/slides.py
 
-student: $(VENV)/.installed  ## student edition of the notebooks (solutions stubbed, outputs cleared) in build/student, each executed and checked
+student: $(VENV)/.installed  ## student edition (nbgrader's release: solutions stubbed, hidden tests out) in build/student, each executed and checked
 	$(PY) notebooks/student.py build/student --check
 
 setup-browser: $(VENV)/.installed-docs  ## Debian's chromium (apt-get, as root, only when missing) and playwright, for test-browser

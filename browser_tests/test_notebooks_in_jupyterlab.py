@@ -2,9 +2,9 @@
 
 * ``00_explore``: Run All Cells, drag a control-point slider of the explorer, and the rendered fractal
   changes (pixels of the widget's image, before and after), with no error anywhere.
-* ``00_tutorial``: Run All Cells, type a wrong answer into an exercise, run it: the cell shows the
-  check's hint (``ifslib.exercises``) and no error; a cell that raises does show its error (so the
-  error checks here can see one).
+* ``00_tutorial``: Run All Cells, type a wrong answer into an exercise and run it and its test cell:
+  the answer cell shows no error, the test cell an ``AssertionError`` with its hint; a cell that
+  raises does show its error (so the error checks here can see one).
 
 Screenshots go to ``build/browser/``. ``IFSLIB_README_FIGURE=1`` also writes the explorer's crop to
 ``figures/explorer_in_jupyterlab.png`` (the picture in the book's teaching guide).
@@ -124,23 +124,28 @@ def test_tutorial_exercise_gives_a_hint(page, lab, shots):
     print(f"{name}: Run All Cells took {seconds:.1f} s")
     assert not problems(page), problems(page)
 
-    # Exercise 1 with the right rotation and scale but no translation: the check's specific hint.
+    # Exercise 1 with the right rotation and scale but no translation: its test cell's hidden test says so.
     cell = code_cell(page, "T3 = None")
-    replace_and_run(page, cell, "T3 = [[1/6, 3**0.5/6, 0], [-3**0.5/6, 1/6, 0], [0, 0, 1]]   # my (wrong) answer\n"
-                                "ifslib.exercises.check_koch_map(T3, 3);")
-    text = outputs_text(cell)
-    cell.screenshot(path=shots / "tutorial_hint.png")
-    assert "T3: not yet. Hint: the rotation and scale are right" in text, f"no hint; the cell shows:\n{text}"
+    replace_and_run(page, cell, "T3 = [[1/6, 3**0.5/6, 0], [-3**0.5/6, 1/6, 0], [0, 0, 1]]   # my (wrong) answer")
     assert not problems(page, cell), problems(page, cell)
+    test = code_cell(page, "# Test: exercise 1 ")
+    replace_and_run(page, test, test.locator(".cm-content").inner_text())
+    text = outputs_text(test)
+    test.screenshot(path=shots / "tutorial_hint.png")
+    assert "AssertionError" in text and "the translation is where the map sends the origin" in text, \
+        f"no hint; the test cell shows:\n{text}"
 
-    # Exercise 2 with a wrong count.
-    cell = code_cell(page, "carpet_leaves = None")
-    replace_and_run(page, cell, "carpet_leaves = 7\nifslib.exercises.check_leaf_count(carpet_leaves, \"carpet\", 4);")
-    text = outputs_text(cell)
-    cell.screenshot(path=shots / "tutorial_hint_leaves.png")
-    assert "leaves of carpet at depth 4: not yet. Hint:" in text, f"no hint; the cell shows:\n{text}"
-    assert "correct" not in text
-    assert not problems(page, cell), problems(page, cell)
+    # Exercise 2 with a count that adds instead of multiplying.
+    cell = code_cell(page, "def leaf_count(")
+    replace_and_run(page, cell, "def leaf_count(m, primitives, depth):\n    return primitives + m * depth\n"
+                                "carpet_leaves = leaf_count(8, 1, 4)")
+    test = code_cell(page, "# Test: exercise 2 ")
+    replace_and_run(page, test, test.locator(".cm-content").inner_text())
+    text = outputs_text(test)
+    test.screenshot(path=shots / "tutorial_hint_leaves.png")
+    assert "AssertionError" in text and "depth 1 draws one copy of the primitive per map" in text, \
+        f"no hint; the test cell shows:\n{text}"
+    assert "these tests pass" not in text
     page.screenshot(path=shots / "tutorial_page.png")
 
     # The error checks above can see an error: a cell that raises shows one.

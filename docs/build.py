@@ -127,7 +127,8 @@ def fold_solutions(source: Path, target: Path) -> int:
     A code cell with ``### BEGIN SOLUTION`` blocks becomes its pieces in order: the code around a
     block (the exercise and its check, shown as the student sees them) and each block's lines
     without the markers, tagged ``hide-input``. The cell's outputs stay under its last piece, so the
-    check's verdict follows the check. Returns the number of solutions folded.
+    check's verdict follows the check. A markdown cell's blocks (a written answer's model answer and
+    rubric) are folded in place, in a ``<details>`` block. Returns the number of solutions folded.
     """
     import nbformat
 
@@ -136,10 +137,16 @@ def fold_solutions(source: Path, target: Path) -> int:
     cells, folded = [], 0
     for cell in book.cells:
         try:
-            pieces = student.split(cell.source) if cell.cell_type == "code" else []
+            pieces = student.split(cell.source)
         except student.MarkerError as error:
             sys.exit(f"{source.name}: {error}")
         pieces = [piece for piece in pieces if piece.text.strip()]
+        if cell.cell_type == "markdown":   # a written answer: its model answer and rubric folded in place
+            folded += sum(piece.solution for piece in pieces)
+            cell.source = "".join(f"<details><summary>Show the model answer</summary>\n\n{piece.text}\n</details>\n"
+                                  if piece.solution else piece.text for piece in pieces)
+            cells.append(cell)
+            continue
         if not any(piece.solution for piece in pieces):
             cells.append(cell)
             continue

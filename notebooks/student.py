@@ -1,35 +1,26 @@
 """Write the student edition of the notebooks: ``python notebooks/student.py [OUT] [--check]``.
 
-The notebooks in ``notebooks/`` are the instructor's edition: each exercise cell holds its worked
-answer between nbgrader's markers, at the indentation of the code it belongs to::
+The notebooks in ``notebooks/`` are the instructor's edition. Each exercise is nbgrader's pair: an
+answer cell holding the worked answer between ``### BEGIN SOLUTION`` / ``### END SOLUTION`` (at the
+indentation of the code it belongs to), and a locked test cell whose further tests sit between
+``### BEGIN HIDDEN TESTS`` / ``### END HIDDEN TESTS``; a written answer is a markdown answer cell
+with a model answer and a rubric between the solution markers.
 
-    T3 = None   # your answer: a 3 x 3 list or array
-    ### BEGIN SOLUTION
-    T3 = [[1 / 6, r3 / 6, 1 / 2], [-r3 / 6, 1 / 6, r3 / 6], [0, 0, 1]]
-    ### END SOLUTION
-    ifslib.exercises.check_koch_map(T3, 3);
+The student edition (``OUT``, default ``build/student/``) is nbgrader's own release: the notebooks
+with nbgrader cells are laid out as the course's assignment and ``nbgrader generate_assignment``
+writes them (``course/grading.py``, with ``course/nbgrader_config.py``): each solution block becomes
+``...  # YOUR CODE HERE`` (a written one ``YOUR ANSWER HERE``), hidden tests are removed, outputs
+cleared and the test cells locked. The other notebooks are copied as they are, stored outputs
+included (they hold no solution, and the student gets the whole course in one folder), with
+``notebooks/params/`` beside them. Markers that do not pair up are refused before anything is
+written, naming the notebook and the cell.
 
-The student edition (``OUT``, default ``build/student/``) holds every notebook of ``notebooks/``:
-
-- a notebook with an exercise (a marked block, a cell tagged ``exercise`` or one with nbgrader
-  metadata) is rewritten: each marked block becomes the one statement ``...  # YOUR CODE HERE`` at the
-  block's indentation (valid Python everywhere: the check that follows then sees the ``None`` above
-  it, or a function that returns None, and answers "not yet"), every output and execution count is
-  cleared (a stored output can show an answer) and all metadata is kept, nbgrader's included, so
-  that nbgrader can grade the edition;
-- the others are copied as they are, stored outputs included: they hold no solution, their figures
-  come from runs of minutes, and the student gets the whole course in one folder.
-
-A notebook needs nothing from ``notebooks/`` at run time (the presets of ``notebooks/params`` are
-passed in by ``run.py``; the images come from ``IFSLIB_DATA`` or are downloaded), so nothing else is
-copied. Markers that do not pair up (a BEGIN without END, an END without BEGIN, a BEGIN inside a
-block) are refused, naming the notebook and the cell, and nothing is written.
-
-``--check`` then executes each rewritten notebook top to bottom (nbclient, a fresh python3 kernel, a
-temporary copy, ``IFSLIB_THREADS=1``) and fails unless no cell raises, every exercise cell prints
-"not yet", no cell prints "correct." and no solution line of the instructor's edition is left in the
-student's. It prints one line per notebook with its run time. It also fails on a notebook that calls
-``ifslib.exercises.check_*`` but marks no exercise: copied as it is, it would give its answers away.
+``--check`` then executes each released notebook top to bottom (nbclient, a fresh python3 kernel, a
+temporary folder, ``IFSLIB_THREADS=1``) and fails unless every test cell raises ``AssertionError``
+(nothing is answered yet) and no other cell raises, and no solution or hidden-test line of the
+instructor's edition is left. It also fails on a notebook that runs the exercises' harness
+(``ifslib.exercises.run_answer``) but has no nbgrader cell: copied as it is, it would give its
+answers away. Needs nbgrader (``pip install -e '.[grading]'``).
 
     python notebooks/student.py                  # write build/student/
     python notebooks/student.py --check          # write it, then execute and check it
@@ -61,9 +52,8 @@ END = re.compile(r"^\s*#+\s*END SOLUTION\s*$")
 #: and no exception (nbgrader's own stub raises NotImplementedError, a traceback for the student).
 CODE_STUB = "...  # YOUR CODE HERE"
 MARKDOWN_STUB = "YOUR ANSWER HERE"
-#: What the checks of ``ifslib.exercises`` print: "name: correct." or "name: not yet. Hint: ...".
-CORRECT = re.compile(r": correct\.\s*$", re.M)
-NOT_YET = re.compile(r": not yet\.")
+#: nbgrader's markers of the tests a student does not see.
+HIDDEN = re.compile(r"^[ \t]*#+\s*BEGIN HIDDEN TESTS.*?#+\s*END HIDDEN TESTS[ \t]*$", re.M | re.S)
 
 
 class MarkerError(ValueError):
@@ -166,38 +156,74 @@ def surviving_solutions(instructor, student) -> list[str]:
     return sorted(solutions & found)
 
 
-#: What a notebook that runs the exercises' checks but marks no exercise is, in the student edition.
-UNMARKED = ("calls ifslib.exercises but has no exercise cell (no marked solution, no 'exercise' tag): "
+def hidden_lines(book) -> set[str]:
+    """The lines (stripped, non-blank) of the instructor's hidden tests that occur nowhere else."""
+    inside, outside = set(), set()
+    for cell in book.cells:
+        hidden = "".join(m.group(0) for m in HIDDEN.finditer(cell.source))
+        inside.update(line.strip() for line in hidden.splitlines() if line.strip())
+        outside.update(line.strip() for line in HIDDEN.sub("", cell.source).splitlines() if line.strip())
+    return inside - outside - {"### BEGIN HIDDEN TESTS", "### END HIDDEN TESTS"}
+
+
+def is_test(cell) -> bool:
+    """nbgrader's test cell: graded, not an answer."""
+    grader = cell.metadata.get("nbgrader", {})
+    return cell.cell_type == "code" and bool(grader.get("grade")) and not grader.get("solution")
+
+
+#: What a notebook that runs the exercises' harness but has no nbgrader cell is, in the student edition.
+UNMARKED = ("runs ifslib.exercises but has no nbgrader cell (no answer cell, no test cell): "
             "copied as it is, with any worked answer in it")
 
 
 def calls_checks(book) -> bool:
-    return any("ifslib.exercises.check_" in c.source for c in book.cells if c.cell_type == "code")
+    return any("ifslib.exercises.run_answer" in c.source for c in book.cells if c.cell_type == "code")
+
+
+def _grading():
+    """``course/grading.py``, which lays the course out and runs nbgrader."""
+    import importlib.util
+
+    name = "ifslib_course_grading"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, ROOT / "course" / "grading.py")
+        sys.modules[name] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]
 
 
 def write_edition(out: Path, source: Path = NOTEBOOKS) -> list[Path]:
-    """Write the student edition into ``out``; returns the rewritten notebooks (those with an exercise).
+    """Write the student edition into ``out``; returns the released notebooks (those with nbgrader cells).
 
-    Every notebook is transformed before anything is written, so unbalanced markers leave ``out`` as it was.
+    Every notebook's markers are checked before anything is written, so unbalanced markers leave ``out``
+    as it was.
     """
-    editions, copies = {}, []
+    released, copies = [], []
     for path in sorted(source.glob("*.ipynb")):
         book = nbformat.read(path, as_version=4)
+        student_notebook(book, path.name)   # raises MarkerError for markers that do not pair up
         if has_exercise(book):
-            editions[path.name] = student_notebook(book, path.name)
+            released.append(path.name)
         else:
             copies.append(path)
             if calls_checks(book):
                 print(f"warning: {path.name} {UNMARKED}", file=sys.stderr)
     out.mkdir(parents=True, exist_ok=True)
-    for name, book in editions.items():
-        nbformat.validate(book)
-        nbformat.write(book, out / name)
+    if released:
+        grading = _grading()
+        with tempfile.TemporaryDirectory(prefix="course-") as folder:
+            grading.layout(Path(folder) / "course", source)
+            release = grading.generate(Path(folder) / "course")
+            for name in released:
+                shutil.copy2(release / name, out / name)
     for path in copies:
         shutil.copy2(path, out / path.name)
-    print(f"student edition in {_shown(out)}: {len(editions)} with exercises "
-          f"({', '.join(editions) or 'none'}), {len(copies)} copied as they are")
-    return [out / name for name in editions]
+    if (source / "params").is_dir():   # the presets, which the glossary shows
+        shutil.copytree(source / "params", out / "params", dirs_exist_ok=True)
+    print(f"student edition in {_shown(out)} (nbgrader's release): {len(released)} with exercises "
+          f"({', '.join(released) or 'none'}), {len(copies)} copied as they are")
+    return [out / name for name in released]
 
 
 def _shown(path: Path) -> str:
@@ -207,28 +233,18 @@ def _shown(path: Path) -> str:
         return str(path)
 
 
-def _text(cell) -> str:
-    """What a code cell printed: its streams and the plain text of its results."""
-    parts = []
-    for output in cell.get("outputs", []):
-        if output.output_type == "stream":
-            parts.append(output.text)
-        elif output.output_type in ("execute_result", "display_data"):
-            parts.append(output.get("data", {}).get("text/plain", ""))
-    return "".join(parts)
-
-
 def check_notebook(path: Path, instructor_path: Path, timeout: int = 600) -> tuple[list[str], float, int]:
-    """Execute the student notebook ``path`` in a temporary copy; returns (problems, seconds, exercises)."""
+    """Execute the released notebook ``path`` in a temporary folder; returns (problems, seconds, test cells)."""
     from nbclient import NotebookClient
 
     student = nbformat.read(path, as_version=4)
     instructor = nbformat.read(instructor_path, as_version=4)
     problems = [f"solution line left in: {line!r}" for line in surviving_solutions(instructor, student)]
+    text = {line.strip() for cell in student.cells for line in cell.source.splitlines()}
+    problems += [f"hidden test line left in: {line!r}" for line in sorted(hidden_lines(instructor) & text)]
     stored = [i for i, c in enumerate(student.cells) if c.cell_type == "code" and (c.outputs or c.execution_count)]
     if stored:
         problems.append(f"cells {stored} hold outputs or execution counts")
-    exercises = [i for i, c in enumerate(student.cells) if c.cell_type == "code" and is_exercise(c)]
     with tempfile.TemporaryDirectory(prefix="student-") as folder:
         copy_path = Path(folder) / path.name
         shutil.copy2(path, copy_path)
@@ -237,23 +253,23 @@ def check_notebook(path: Path, instructor_path: Path, timeout: int = 600) -> tup
         NotebookClient(book, timeout=timeout, kernel_name="python3", allow_errors=True,
                        resources={"metadata": {"path": folder}}).execute()
         seconds = time.perf_counter() - started
+    tests = 0
     for index, cell in enumerate(book.cells):
         if cell.cell_type != "code":
             continue
-        for output in cell.outputs:
-            if output.output_type == "error":
-                problems.append(f"cell {index} raised {output.ename}: {output.evalue}")
-        text = _text(cell)
-        right = [line for line in text.splitlines() if CORRECT.search(line)]
-        if right:
-            problems.append(f"cell {index} printed {right[0][:100]!r} with no answer written")
-        if index in exercises and not NOT_YET.search(text):
-            problems.append(f"exercise cell {index} printed no 'not yet'")
-    return problems, seconds, len(exercises)
+        errors = [o for o in cell.outputs if o.output_type == "error"]
+        if is_test(cell):
+            tests += 1
+            if not any(e.ename == "AssertionError" and e.evalue for e in errors):
+                got = f"{errors[0].ename}: {errors[0].evalue}" if errors else "nothing"
+                problems.append(f"test cell {index} raised {got}, not an AssertionError with a hint")
+        else:
+            problems += [f"cell {index} raised {e.ename}: {e.evalue}" for e in errors]
+    return problems, seconds, tests
 
 
 def check(editions: list[Path], source: Path = NOTEBOOKS, timeout: int = 600) -> int:
-    """Execute and check each rewritten notebook; prints one line each, returns the number that failed."""
+    """Execute and check each released notebook; prints one line each, returns the number that failed."""
     os.environ["IFSLIB_THREADS"] = "1"  # the kernels inherit the environment
     os.environ.pop("MPLBACKEND", None)  # the student's inline backend
     failed = 0
@@ -265,16 +281,15 @@ def check(editions: list[Path], source: Path = NOTEBOOKS, timeout: int = 600) ->
             for problem in problems:
                 print(f"    {problem}", flush=True)
         else:
-            cells = f"{count} exercise cell" + ("s, each" if count != 1 else ",")
-            print(f"{path.name}: ran in {seconds:.0f} s, no error; {cells} 'not yet'; no solution line left",
-                  flush=True)
+            print(f"{path.name}: ran in {seconds:.0f} s; each of its {count} test cells raised AssertionError "
+                  "(nothing answered), no other cell raised; no solution or hidden test left", flush=True)
     return failed
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", nargs="?", type=Path, default=DEFAULT_OUT, help="folder (default build/student)")
-    parser.add_argument("--check", action="store_true", help="then execute each rewritten notebook and check it")
+    parser.add_argument("--check", action="store_true", help="then execute each released notebook and check it")
     parser.add_argument("--source", type=Path, default=NOTEBOOKS,
                         help="the instructor's notebooks (default notebooks/)")
     parser.add_argument("--timeout", type=int, default=600, help="seconds a cell may run in --check")
@@ -288,7 +303,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     started = time.perf_counter()
     failed = check(editions, args.source, args.timeout)
-    # a notebook that checks answers but marks none would hand its worked answers to the students
+    # a notebook that runs the harness but has no nbgrader cell would hand its worked answers to the students
     unmarked = [p.name for p in sorted(args.source.glob("*.ipynb"))
                 if (args.out / p.name) not in editions and calls_checks(nbformat.read(p, as_version=4))]
     for name in unmarked:

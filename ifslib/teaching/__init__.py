@@ -1,2 +1,3 @@
-"""Teaching: what the notebooks show and ask. Figures, the explorer widget, animations, exercises
-with their checks, and loss landscapes. Imports from everything below it."""
+"""Teaching: what the notebooks show and ask. Figures, the explorer widget, animations, the
+exercises' harness and targets (no answer key: those live in the instructor's notebooks), and loss
+landscapes. Imports from everything below it."""

@@ -1,275 +1,237 @@
-"""The exercises' checks (`ifslib.exercises`): for each, the right answer passes; a typical wrong
-answer, an answer of the wrong kind, the student edition's stub (None, or a function returning None)
-and the library's own answer each answer "not yet" with a hint, without raising."""
+"""The exercises' test cells, run as nbgrader runs them (the whole cell, hidden tests included).
+
+The instructor's answer passes; the blank release's answer, typical wrong answers and lazy answers
+(the library's own function handed in, a ``functools.partial`` of it, a lambda or a closure calling
+it, the target's truth) raise ``AssertionError`` with a hint; the installed package holds no answer key.
+"""
+from __future__ import annotations
+
+import functools
+import re
+import sys
+from pathlib import Path
+
+import nbformat
 import numpy as np
 import pytest
 import torch
 
 import ifslib
-from ifslib import exercises
+from ifslib.errors import IFSError
 
-STUB = lambda *args: None  # noqa: E731  a function whose body the student edition emptied
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "course"))
+import targets as course_targets  # noqa: E402  the instructor's truths
+
+GRADED = ["00_tutorial", "01_koch_iterations", "05_more_examples", "07_your_own_image"]
+SOLUTION = re.compile(r"^([ \t]*)### BEGIN SOLUTION.*?### END SOLUTION[ \t]*(\n|\Z)", re.M | re.S)
 
 
-def not_yet(capsys, ok, *words):
-    out = capsys.readouterr().out
-    assert ok is False and "not yet. Hint:" in out, out
+@functools.cache
+def graded_cells(name: str) -> dict[str, nbformat.NotebookNode]:
+    book = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
+    return {c.metadata["nbgrader"]["grade_id"]: c for c in book.cells if c.metadata.get("nbgrader")}
+
+
+def cell_of(grade_id: str) -> nbformat.NotebookNode:
+    return graded_cells(grade_id.split("-")[0])[grade_id]
+
+
+def run(grade_id: str, answer_source: str | None = None, **names) -> dict:
+    """Execute the exercise's answer cell (``answer_source``, or the instructor's) and then its test cell."""
+    namespace = {"np": np, "torch": torch, "ifslib": ifslib, **names}
+    exec(cell_of(grade_id).source if answer_source is None else answer_source, namespace)
+    exec(cell_of(f"{grade_id}-test").source, namespace)
+    return namespace
+
+
+def blank(grade_id: str) -> str:
+    """The answer cell as the release has it (nbgrader's ClearSolutions with course/nbgrader_config.py's stub)."""
+    return SOLUTION.sub(lambda m: f"{m.group(1)}...  # YOUR CODE HERE\n", cell_of(grade_id).source)
+
+
+def fails(grade_id: str, *words: str, answer_source: str | None = None, **names) -> str:
+    with pytest.raises(AssertionError) as raised:
+        run(grade_id, answer_source, **names)
+    message = str(raised.value)
     for word in words:
-        assert word in out, out
-    return out
+        assert word in message, message
+    return message
 
 
-def correct(capsys, ok):
-    out = capsys.readouterr().out
-    assert ok is True and out.strip().endswith("correct."), out
-    assert not any(c.isdigit() for c in out.split(":")[-1]), out  # no number in a stored "correct." line
+def test_every_exercise_is_an_answer_cell_and_a_locked_test_cell_with_hidden_tests_and_a_hint():
+    auto, written = 0, 0
+    for name in GRADED:
+        book = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
+        for i, cell in enumerate(book.cells):
+            grader = cell.metadata.get("nbgrader")
+            if not grader or not grader["solution"]:
+                continue
+            assert grader["schema_version"] == 3 and grader["grade_id"].startswith(name)
+            statement = next(c for c in reversed(book.cells[:i]) if c.cell_type == "markdown" and "Exercise" in c.source)
+            assert "<details><summary>Hint</summary>" in statement.source, grader["grade_id"]
+            assert "BEGIN SOLUTION" in cell.source and "END SOLUTION" in cell.source
+            if cell.cell_type == "markdown":   # a written answer: graded by hand, with a rubric
+                assert grader["grade"] and grader["points"] > 0 and "Rubric" in cell.source
+                written += 1
+                continue
+            assert not grader["grade"] and not grader["locked"]
+            test = book.cells[i + 1].metadata["nbgrader"]
+            assert test == {"solution": False, "grade": True, "locked": True, "points": test["points"],
+                            "grade_id": f"{grader['grade_id']}-test", "schema_version": 3}
+            assert test["points"] > 0 and "### BEGIN HIDDEN TESTS" in book.cells[i + 1].source
+            auto += 1
+    assert (auto, written) == (15, 2)
 
 
-# --- answers as the notebooks' solutions write them -------------------------------------------------
-
-def contraction_and_fixed_point(M):
-    L, t = M[:2, :2], M[:2, 2]
-    return np.linalg.svd(L, compute_uv=False)[0], np.linalg.solve(np.eye(2) - L, t)
+CHEAP = ["00_tutorial-koch-t3", "00_tutorial-carpet-leaves", "00_tutorial-contraction", "00_tutorial-chaos-game",
+         "00_tutorial-hausdorff", "00_tutorial-scaled-distance", "00_tutorial-loss", "00_tutorial-best-fit-line",
+         "01_koch_iterations-leaf-map", "01_koch_iterations-depth-needed"]
 
 
-def my_chaos_game(maps, n, seed=0, start=None, choose=True):
-    rng = np.random.default_rng(seed)
-    L, t = maps[:, :2, :2], maps[:, :2, 2]
-    point = np.linalg.solve(np.eye(2) - L[0], t[0]) if start is None else np.asarray(start, float)
-    points = np.empty((n, 2))
-    for k, i in enumerate(rng.integers(len(maps), size=n) if choose else np.zeros(n, int)):
-        point = L[i] @ point + t[i]
-        points[k] = point
-    return points
+@pytest.mark.parametrize("grade_id", CHEAP)
+def test_the_instructors_answer_passes_and_the_blank_release_fails(grade_id):
+    run(grade_id)
+    fails(grade_id, answer_source=blank(grade_id))
 
 
-def my_hausdorff(a, b):
-    gaps = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=-1)
-    return max(gaps.min(1).max(), gaps.min(0).max())
+def test_the_collage_answer_passes_with_the_students_hausdorff_and_the_blank_fails():
+    hausdorff = run("00_tutorial-hausdorff")["my_hausdorff"]
+    run("00_tutorial-collage", my_hausdorff=hausdorff)
+    fails("00_tutorial-collage", answer_source=blank("00_tutorial-collage"), my_hausdorff=hausdorff)
 
 
-def my_collage(maps, points):
-    return my_hausdorff(points, np.concatenate([points @ M[:2, :2].T + M[:2, 2] for M in maps]))
+def test_the_koch_depth_is_read_from_the_measured_distance():
+    depth_needed = run("01_koch_iterations-depth-needed")["depth_needed"]
+    for size, expected in ((128, 4), (64, 4), (256, 5)):   # 29.6 px at 128: 0.37 px at depth 4
+        out = run("01_koch_iterations-koch-depth", depth_needed=depth_needed, distances=[29.6 / 128], size=size)
+        assert out["koch_depth"] == expected
+    fails("01_koch_iterations-koch-depth", answer_source="koch_depth = 3", distances=[29.6 / 128], size=128)
+    fails("01_koch_iterations-koch-depth", answer_source="koch_depth = 4.0", distances=[29.6 / 128], size=128)
 
 
-def my_loss(image, target, levels=4):
-    a, b = image[None, None], target[None, None]
-    total = (a - b).square().mean()
-    for _ in range(levels):
-        a, b = torch.nn.functional.avg_pool2d(a, 2), torch.nn.functional.avg_pool2d(b, 2)
-        total = total + (a - b).square().mean()
-    return total
+R3 = np.sqrt(3)
 
 
-def my_start(pattern, target):
-    pixels = ifslib.initialization.foreground_points(target)
-    centre = pixels.mean(0)
-    direction = np.linalg.svd(pixels - centre, full_matrices=False)[2][0]
-    along = (pixels - centre) @ direction
-    return centre + np.linspace(along.min(), along.max(), pattern.n_points)[:, None] * direction
+@pytest.mark.parametrize("answer, words", [
+    ("T3 = [[1/6, -3**0.5/6, 1/2], [3**0.5/6, 1/6, 3**0.5/6], [0, 0, 1]]", ["wrong way"]),
+    ("T3 = [[1/6, 3**0.5/6, 1/3], [-3**0.5/6, 1/6, 0], [0, 0, 1]]", ["paper's printed translation"]),
+    ("T3 = [[1/3, 0, 1/2], [0, 1/3, 0], [0, 0, 1]]", ["direction of p2 -> p3"]),
+    ("T3 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", ["scale 1/3"]),
+    ("T3 = [[1/6, 3**0.5/6], [-3**0.5/6, 1/6]]", ["(3, 3) array"]),
+    ("T3 = 'sqrt(3)/6'", ["array of numbers"]),
+])
+def test_koch_map_wrong_answers_get_their_hints(answer, words):
+    fails("00_tutorial-koch-t3", *words, answer_source=answer)
 
 
-def leaf_map(maps, word):
-    out = np.eye(3)
-    for i in word:
-        out = out @ maps[i - 1]
-    return out
+def test_koch_map_from_the_library_is_right_so_a_written_part_grades_the_reasoning():
+    # the library computes T3 (koch_unit): the auto test cannot tell, so exercise 1b asks for the reasoning
+    run("00_tutorial-koch-t3", answer_source="T3 = ifslib.patterns.koch_unit().maps().detach().double().numpy()[2]")
+    assert cell_of("00_tutorial-koch-t3-why").metadata["nbgrader"]["points"] == 2
 
 
-def depth_needed(s, d0, tol):
-    k = 0
-    while s ** k * d0 > tol:
-        k += 1
-    return k
+def mine(grade_id: str, body: str, name: str) -> dict:
+    """The answer cell with its solution replaced by ``body`` (at the block's indentation)."""
+    source = SOLUTION.sub(lambda m: "".join(f"{m.group(1)}{line}\n" for line in body.splitlines()),
+                          cell_of(grade_id).source)
+    return {"answer_source": source}
 
 
-# --- part 1 ------------------------------------------------------------------------------------------
-
-def test_koch_map(capsys):
-    r3 = np.sqrt(3)
-    correct(capsys, exercises.check_koch_map([[1 / 6, r3 / 6, 1 / 2], [-r3 / 6, 1 / 6, r3 / 6], [0, 0, 1]], 3))
-    paper = [[1 / 6, r3 / 6, 1 / 3], [-r3 / 6, 1 / 6, 0], [0, 0, 1]]   # the paper's printed T3
-    not_yet(capsys, exercises.check_koch_map(paper, 3), "translation")
-    not_yet(capsys, exercises.check_koch_map([[1 / 6, -r3 / 6, 1 / 2], [r3 / 6, 1 / 6, r3 / 6], [0, 0, 1]], 3),
-            "wrong way")
-    not_yet(capsys, exercises.check_koch_map(None, 3), "(3, 3)")
-    not_yet(capsys, exercises.check_koch_map("T3", 3))
-    not_yet(capsys, exercises.check_koch_map(exercises.koch_map, 3), "not a function")
-
-
-def test_leaf_count(capsys):
-    correct(capsys, exercises.check_leaf_count(8 ** 4, "carpet", 4))
-    out = not_yet(capsys, exercises.check_leaf_count(4 ** 8, "carpet", 4))
-    assert "4096" not in out and "8 **" not in out       # the hint does not give the answer
-    not_yet(capsys, exercises.check_leaf_count(None, "carpet", 4), "whole number")
-    not_yet(capsys, exercises.check_leaf_count(4096.0, "carpet", 4))
-    not_yet(capsys, exercises.check_leaf_count(ifslib.expand, "carpet", 4))
-
-
-def test_contraction(capsys):
-    correct(capsys, exercises.check_contraction(contraction_and_fixed_point))
-    sqrt_det = lambda M: (np.sqrt(abs(np.linalg.det(M[:2, :2]))), contraction_and_fixed_point(M)[1])  # noqa: E731
-    not_yet(capsys, exercises.check_contraction(sqrt_det), "det")
-    eigen = lambda M: (np.abs(np.linalg.eigvals(M[:2, :2])).max(), contraction_and_fixed_point(M)[1])  # noqa: E731
-    not_yet(capsys, exercises.check_contraction(eigen), "eigenvalue", "unit vector")
-    no_fix = lambda M: (contraction_and_fixed_point(M)[0], M[:2, 2])  # noqa: E731
-    not_yet(capsys, exercises.check_contraction(no_fix), "fixed point")
-    not_yet(capsys, exercises.check_contraction(STUB), "pair")
-    not_yet(capsys, exercises.check_contraction(None), "function")
-    library = lambda M: (float(ifslib.geometry.rules.map_scales(torch.as_tensor(M)[None])[0]), M[:2, 2])  # noqa: E731
-    not_yet(capsys, exercises.check_contraction(library), "write it yourself")
+@pytest.mark.parametrize("grade_id, body, words", [
+    ("00_tutorial-carpet-leaves", "return primitives * m * depth", ["depth 0"]),
+    ("00_tutorial-contraction", "L, t = M[:2, :2], M[:2, 2]\nreturn np.sqrt(abs(np.linalg.det(L))), "
+                                "np.linalg.solve(np.eye(2) - L, t)", ["factor is 0.5"]),
+    ("00_tutorial-contraction", "L, t = M[:2, :2], M[:2, 2]\nreturn np.linalg.svd(L)[1][0], t", ["fixed point"]),
+    ("00_tutorial-chaos-game", "rng = np.random.default_rng(seed)\npoint = np.array([5.0, 5.0])\nout = []\n"
+                               "for i in rng.integers(len(maps), size=n):\n"
+                               "    point = maps[i, :2, :2] @ point + maps[i, :2, 2]\n    out.append(point)\n"
+                               "return np.array(out)", ["where does your walk start"]),
+    ("00_tutorial-chaos-game", "point = np.linalg.solve(np.eye(2) - maps[0, :2, :2], maps[0, :2, 2])\n"
+                               "return np.repeat(point[None], n, 0)", ["at random"]),
+    ("00_tutorial-hausdorff", "gaps = np.linalg.norm(a[:, None] - b[None], axis=-1)\nreturn gaps.min(1).max()",
+     ["larger direction"]),
+    ("00_tutorial-loss", "a, b = image[None, None], target[None, None]\ntotal = (a - b).square().mean()\n"
+                         "for _ in range(4):\n    a, b = torch.nn.functional.avg_pool2d(a, 2), "
+                         "torch.nn.functional.avg_pool2d(b, 2)\n    total = total + (a - b).square().mean()\n"
+                         "return total", ["6"]),
+    ("00_tutorial-loss", "return (image - target).square().mean()", ["plain pixel loss"]),
+    ("00_tutorial-loss", "return torch.tensor(6.0)", ["gradient"]),
+    ("00_tutorial-best-fit-line", "pixels = ifslib.initialization.foreground_points(target)\n"
+                                  "return np.repeat(pixels.mean(0)[None], pattern.n_points, 0)", ["evenly"]),
+    ("01_koch_iterations-leaf-map", "out = np.eye(3)\nfor i in word:\n    out = maps[i - 1] @ out\nreturn out",
+     ["reversed"]),
+    ("01_koch_iterations-leaf-map", "out = np.eye(3)\nfor i in word:\n    out = out @ maps[i]\nreturn out",
+     ["IndexError"]),
+    ("01_koch_iterations-depth-needed", "K = 1\nwhile s ** K * d0 > tol:\n    K += 1\nreturn K", ["depth 0"]),
+    ("01_koch_iterations-depth-needed", "return int(np.log(tol / d0) / np.log(s))", ["off by one"]),
+])
+def test_wrong_answers_fail_with_a_hint(grade_id, body, words):
+    fails(grade_id, *words, **mine(grade_id, body, grade_id))
 
 
-def test_chaos_game(capsys):
-    correct(capsys, exercises.check_chaos_game(my_chaos_game))
-    from_origin = lambda maps, n, seed=0: my_chaos_game(maps, n, seed, start=(0.9, 0.9))  # noqa: E731
-    not_yet(capsys, exercises.check_chaos_game(from_origin), "start")
-    one_map = lambda maps, n, seed=0: my_chaos_game(maps, n, seed, choose=False)  # noqa: E731
-    not_yet(capsys, exercises.check_chaos_game(one_map), "random")
-    not_yet(capsys, exercises.check_chaos_game(STUB))
-    not_yet(capsys, exercises.check_chaos_game("chaos"), "function")
-    not_yet(capsys, exercises.check_chaos_game(ifslib.chaos_game), "ifslib's own")
-    wrapped = lambda maps, n, seed=0: ifslib.chaos_game(ifslib.patterns.affine(maps), n, seed)  # noqa: E731
-    not_yet(capsys, exercises.check_chaos_game(wrapped), "write it yourself")
-    assert ifslib.chaos_game is ifslib.raster.chaos.chaos_game   # switched back on after the check
-    assert ifslib.chaos_game(ifslib.patterns.koch(), 10).shape == (10, 2)
+def test_the_scaled_distance_of_the_papers_law_fails():
+    fails("00_tutorial-scaled-distance", "paper's printed law", answer_source="distance_to_copy = 0.9")
+    fails("00_tutorial-scaled-distance", "number", answer_source="distance_to_copy = '0.1'")
 
 
-def test_library_off_reaches_names_imported_into_the_notebook(capsys):
-    from ifslib import chaos_game
-
-    namespace = {"chaos_game": chaos_game, "ifslib": ifslib}
-    exec("def imported(maps, n, seed=0):\n    return chaos_game(ifslib.patterns.affine(maps), n, seed)", namespace)
-    not_yet(capsys, exercises.check_chaos_game(namespace["imported"]), "write it yourself")
-    assert namespace["chaos_game"] is chaos_game
-
-
-# --- part 2 ------------------------------------------------------------------------------------------
-
-def test_hausdorff(capsys):
-    correct(capsys, exercises.check_hausdorff(my_hausdorff))
-    one_way = lambda a, b: np.linalg.norm(a[:, None] - b[None], axis=-1).min(1).max()  # noqa: E731
-    not_yet(capsys, exercises.check_hausdorff(one_way), "one direction")
-    mean = lambda a, b: np.linalg.norm(a[:, None] - b[None], axis=-1).min(1).mean()  # noqa: E731
-    not_yet(capsys, exercises.check_hausdorff(mean))
-    not_yet(capsys, exercises.check_hausdorff(STUB), "one number")
-    not_yet(capsys, exercises.check_hausdorff(0.5), "function")
-    not_yet(capsys, exercises.check_hausdorff(ifslib.metrics.hausdorff), "ifslib's own")
-    not_yet(capsys, exercises.check_hausdorff(lambda a, b: ifslib.metrics.hausdorff(a, b)), "write it yourself")
+LAZY = [
+    ("00_tutorial-chaos-game", "my_chaos_game = ifslib.chaos_game"),
+    ("00_tutorial-chaos-game", "import functools\nmy_chaos_game = functools.partial(ifslib.chaos_game)"),
+    ("00_tutorial-chaos-game", "my_chaos_game = lambda maps, n, seed=0: "
+                               "ifslib.chaos_game(ifslib.patterns.affine(maps), n, seed=seed)"),
+    ("00_tutorial-chaos-game", "from ifslib import chaos_game\n"
+                               "def my_chaos_game(maps, n, seed=0):\n"
+                               "    return chaos_game(ifslib.patterns.affine(maps), n, seed=seed)"),
+    ("00_tutorial-chaos-game", "def outer():\n    game = ifslib.chaos_game\n"
+                               "    return lambda maps, n, seed=0: game(ifslib.patterns.affine(maps), n, seed=seed)\n"
+                               "my_chaos_game = outer()"),
+    ("00_tutorial-hausdorff", "my_hausdorff = ifslib.scoring.metrics.hausdorff"),
+    ("00_tutorial-loss", "import functools\n"
+                         "my_loss = functools.partial(ifslib.scoring.losses.multiscale_mse, levels=5)"),
+    ("00_tutorial-loss", "my_loss = lambda a, b: ifslib.scoring.losses.multiscale_mse(a, b, 5)"),
+    ("00_tutorial-best-fit-line", "my_start = lambda p, t: ifslib.initialize(p, t).points.detach().numpy()"),
+    ("00_tutorial-contraction", "my = ifslib.geometry.rules.singular_values\n"
+                                "contraction_and_fixed_point = lambda M: (my(M), None)"),
+]
 
 
-def test_scaled_distance(capsys):
-    correct(capsys, exercises.check_scaled_distance(0.1, 1 / 3, 0.3))
-    out = not_yet(capsys, exercises.check_scaled_distance(0.9, 1 / 3, 0.3), "printed law")
-    assert "0.1" not in out
-    not_yet(capsys, exercises.check_scaled_distance(0.3, 1 / 3, 0.3))
-    not_yet(capsys, exercises.check_scaled_distance(None, 1 / 3, 0.3), "number")
-    not_yet(capsys, exercises.check_scaled_distance("0.1", 1 / 3, 0.3))
+@pytest.mark.parametrize("grade_id, answer", LAZY)
+def test_lazy_answers_with_the_librarys_own_function_fail(grade_id, answer):
+    fails(grade_id, "ifslib's own", answer_source=answer)
 
 
-def test_collage(capsys):
-    correct(capsys, exercises.check_collage_distance(my_collage))
-    each = lambda maps, p: max(my_hausdorff(p, p @ M[:2, :2].T + M[:2, 2]) for M in maps)  # noqa: E731
-    not_yet(capsys, exercises.check_collage_distance(each), "union")
-    not_yet(capsys, exercises.check_collage_distance(lambda maps, p: my_hausdorff(p, p)))
-    not_yet(capsys, exercises.check_collage_distance(STUB), "one number")
-    not_yet(capsys, exercises.check_collage_distance([1, 2]), "function")
-    library = lambda maps, p: ifslib.metrics.hausdorff(p, np.concatenate([p @ M[:2, :2].T + M[:2, 2] for M in maps]))  # noqa: E731
-    not_yet(capsys, exercises.check_collage_distance(library), "write it yourself")
-    not_yet(capsys, exercises.check_collage_distance(ifslib.scoring.collage.collage_distance), "ifslib's own")
+def test_the_package_holds_no_answer_key():
+    public = set(dir(ifslib.exercises))
+    assert not {n for n in public if n.startswith("check_") or "truth" in n or "reference" in n}, public
+    package = Path(ifslib.__file__).parent
+    for path in package.rglob("*.py"):
+        text = path.read_text()
+        for key in ("_truth", "_reference_multiscale", "hausdorff_pair", "BEGIN SOLUTION", "BEGIN HIDDEN TESTS",
+                    "0.453805", "0.20826"):
+            assert key not in text, f"{path.relative_to(package)} holds {key!r}"
 
 
-# --- part 3 ------------------------------------------------------------------------------------------
-
-def test_loss(capsys):
-    correct(capsys, exercises.check_loss(my_loss))
-    not_yet(capsys, exercises.check_loss(lambda a, b: (a - b).square().mean()), "plain pixel loss")
-    not_yet(capsys, exercises.check_loss(lambda a, b: my_loss(a, b, levels=5)))
-    not_yet(capsys, exercises.check_loss(lambda a, b: my_loss(a.detach(), b)), "gradient")
-    not_yet(capsys, exercises.check_loss(lambda a, b: float(my_loss(a, b).detach())), "torch scalar")
-    not_yet(capsys, exercises.check_loss(STUB), "torch scalar")
-    not_yet(capsys, exercises.check_loss("multiscale_pixel"), "function")
-    not_yet(capsys, exercises.check_loss(ifslib.losses.multiscale_mse), "ifslib's own")
-    not_yet(capsys, exercises.check_loss(lambda a, b: ifslib.losses.multiscale_mse(a, b, 4)), "write it yourself")
+FITS = [("00_tutorial-koch-fit", "my_fit", "koch_target", course_targets.koch_truth, ifslib.exercises.koch_target),
+        ("05_more_examples-carpet-fit", "my_carpet", "odd_carpet", course_targets.carpet_truth,
+         ifslib.exercises.carpet_target),
+        ("07_your_own_image-two-maps", "my_two_maps", "two_maps", course_targets.two_map_truth,
+         ifslib.exercises.two_map_target)]
 
 
-# --- part 4 ------------------------------------------------------------------------------------------
-
-def test_best_fit_start(capsys):
-    correct(capsys, exercises.check_best_fit_start(my_start))
-    correct(capsys, exercises.check_best_fit_start(lambda p, t: my_start(p, t)[::-1]))   # either end first
-    box = lambda p, t: np.linspace(*ifslib.initialization.foreground_points(t)[[0, -1]], p.n_points)  # noqa: E731
-    not_yet(capsys, exercises.check_best_fit_start(box))
-    uneven = lambda p, t: my_start(p, t)[[0, 1, 3, 2, 4][:p.n_points]] if p.n_points == 5 else my_start(p, t)  # noqa: E731
-    not_yet(capsys, exercises.check_best_fit_start(uneven), "evenly")
-    not_yet(capsys, exercises.check_best_fit_start(STUB), "control point")
-    not_yet(capsys, exercises.check_best_fit_start(ifslib.patterns.koch()), "function")
-    not_yet(capsys, exercises.check_best_fit_start(lambda p, t: ifslib.initialize(p, t).points), "write it yourself")
-    not_yet(capsys, exercises.check_best_fit_start(ifslib.initialize), "ifslib's own")
+@pytest.mark.parametrize("grade_id, answer, target, truth, shipped", FITS)
+def test_the_shipped_target_is_the_hidden_truths_picture_and_the_truth_passes(grade_id, answer, target, truth, shipped):
+    picture = shipped(64)
+    assert (picture.mask == course_targets.mask(grade_id.split("-")[0] and
+                                                {"koch_target": "koch", "odd_carpet": "carpet",
+                                                 "two_maps": "two_maps"}[target], 64)).all()
+    run(grade_id, f"{answer} = truth", truth=truth(), **{target: picture})       # hidden tests included
+    fails(grade_id, answer_source=blank(grade_id), **{target: picture})
+    fails(grade_id, answer_source=f"{answer} = {truth.__name__}()", **{target: picture},
+          **{truth.__name__: lambda: ifslib.patterns.sierpinski_triangle() if "carpet" not in grade_id
+             else ifslib.patterns.sierpinski_carpet()})
 
 
-def test_koch_fit(capsys):
-    correct(capsys, exercises.check_koch_fit(exercises.tutorial._koch_truth()))
-    not_yet(capsys, exercises.check_koch_fit(ifslib.patterns.koch()), "px")   # the library's own curve
-    not_yet(capsys, exercises.check_koch_fit(ifslib.patterns.koch_paper(1)))
-    not_yet(capsys, exercises.check_koch_fit(None), "IFS")
-    not_yet(capsys, exercises.check_koch_fit("koch"), "IFS")
-
-
-def test_koch_target_is_not_the_librarys():
-    target = exercises.koch_target(64)
-    assert ifslib.evaluate(ifslib.patterns.koch(), target, depth="attractor")["chamfer"] > 2
-
-
-# --- notebook 01 -------------------------------------------------------------------------------------
-
-def test_leaf_map(capsys):
-    correct(capsys, exercises.check_leaf_map(leaf_map))
-    backwards = lambda maps, word: leaf_map(maps, word[::-1])  # noqa: E731
-    not_yet(capsys, exercises.check_leaf_map(backwards), "reversed")
-    zero_based = lambda maps, word: leaf_map(maps, [i + 1 if i < len(maps) else 1 for i in word])  # noqa: E731
-    not_yet(capsys, exercises.check_leaf_map(zero_based))
-    not_yet(capsys, exercises.check_leaf_map(STUB), "(3, 3)")
-    not_yet(capsys, exercises.check_leaf_map(np.eye(3)), "function")
-    not_yet(capsys, exercises.check_leaf_map(ifslib.expand), "ifslib's own")
-
-
-def test_depth_needed(capsys):
-    correct(capsys, exercises.check_depth_needed(depth_needed))
-    import math
-    by_logs = lambda s, d0, tol: max(0, math.ceil(math.log(tol / d0) / math.log(s)))  # noqa: E731
-    correct(capsys, exercises.check_depth_needed(by_logs))
-    not_yet(capsys, exercises.check_depth_needed(lambda s, d0, tol: depth_needed(s, d0, tol) + 1), "off by one")
-    not_yet(capsys, exercises.check_depth_needed(lambda s, d0, tol: math.log(tol / d0) / math.log(s)), "whole number")
-    not_yet(capsys, exercises.check_depth_needed(STUB), "whole number")
-    not_yet(capsys, exercises.check_depth_needed(4), "function")
-    not_yet(capsys, exercises.check_depth_needed(ifslib.metrics.depth_to_attractor), "ifslib's own")
-
-
-# --- notebooks 05 and 07 -------------------------------------------------------------------------------
-
-def test_carpet_fit(capsys):
-    correct(capsys, exercises.check_carpet_fit(exercises.lessons._carpet_truth()))
-    carpet = ifslib.patterns.sierpinski_carpet()
-    not_yet(capsys, exercises.check_carpet_fit(carpet), "IoU")     # the library's own carpet
-    not_yet(capsys, exercises.check_carpet_fit(ifslib.initialize(carpet, exercises.carpet_target(64))), "IoU")
-    not_yet(capsys, exercises.check_carpet_fit(None), "IFS")
-    not_yet(capsys, exercises.check_carpet_fit(carpet.maps()), "IFS")
-
-
-def test_two_maps(capsys):
-    correct(capsys, exercises.check_two_maps(exercises.lessons._two_map_truth()))
-    not_yet(capsys, exercises.check_two_maps(ifslib.patterns.random_ifs(2, seed=0)), "IoU")
-    not_yet(capsys, exercises.check_two_maps(ifslib.patterns.random_ifs(3, seed=0)), "2 maps")
-    not_yet(capsys, exercises.check_two_maps(None), "IFS")
-
-
-@pytest.mark.parametrize("check", [exercises.check_chaos_game, exercises.check_hausdorff,
-                                   exercises.check_collage_distance, exercises.check_loss,
-                                   exercises.check_best_fit_start, exercises.check_leaf_map,
-                                   exercises.check_depth_needed, exercises.check_contraction])
-def test_a_raising_function_gets_a_hint_not_a_traceback(check, capsys):
-    def broken(*args):
-        raise ZeroDivisionError("oops")
-
-    not_yet(capsys, check(broken), "ZeroDivisionError")
+def test_a_shipped_target_at_another_size_is_refused():
+    with pytest.raises(IFSError, match="64, 128, 256"):
+        ifslib.exercises.koch_target(100)

@@ -54,7 +54,7 @@ print(total)"""
 
 
 def exercise(source, grade_id="koch_map"):
-    meta = {"tags": ["exercise", "nbval-check-output"], "nbgrader": {**GRADER, "grade_id": grade_id}}
+    meta = {"tags": ["exercise"], "nbgrader": {**GRADER, "grade_id": grade_id}}
     cell = v4.new_code_cell(source, metadata=meta, execution_count=3)
     cell.outputs = [v4.new_output("stream", name="stdout", text="T3: correct.\n")]
     return cell
@@ -171,10 +171,11 @@ def test_real_notebooks_student_edition_holds_no_solution_line(path):
 def test_check_fails_on_a_notebook_that_checks_answers_but_marks_none(tmp_path, capsys):
     source = tmp_path / "notebooks"
     source.mkdir()
-    worked = notebook(v4.new_code_cell("T3 = [[1, 0, 0]]\nassert ifslib.exercises.check_koch_map(T3, 3)"))
+    worked = notebook(v4.new_code_cell("leaf_count = lambda m, p, k: p * m ** k\n"
+                                       "ifslib.exercises.run_answer(leaf_count, 'leaf count', 8, 1, 4)"))
     nbformat.write(worked, source / "00_tutorial.ipynb")
     assert student.main([str(tmp_path / "student"), "--source", str(source), "--check"]) == 1  # no kernel started
-    assert "00_tutorial.ipynb: FAILED: calls ifslib.exercises" in capsys.readouterr().out
+    assert "00_tutorial.ipynb: FAILED: runs ifslib.exercises" in capsys.readouterr().out
 
 
 def test_book_check_finds_a_solution_shown_outside_a_fold(tmp_path):
@@ -185,3 +186,33 @@ def test_book_check_finds_a_solution_shown_outside_a_fold(tmp_path):
     shown = ('<pre><span class="n">r3</span> <span class="o">=</span> <span class="n">np</span><span class="o">.'
              '</span><span class="n">sqrt</span><span class="p">(</span><span class="mi">3</span>)</pre>')
     assert "r3 = np.sqrt(3)" in book_build.check_folded(tmp_path / "lesson.ipynb", page, shown)[0]
+
+
+def test_quick_values_are_injected_after_the_parameters_cell_as_papermill_does():
+    grading = student._grading()
+    book = notebook(v4.new_code_cell("size = 128\nsteps = 200", metadata={"tags": ["parameters"]}),
+                    v4.new_code_cell("print(size, steps)"))
+    book.metadata["ifslib"] = {"quick": {"size": 64, "steps": 20}}
+    quick = grading.with_quick_values(book)
+    where = [c.source for c in quick.cells].index("size = 128\nsteps = 200")
+    injected = quick.cells[where + 1]
+    assert injected.metadata["tags"] == ["injected-parameters"]
+    namespace = {}
+    exec(quick.cells[where].source + "\n" + injected.source, namespace)
+    assert (namespace["size"], namespace["steps"]) == (64, 20)
+    plain = notebook(v4.new_code_cell("size = 128", metadata={"tags": ["parameters"]}))
+    assert len(grading.with_quick_values(plain).cells) == len(plain.cells)   # no quick values: unchanged
+
+
+def test_book_folds_a_written_answers_model_answer_in_place(tmp_path):
+    written = v4.new_markdown_cell("### BEGIN SOLUTION\n**Model answer.** By induction on $K$.\n\n"
+                                   "**Rubric (2 points).** 1 point: the base case.\n### END SOLUTION",
+                                   metadata={"nbgrader": {**GRADER, "grade_id": "proof", "points": 2}})
+    nbformat.write(notebook(v4.new_markdown_cell("**Exercise 4.** Prove it."), written), tmp_path / "in.ipynb")
+    assert book_build.fold_solutions(tmp_path / "in.ipynb", tmp_path / "out.ipynb") == 1
+    cell = nbformat.read(tmp_path / "out.ipynb", as_version=4).cells[-1]
+    assert cell.source.startswith("<details><summary>Show the model answer</summary>")
+    assert "BEGIN SOLUTION" not in cell.source and "**Rubric (2 points).**" in cell.source
+    page = book_build.ROOT / "build" / "lesson.html"  # only named in the messages
+    folded = "<p>Prove it.</p><details><summary>Show</summary><p>By induction on K.</p></details>"
+    assert book_build.check_folded(tmp_path / "in.ipynb", page, folded) == []

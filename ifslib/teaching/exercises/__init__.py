@@ -1,33 +1,18 @@
-"""Check functions for the exercises of the notebooks (the tutorial, 01, 05 and 07).
+"""What the notebooks' exercise tests may import: the harness that runs a student's function, and the targets.
 
-Each check takes the student's answer, prints ``"<name>: correct."`` or ``"<name>: not yet. Hint:
-..."`` and returns a bool, so a notebook cell reads ``ifslib.exercises.check_koch_map(T3, 3);``. A
-check never raises: an answer of the wrong kind (``None``, a string, a function that returns
-nothing or raises) is answered "not yet" with a hint that says what was expected.
+The answers, the reference functions and the truths behind the fit targets are not here: they live
+in the instructor's notebooks (nbgrader's solution regions and hidden tests) and in
+``course/targets.py``. A test cell of a notebook calls `run_answer` to run the student's function
+with the library's own one switched off, and raises ``AssertionError`` with a hint on a wrong answer:
 
-Checks that cannot be passed by the library's own answer:
-
-* where the student writes a function the library already has (the chaos game, the Hausdorff and
-  collage distances, a loss, the best-fit-line start), the check calls it on inputs of its own
-  choosing (random, seeded) and compares with a reference, **with the library's function switched
-  off** while the student's runs (`library_off`): calling it then raises `WriteItYourself`, and a
-  library function handed in as the answer is refused;
-* where the student fits an IFS, the target is one the library does not ship (a Koch curve from
-  seeded random control points, a carpet of other proportions, a random two-map fractal), and the
-  fit is scored by its attractor (`ifslib.evaluate` with ``depth="attractor"``).
-
-A check prints no number when the answer is right, so its stored output is the same on every
-machine.
+* `run_answer` refuses the library's function handed in as the answer (directly, through
+  ``functools.partial``, a wrapper or a closure) and, while the student's function runs, replaces
+  the library's functions for that exercise (`LIBRARY`) with ones that raise `WriteItYourself`;
+* `koch_target`, `carpet_target` and `two_map_target` read pictures shipped with the package
+  (``targets/*.png``): a student fits the picture; the maps that drew it are not installed.
 """
-from .harness import LIBRARY, WriteItYourself, library_off
-from .lessons import (carpet_target, check_carpet_fit, check_depth_needed, check_leaf_map, check_two_maps,
-                      two_map_target, word_maps)
-from .tutorial import (chaos_maps, check_best_fit_start, check_chaos_game, check_collage_distance, check_contraction,
-                       check_hausdorff, check_koch_fit, check_koch_map, check_leaf_count, check_loss,
-                       check_scaled_distance, collage_maps, contraction_maps, koch_map, koch_target)
+from .harness import LIBRARY, WriteItYourself, as_matrix, as_number, library_off, random_maps, run_answer
+from .targets import SIZES, carpet_target, koch_target, two_map_target
 
-__all__ = ["LIBRARY", "WriteItYourself", "library_off", "koch_map", "check_koch_map", "check_leaf_count",
-           "contraction_maps", "check_contraction", "chaos_maps", "check_chaos_game", "check_hausdorff",
-           "check_scaled_distance", "collage_maps", "check_collage_distance", "check_loss", "koch_target",
-           "check_best_fit_start", "check_koch_fit", "word_maps", "check_leaf_map", "check_depth_needed",
-           "carpet_target", "check_carpet_fit", "two_map_target", "check_two_maps"]
+__all__ = ["LIBRARY", "WriteItYourself", "library_off", "run_answer", "as_matrix", "as_number", "random_maps",
+           "SIZES", "koch_target", "carpet_target", "two_map_target"]

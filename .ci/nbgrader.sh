@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# nbgrader itself grades the course: lay out build/course from notebooks/ with each notebook's quick
+# values, `nbgrader generate_assignment`, then `nbgrader autograde` the instructor's source (every
+# auto-graded point; the written answers left for manual grading) and the blank release (0 points).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+IFSLIB_THREADS=1 .venv/bin/python course/grading.py build/course --quick --check

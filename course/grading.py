@@ -1,0 +1,144 @@
+"""A course of this project's notebooks under nbgrader: lay it out, release it, autograde submissions.
+
+    python course/grading.py build/course            # lay out build/course, generate the release
+    python course/grading.py build/course --check    # then autograde the instructor's source and the blank
+                                                     # release, and fail unless they score full and 0
+
+The assignment ``ifs`` holds every notebook of ``notebooks/`` with nbgrader cells (the tutorial, 01, 05
+and 07); ``--quick`` injects each notebook's quick values (``metadata["ifslib"]["quick"]``) after its
+parameters cell, as CI runs them. ``--check`` submits two students: ``instructor`` (the source, solved)
+and ``blank`` (the release, unanswered), autogrades both with nbgrader itself and prints each one's
+auto-graded points and the cells left for manual grading (the written answers).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import nbformat
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from run_edition import with_quick_values  # noqa: E402  one way to inject the quick values, here and there
+
+ROOT = Path(__file__).resolve().parents[1]
+NOTEBOOKS = ROOT / "notebooks"
+CONFIG = Path(__file__).resolve().parent / "nbgrader_config.py"
+ASSIGNMENT = "ifs"
+
+
+def is_graded(book) -> bool:
+    """Whether a notebook has nbgrader cells (an answer or a test)."""
+    return any(cell.metadata.get("nbgrader") for cell in book.cells)
+
+
+def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[str]:
+    """Write ``course/nbgrader_config.py`` and ``course/source/ifs/`` (the graded notebooks); returns their names."""
+    if course.exists():
+        shutil.rmtree(course)
+    folder = course / "source" / ASSIGNMENT
+    folder.mkdir(parents=True)
+    shutil.copy2(CONFIG, course / "nbgrader_config.py")
+    names = []
+    for path in sorted(source.glob("*.ipynb")):
+        book = nbformat.read(path, as_version=4)
+        if is_graded(book):
+            nbformat.write(with_quick_values(book) if quick else book, folder / path.name)
+            names.append(path.stem)
+    if not names:
+        raise SystemExit(f"no notebook in {source} has nbgrader cells")
+    return names
+
+
+def nbgrader(course: Path, *args: str) -> None:
+    """Run the ``nbgrader`` command of this Python's environment in ``course``; raise on failure."""
+    bin_folder = Path(sys.executable).parent
+    command = [str(bin_folder / "nbgrader"), *args, "--force"]
+    # nbgrader runs alembic (its database migrations) by name: this environment's, first on the PATH
+    env = dict(os.environ, PATH=f"{bin_folder}{os.pathsep}{os.environ.get('PATH', '')}")
+    done = subprocess.run(command, cwd=course, capture_output=True, text=True, env=env)
+    if done.returncode:
+        raise SystemExit(f"{' '.join(command[1:])} failed in {course}:\n{done.stdout}\n{done.stderr}")
+
+
+def generate(course: Path) -> Path:
+    """``nbgrader generate_assignment``: the release folder (solutions and hidden tests removed)."""
+    nbgrader(course, "generate_assignment", ASSIGNMENT)
+    return course / "release" / ASSIGNMENT
+
+
+@dataclass(frozen=True)
+class Score:
+    """One student's autograded assignment: the tests' points, and the written answers."""
+
+    student: str
+    auto: float          # points the test cells gave
+    auto_max: float
+    written: int         # written answer cells (markdown, graded by a person)
+    manual_cells: int    # of them, those nbgrader left for manual grading (an unchanged one gets 0 at once)
+
+    def line(self) -> str:
+        return (f"{self.student}: auto points {self.auto:g} of {self.auto_max:g}, "
+                f"manual cells {self.manual_cells} of {self.written} written answers")
+
+
+def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
+    """Submit each folder as a student, run ``nbgrader autograde`` and read the gradebook."""
+    for student, folder in submissions.items():
+        target = course / "submitted" / student / ASSIGNMENT
+        shutil.copytree(folder, target, dirs_exist_ok=True)
+        nbgrader(course, "autograde", ASSIGNMENT, "--student", student)
+    from nbgrader.api import Gradebook
+
+    scores = []
+    with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as book:
+        for student in submissions:
+            grades = [grade for notebook in book.find_submission(ASSIGNMENT, student).notebooks
+                      for grade in notebook.grades]
+            tests = [g for g in grades if g.cell_type == "code"]
+            written = [g for g in grades if g.cell_type == "markdown"]
+            scores.append(Score(student, sum(g.auto_score or 0 for g in tests), sum(g.max_score for g in tests),
+                                len(written), sum(bool(g.needs_manual_grade) for g in written)))
+            failed = [g.name for g in tests if (g.auto_score or 0) < g.max_score]
+            if failed and student == "instructor":
+                print(f"  {student}: tests that failed: {', '.join(failed)}", flush=True)
+    return scores
+
+
+def check(course: Path, names: list[str]) -> int:
+    """Autograde the solved source and the blank release; 0 when they score full and 0, else 1."""
+    instructor, blank = autograde(course, {"instructor": course / "source" / ASSIGNMENT,
+                                           "blank": course / "release" / ASSIGNMENT})
+    for score in (instructor, blank):
+        print(score.line(), flush=True)
+    problems = []
+    if instructor.auto != instructor.auto_max or instructor.auto_max == 0:
+        problems.append("the instructor's source does not get every auto-graded point")
+    if instructor.manual_cells != instructor.written:
+        problems.append("a written answer of the instructor's source was not left for manual grading")
+    if blank.auto != 0:
+        problems.append("the blank release gets auto-graded points")
+    for problem in problems:
+        print(f"FAILED: {problem}", flush=True)
+    return 1 if problems else 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("course", type=Path, help="the course folder to write (replaced)")
+    parser.add_argument("--source", type=Path, default=NOTEBOOKS, help="the instructor's notebooks")
+    parser.add_argument("--quick", action="store_true", help="inject each notebook's quick values (CI)")
+    parser.add_argument("--check", action="store_true", help="autograde the source (full) and the release (0)")
+    args = parser.parse_args(argv)
+    names = layout(args.course, args.source, args.quick)
+    release = generate(args.course)
+    print(f"released {', '.join(names)} in {release}", flush=True)
+    return check(args.course, names) if args.check else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,71 @@
+"""Run every notebook of a folder as a student would, with nothing of the repository beside it.
+
+    python run_edition.py FOLDER [--timeout S]
+
+Run by the Python of the environment under test (a fresh venv with the wheel of ifslib and
+requirements-student.txt): each notebook is executed in FOLDER with that Python's own kernel, its
+quick values (``metadata["ifslib"]["quick"]``) injected after its parameters cell when it has them.
+An nbgrader test cell may raise ``AssertionError`` (an unanswered exercise); any other error fails
+the run. Needs only nbformat and nbclient, which JupyterLab brings.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import nbformat
+from nbclient import NotebookClient
+
+
+def with_quick_values(book):
+    """``book`` with its quick values injected after the parameters cell (as papermill injects them)."""
+    quick = book.metadata.get("ifslib", {}).get("quick", {})
+    where = [i for i, c in enumerate(book.cells) if "parameters" in c.metadata.get("tags", [])]
+    if quick and where:
+        cell = nbformat.v4.new_code_cell("".join(f"{k} = {v!r}\n" for k, v in quick.items()))
+        cell.metadata["tags"] = ["injected-parameters"]
+        book.cells.insert(where[0] + 1, cell)
+    return book
+
+
+def is_test(cell) -> bool:
+    grader = cell.metadata.get("nbgrader", {})
+    return bool(grader.get("grade")) and not grader.get("solution")
+
+
+def run(path: Path, timeout: int) -> list[str]:
+    """Execute one notebook in its folder; the errors that are not an unanswered exercise's test."""
+    book = with_quick_values(nbformat.read(path, as_version=4))
+    NotebookClient(book, timeout=timeout, kernel_name="python3", allow_errors=True,
+                   resources={"metadata": {"path": str(path.parent)}}).execute()
+    problems = []
+    for index, cell in enumerate(book.cells):
+        for output in cell.get("outputs", []):
+            if output.output_type == "error" and not (is_test(cell) and output.ename == "AssertionError"):
+                problems.append(f"cell {index} raised {output.ename}: {output.evalue[:300]}")
+    return problems
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("folder", type=Path)
+    parser.add_argument("--timeout", type=int, default=900, help="seconds a cell may run")
+    args = parser.parse_args(argv)
+    paths = sorted(args.folder.glob("*.ipynb"))
+    failed = 0
+    for path in paths:
+        started = time.perf_counter()
+        problems = run(path, args.timeout)
+        seconds = time.perf_counter() - started
+        failed += bool(problems)
+        print(f"{path.name}: {'FAILED' if problems else 'ran'} in {seconds:.0f} s", flush=True)
+        for problem in problems:
+            print(f"    {problem}", flush=True)
+    print(f"{len(paths) - failed} passed, {failed} failed (notebooks run from {args.folder})", flush=True)
+    return 1 if failed or not paths else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
