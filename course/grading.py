@@ -4,8 +4,8 @@
     python course/grading.py build/course --check    # then autograde the instructor's source and the blank
                                                      # release, and fail unless they score full and 0
 
-The assignment ``ifs`` holds every notebook of ``notebooks/`` with nbgrader cells (the tutorial, 01, 05
-and 07); ``--quick`` injects each notebook's quick values (``metadata["ifslib"]["quick"]``) after its
+The assignment ``ifs`` holds every notebook of ``notebooks/`` with nbgrader cells (every lesson
+but the explorer and the glossary); ``--quick`` injects each notebook's quick values (``metadata["ifslib"]["quick"]``) after its
 parameters cell, as CI runs them. ``--check`` submits two students: ``instructor`` (the source, solved)
 and ``blank`` (the release, unanswered), autogrades both with nbgrader itself and prints each one's
 auto-graded points and the cells left for manual grading (the written answers).

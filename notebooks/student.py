@@ -11,11 +11,10 @@ with nbgrader cells are laid out as the course's assignment and ``nbgrader gener
 writes them (``course/grading.py``, with ``course/nbgrader_config.py``): each solution block becomes
 ``...  # YOUR CODE HERE`` (a written one ``YOUR ANSWER HERE``), hidden tests are removed, outputs
 cleared and the test cells locked. The other notebooks are copied as they are, stored outputs
-included (they hold no solution, and the student gets the whole course in one folder), with
-``notebooks/params/`` beside them. Markers that do not pair up are refused before anything is
+included (they hold no solution, and the student gets the whole course in one folder). Markers that do not pair up are refused before anything is
 written, naming the notebook and the cell.
 
-``--check`` then executes each released notebook top to bottom (nbclient, a fresh python3 kernel, a
+``--check`` then executes each released notebook top to bottom at its quick values (nbclient, a fresh python3 kernel, a
 temporary folder, ``IFSLIB_THREADS=1``) and fails unless every test cell raises ``AssertionError``
 (nothing is answered yet) and no other cell raises, and no solution or hidden-test line of the
 instructor's edition is left. It also fails on a notebook that runs the exercises' harness
@@ -43,6 +42,8 @@ import nbformat
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
+sys.path.insert(0, str(ROOT / "course"))
+from run_edition import with_quick_values  # noqa: E402  the check runs each notebook at its quick values, as CI does
 DEFAULT_OUT = ROOT / "build" / "student"
 
 #: nbgrader's delimiters: a comment line (any number of comment characters) holding only the words.
@@ -219,8 +220,6 @@ def write_edition(out: Path, source: Path = NOTEBOOKS) -> list[Path]:
                 shutil.copy2(release / name, out / name)
     for path in copies:
         shutil.copy2(path, out / path.name)
-    if (source / "params").is_dir():   # the presets, which the glossary shows
-        shutil.copytree(source / "params", out / "params", dirs_exist_ok=True)
     print(f"student edition in {_shown(out)} (nbgrader's release): {len(released)} with exercises "
           f"({', '.join(released) or 'none'}), {len(copies)} copied as they are")
     return [out / name for name in released]
@@ -248,7 +247,7 @@ def check_notebook(path: Path, instructor_path: Path, timeout: int = 600) -> tup
     with tempfile.TemporaryDirectory(prefix="student-") as folder:
         copy_path = Path(folder) / path.name
         shutil.copy2(path, copy_path)
-        book = nbformat.read(copy_path, as_version=4)
+        book = with_quick_values(nbformat.read(copy_path, as_version=4))
         started = time.perf_counter()
         NotebookClient(book, timeout=timeout, kernel_name="python3", allow_errors=True,
                        resources={"metadata": {"path": folder}}).execute()
