@@ -136,6 +136,8 @@ def main(argv: list[str] | None = None) -> int:
                      "the notebook) or quick (metadata['ifslib']['quick'], what the tests run)")
     if args.into and args.preset != "teaching":
         parser.error("--into is for the teaching preset; the quick one always runs into build/quick/")
+    if args.into:
+        args.into = args.into.resolve()  # the kernels run in notebooks/: a relative folder would land there
     books = longest_first(notebooks([*args.names, *args.only]))
     if not books:
         parser.error(f"no notebook starts with {' or '.join([*args.names, *args.only])}")
