@@ -239,7 +239,7 @@ def shape_detail(target: Target) -> tuple[bool, bool]:
 
 def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
                   progress: bool = True, *, config: fractal.SearchConfig = fractal.DEFAULT
-                  ) -> tuple[IFS | None, dict]:
+                  ) -> tuple[IFS | None, dict, fractal.Row]:
     """The maps of `ifslib.discovery.fractal.search` (with ``config``) as a start, or None when their attractor
     does not fit.
 
@@ -249,19 +249,21 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_
         ``kind="fractal"`` affine maps, when the chosen attractor's Chamfer distance is at most
         `FRACTAL_CHAMFER` pixels.
     dict
-        What the search compared: ``search`` (one row per number of maps), ``rule``, ``verdict``.
+        What the search compared, for the file: ``search`` (one row per number of maps), ``rule``, ``verdict``.
+    Row
+        The chosen number of maps' scores at full precision (what a later decision reads).
     """
     found = fractal.search(target, maps, seed=seed, progress=progress, config=config)
-    chamfer_px = found.chosen["chamfer_px"]
+    chamfer_px = found.choice.chamfer_px
     record = {"search": found.table, "rule": found.rule}
     if chamfer_px > FRACTAL_CHAMFER:
-        record["verdict"] = (f"not a fractal of at most {max(r['maps'] for r in found.table)} maps: the best attractor is "
+        record["verdict"] = (f"not a fractal of at most {max(r.maps for r in found.rows)} maps: the best attractor is "
                              f"{chamfer_px:.2f} px from the target (> {FRACTAL_CHAMFER:g})")
-        return None, record
+        return None, record, found.choice
     record["verdict"] = f"a fractal: {len(found.maps)} maps whose attractor is {chamfer_px:.2f} px from the target"
     ifs = patterns.affine(found.maps, depth=depth, name="auto")
     ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(found.maps), "depth": depth, **record}
-    return ifs, record
+    return ifs, record, found.choice
 
 
 def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) -> np.ndarray:

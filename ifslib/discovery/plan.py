@@ -95,21 +95,21 @@ def _searchable(target: Target, share: float, edge: float | None, maps: int | No
             and (maps is None or maps <= fractal.DEFAULT.max_maps))
 
 
-def ambiguous(share: float, fractal_pattern: dict, edge: float | None = None) -> str | None:
+def ambiguous(share: float, maps: int, iou: float, edge: float | None = None) -> str | None:
     """Why a figure (of interior share ``share``, `ifslib.discovery.auto.interior_share`) whose search found a
-    fractal may be a shape as well, or None when it is clearly a fractal: its interior share is at least
-    `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU is below `CLEAR_FRACTAL_IOU`. ``edge`` is the
-    edge dimension of a solid figure searched for its rough edge (`ifslib.discovery.auto.edge_dimension`)."""
-    chosen = next(r for r in fractal_pattern["search"] if r["maps"] == fractal_pattern["maps"])
-    if share < AMBIGUOUS_SHARE or chosen["iou"] >= CLEAR_FRACTAL_IOU:
+    fractal of ``maps`` maps may be a shape as well, or None when it is clearly a fractal: its interior share is
+    at least `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU ``iou`` (full precision,
+    `ifslib.discovery.fractal.SearchResult.choice`) is below `CLEAR_FRACTAL_IOU`. ``edge`` is the edge dimension
+    of a solid figure searched for its rough edge (`ifslib.discovery.auto.edge_dimension`)."""
+    if share < AMBIGUOUS_SHARE or iou >= CLEAR_FRACTAL_IOU:
         return None
     figure = (f"the figure is solid (interior share {share:.2f}) with a rough edge (dimension {edge:.2f} >= "
               f"{ROUGH_EDGE:g}: overlapping copies draw one, and so may a shape's)"
               if share >= POROUS_SHARE and edge is not None else
               f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin "
               f"parts has as much)")
-    return (f"{figure} and the search's {fractal_pattern['maps']} maps draw an attractor of IoU "
-            f"{chosen['iou']:.3f} < {CLEAR_FRACTAL_IOU:g}: fitted as a fractal and as a shape")
+    return (f"{figure} and the search's {maps} maps draw an attractor of IoU {iou:.3f} < {CLEAR_FRACTAL_IOU:g}: "
+            "fitted as a fractal and as a shape")
 
 
 def discover(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
@@ -138,14 +138,15 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     wanted = choices(kind, maps, depth, detail=detail)  # checks maps and depth before any search
     if share is not None and _searchable(target, share, edge, maps):
         config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
-        start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)
+        start, searched, choice = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed,
+                                                config=config)
         if edge is not None:  # why a figure with interior was searched, for the file
             searched["edge_dimension"] = round(edge, 3)
             if start is not None:
                 start.meta["pattern"]["edge_dimension"] = searched["edge_dimension"]
         if start is not None:
             found = Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
-            why = ambiguous(share, found.pattern, edge)
+            why = ambiguous(share, choice.maps, choice.iou, edge)
             if why is None:
                 return found
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs))

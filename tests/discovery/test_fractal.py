@@ -250,9 +250,9 @@ def test_search_runs_again_from_the_next_seed_only_while_no_attractor_fits(monke
         seed, config = context.seed, context.config
         calls.append(seed)
         copies.add(id(context.copies))  # the candidate copies do not depend on the seed: found once, read again
-        row = {"maps": 2, "iou": ious[seed], "score": round(1 - ious[seed] + config.map_cost * 2, 4),
-               "reoriented": seed != 7}
-        return fractal.SearchResult(np.full((2, 2, 3), seed / 10), [row], f"rule {seed}")
+        row = fractal.Row(maps=2, cover=1.0, collage_px=0.0, iou=ious[seed], score=1 - ious[seed] + config.map_cost * 2,
+                          reoriented=seed != 7)
+        return fractal.SearchResult(np.full((2, 2, 3), seed / 10), (row,), f"rule {seed}")
 
     monkeypatch.setattr(driver, "_search", one)
     found = fractal.search(target, maps=2, seed=0, progress=False)
