@@ -14,12 +14,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry import patterns
 from ..geometry.ifs import IFS
 from ..scoring.metrics import evaluate
 from ..targets.target import Target, resize_target
 from . import fractal
 from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, POROUS_SIZE, ROUGH_EDGE,
-                   THIN_PARTS, candidates, choices, classify, edge_dimension, detailed, fractal_start, interior_share,
+                   THIN_PARTS, candidates, choices, classify, edge_dimension, detailed, interior_share,
                    limbed, thin_share)
 
 #: A porous figure with at least this interior share (`ifslib.discovery.auto.interior_share`) may be a solid
@@ -34,6 +35,9 @@ CLEAR_FRACTAL_IOU = 0.93
 #: `ifslib.targets.silhouettes.thin_gallery`; the fractals of interior share 0.6 or more end their first search
 #: above 0.85 and never search again; docs/results/any-shape.md).
 AMBIGUOUS_SEARCH = dataclasses.replace(fractal.DEFAULT, again=0)
+#: The fractal search's maps are the start when their attractor's symmetric Chamfer distance to the
+#: target (pixels, at the search's refining size) is at most this.
+FRACTAL_CHAMFER = 1.0
 
 
 @dataclass(frozen=True)
@@ -72,6 +76,35 @@ class Plan:
     @property
     def depth(self) -> int:
         return self.start.depth
+
+
+def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
+                  progress: bool = True, *, config: fractal.SearchConfig = fractal.DEFAULT
+                  ) -> tuple[IFS | None, dict, fractal.Row]:
+    """The maps of `ifslib.discovery.fractal.search` (with ``config``) as a start, or None when their attractor
+    does not fit.
+
+    Returns
+    -------
+    IFS or None
+        ``kind="fractal"`` affine maps, when the chosen attractor's Chamfer distance is at most
+        `FRACTAL_CHAMFER` pixels.
+    dict
+        What the search compared, for the file: ``search`` (one row per number of maps), ``rule``, ``verdict``.
+    Row
+        The chosen number of maps' scores at full precision (what a later decision reads).
+    """
+    found = fractal.search(target, maps, seed=seed, progress=progress, config=config)
+    chamfer_px = found.choice.chamfer_px
+    record = {"search": found.table, "rule": found.rule}
+    if chamfer_px > FRACTAL_CHAMFER:
+        record["verdict"] = (f"not a fractal of at most {max(r.maps for r in found.rows)} maps: the best attractor is "
+                             f"{chamfer_px:.2f} px from the target (> {FRACTAL_CHAMFER:g})")
+        return None, record, found.choice
+    record["verdict"] = f"a fractal: {len(found.maps)} maps whose attractor is {chamfer_px:.2f} px from the target"
+    ifs = patterns.affine(found.maps, depth=depth, name="auto")
+    ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(found.maps), "depth": depth, **record}
+    return ifs, record, found.choice
 
 
 def _edge(target: Target, share: float, thin: float) -> float | None:
@@ -116,7 +149,7 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
              seed: int = 0) -> Plan:
     """The plan for ``target``: a fractal's maps when the figure is porous (or solid with a rough edge) and the
     search finds them
-    (`ifslib.discovery.auto.fractal_start`), else the curve or shape starts of the (maps, depth)
+    (`fractal_start`), else the curve or shape starts of the (maps, depth)
     pairs of `ifslib.discovery.auto.choices`, the nearest one the start. A fractal plan whose figure
     may be a shape as well (`ambiguous`) carries the shape plan as its rival. A detailed shape
     (`ifslib.discovery.auto.detailed`) is offered more maps, and one with limbs (`ifslib.discovery.auto.limbed`)
