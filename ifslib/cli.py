@@ -242,6 +242,8 @@ def _render_parser(sub) -> None:
 
 def _fit_parser(sub) -> None:
     """``fit``'s options."""
+    from .scoring.losses import DEFAULT_LOSS, LOSSES
+
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
     f.add_argument("target", help="target image (its figure found from its border: the background is the colour "
                    "that touches it; a transparent background makes the opaque part the figure), or "
@@ -260,8 +262,7 @@ def _fit_parser(sub) -> None:
                    help="early stop: end a run when its best loss improved by at most this fraction over the last "
                         "steps (default: the strategy's; off for plain)")
     f.add_argument("--lr", type=float, default=0.003, help="learning rate (default 0.003, as the paper)")
-    f.add_argument("--loss", default=None,
-                   help="pixel, multiscale_pixel, distance or multiscale_distance (default, as the library's)")
+    f.add_argument("--loss", default=None, help=f"{', '.join(LOSSES)} (default {DEFAULT_LOSS}, as the library's)")
     f.add_argument("--jitter", type=float, default=0.0, help="uniform jitter of the initial points (plane units)")
     f.add_argument("--seed", type=int, default=0, help="seed of the jitter and the run")
     f.add_argument("--invert", action=argparse.BooleanOptionalAction, default=None,

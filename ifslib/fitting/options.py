@@ -49,8 +49,7 @@ class RunOptions:
         Learning rate at the target's size (the paper used 0.003); strategies scale it with the
         pixel size of a coarser stage.
     loss : str or callable
-        ``pixel``, ``multiscale_pixel``, ``distance``, ``multiscale_distance`` (`DEFAULT_LOSS`) or
-        ``f(distance, target)``.
+        One of `ifslib.scoring.losses.LOSSES` (`DEFAULT_LOSS` when not given) or ``f(distance, target)``.
     depth : int or "attractor", optional
         Render depth (``ifs.depth`` when None); ``"attractor"`` fits the attractor itself.
     sigma, levels
