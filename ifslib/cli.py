@@ -100,15 +100,15 @@ def _stages_text(history) -> str:
 
 def _spent_text(history) -> str:
     stages, auto = history.stages, history.auto
-    if auto is not None and auto.get("kind") == "fractal":
+    if history.kind == "fractal":
         tried = ", ".join(f"{c['maps']} maps IoU {c['iou']:.3f}" for c in auto["candidates"])
         return (f"{history.cost} steps spent (auto: a fractal, {auto['chosen']} maps chosen by the search's rule, "
                 f"1 - attractor IoU plus a cost per map ({tried}); then "
                 f"{', '.join(_stage_text(s) for s in stages)} steps)")
-    if auto is not None:
+    if history.kind is not None:
         tried = ", ".join(f"{c['maps']} maps {c['loss']:.3g}" for c in auto["candidates"])
         runs = ", ".join(_stage_text(s) for s in stages)
-        return (f"{history.cost} steps spent (auto: a {auto['kind']}, {auto['chosen']} maps chosen by the loss "
+        return (f"{history.cost} steps spent (auto: a {history.kind}, {auto['chosen']} maps chosen by the loss "
                 f"after {auto['candidates'][0]['steps']} steps at {stages[0].size}² ({tried}); then {runs} steps)")
     if not stages:
         return f"{history.cost} steps spent ({history.strategy or 'plain'})"

@@ -115,7 +115,7 @@ def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = Non
     kinds = []
     for result, known in zip(results, ious or [None] * len(results)):
         iou = evaluate(result.best, frame.target, depth=ATTRACTOR)["iou"] if known is None else known
-        kinds.append(Kind(result.history.auto["kind"], len(result.best.rules), iou, result.history.cost))
+        kinds.append(Kind(result.history.kind, len(result.best.rules), iou, result.history.cost))
     best = min(range(len(kinds)), key=lambda i: (kinds[i].score, kinds[i].maps))  # full precision decides
     rows = [k.written() for k in kinds]  # what the file and the history say
     decision = (f"{rows[best]['kind']} kept: " + "; ".join(
@@ -157,7 +157,8 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
         stages.append(stage)
     # the chosen candidate's own description, for the file (it decides nothing here)
     choice = {**winner.best.meta["pattern"], "candidates": [c.written() for _, c in tried], "chosen": chosen.maps}
-    return _finish(result, choice, stages, sum(c.steps for _, c in tried) + sum(s.steps for s in stages)), None
+    cost = sum(c.steps for _, c in tried) + sum(s.steps for s in stages)
+    return _finish(result, plan.kind, choice, stages, cost), None
 
 
 def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, Probe]:
@@ -188,7 +189,7 @@ def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
                       best_loss=result.best_loss)
     choice = {**{k: v for k, v in pattern.items() if k != "search"}, "candidates": pattern.get("search", []),
               "chosen": pattern["maps"]}
-    return _finish(result, choice, [stage], stage.steps), iou
+    return _finish(result, plan.kind, choice, [stage], stage.steps), iou
 
 
 def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -> tuple[FitResult, float]:
@@ -211,12 +212,12 @@ def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -
                      best_loss=loss[0] if loss else result.best_loss, best_step=0), before  # the loss before step 0
 
 
-def _finish(result: FitResult, choice: dict, stages: list[Stage], cost: int) -> FitResult:
+def _finish(result: FitResult, kind: str, choice: dict, stages: list[Stage], cost: int) -> FitResult:
     """The history's account of the choice, and the fitted IFSs' description for the file."""
     for stage in stages:
         stage.maps = choice["chosen"]
     h = result.history
-    h.cost, h.stages, h.auto = cost, stages, choice
+    h.cost, h.stages, h.kind, h.auto = cost, stages, kind, choice
     for ifs in (result.best, result.final):
         ifs.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
     return result

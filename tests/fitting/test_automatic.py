@@ -84,7 +84,7 @@ def test_the_kind_is_chosen_on_full_precision_scores_and_written_rounded():
     results = []
     for kind, maps in (("fractal", 3), ("shape", 4)):
         result = ifslib.fit(ifslib.patterns.random_ifs(maps, 2), target, steps=0, strategy="plain", progress=False)
-        result.history.auto = {"kind": kind}
+        result.history.kind, result.history.auto = kind, {"kind": kind}
         for ifs in (result.best, result.final):
             ifs.meta["pattern"] = {"kind": kind}
         results.append(result)
