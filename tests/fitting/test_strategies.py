@@ -105,7 +105,7 @@ def test_a_fit_calls_no_discovery(target, monkeypatch):
         raise AssertionError("a fit called discovery")
 
     for module, name in [(initialization, "initialize"), (initialization, "best_fit_line"), (plan, "discover"),
-                         (auto, "candidates"), (auto, "fractal_start"), (fractal, "search"), (ifslib, "initialize")]:
+                         (auto, "candidates"), (plan, "fractal_start"), (fractal, "search"), (ifslib, "initialize")]:
         monkeypatch.setattr(module, name, off)
     start = ifslib.patterns.koch_paper(1, depth=2)
     result = ifslib.fit(start, target, steps=4, n_starts=2, success=0.0, progress=False)
