@@ -15,6 +15,7 @@ from ...targets.target import Target
 from .candidates import Copies
 from .config import SearchConfig
 from .judge import attractor_chamfer, attractor_iou
+from .scores import choice_score, least_trial_score, trial_score
 
 
 @dataclass(frozen=True)
@@ -145,7 +146,7 @@ class Board:
         self.found[k] = maps
         iou = attractor_iou(maps, self.context.judge, config=config) if overlap is None else overlap
         chamfer = attractor_chamfer(maps, self.context.fine, config=config)
-        self.rows[k] = dataclasses.replace(row, chamfer_px=chamfer, iou=iou, score=1 - iou + config.map_cost * k,
+        self.rows[k] = dataclasses.replace(row, chamfer_px=chamfer, iou=iou, score=choice_score(iou, k, config),
                                            **changes)
         return self.rows[k]
 
@@ -160,13 +161,13 @@ class Board:
 
     def chamfer_score(self, row: Row) -> float:
         """Which numbers of maps are tried and reoriented: the attractor's Chamfer distance plus a cost a map."""
-        return row.chamfer_px + self.config.chamfer_cost * row.maps
+        return trial_score(row.chamfer_px, row.maps, self.config)
 
     def declines(self, k: int) -> bool:
         """Whether ``k`` maps need not be tried (then recorded in `skipped` or `hopeless`)."""
         config, table = self.config, self.table
-        if table and min(map(self.chamfer_score, table)) <= config.chamfer_cost * k:
-            self.skipped.append(k)  # k maps score at least chamfer_cost * k: they cannot win by the Chamfer distance
+        if table and min(map(self.chamfer_score, table)) <= least_trial_score(k, config):
+            self.skipped.append(k)  # k maps cannot score less: they cannot win by the Chamfer distance
             return True
         if k > config.give_up_maps and table and min(r.chamfer_px for r in table) > config.give_up_px:
             self.hopeless.append(k)

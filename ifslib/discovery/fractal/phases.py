@@ -18,6 +18,7 @@ from .collage import refine
 from .covers import collage_sets
 from .judge import attractor_chamfer
 from .moves import region_grow, region_swap, reorient, swap
+from .scores import least_choice_score
 
 
 def try_maps(board: Board, k: int) -> None:
@@ -119,7 +120,7 @@ def swaps(board: Board) -> None:
     open_ks, rounds = list(board.turned), config.swap_rounds
     while rounds and open_ks and board.stuck():
         k = board.best([board.rows[j] for j in open_ks]).maps
-        if config.map_cost * k >= min(r.score for r in board.turned_rows):
+        if least_choice_score(k, config) >= min(r.score for r in board.turned_rows):
             open_ks.remove(k)  # even an attractor of IoU 1 would not score below the best
             continue
         t0, rounds = time.perf_counter(), rounds - 1
