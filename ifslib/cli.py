@@ -102,15 +102,15 @@ def _stages_text(history) -> str:
 
 def _spent_text(history) -> str:
     stages, auto = history.stages, history.auto
-    if auto is not None and auto.get("kind") == "fractal":
+    if history.kind == "fractal":
         tried = ", ".join(f"{c['maps']} maps IoU {c['iou']:.3f}" for c in auto["candidates"])
         return (f"{history.cost} steps spent (auto: a fractal, {auto['chosen']} maps chosen by the search's rule, "
                 f"1 - attractor IoU plus a cost per map ({tried}); then "
                 f"{', '.join(_stage_text(s) for s in stages)} steps)")
-    if auto is not None:
+    if history.kind is not None:
         tried = ", ".join(f"{c['maps']} maps {c['loss']:.3g}" for c in auto["candidates"])
         runs = ", ".join(_stage_text(s) for s in stages)
-        return (f"{history.cost} steps spent (auto: a {auto['kind']}, {auto['chosen']} maps chosen by the loss "
+        return (f"{history.cost} steps spent (auto: a {history.kind}, {auto['chosen']} maps chosen by the loss "
                 f"after {auto['candidates'][0]['steps']} steps at {stages[0].size}² ({tried}); then {runs} steps)")
     if not stages:
         return f"{history.cost} steps spent ({history.strategy or 'plain'})"
@@ -121,6 +121,26 @@ def _spent_text(history) -> str:
             f"{verdict}; its stages: {runs} steps)")
 
 
+def _fit_options(args: argparse.Namespace):
+    """The run's settings from ``args``, checked (`RunOptions`: the loss's name among them) with the strategy's name;
+    with ``--pattern auto`` and a ``--loss`` named, standard error says where the automatic path uses it."""
+    from .fitting.automatic import FRACTAL_LOSS, POLISH_LOSS
+    from .fitting.options import split_settings
+    from .fitting.strategies import check_strategy
+    from .scoring.losses import DEFAULT_LOSS
+
+    if args.strategy is not None:
+        check_strategy(args.strategy)
+    named = {"lr": args.lr, "loss": DEFAULT_LOSS if args.loss is None else args.loss, "tol": args.tol,
+             "depth": "attractor" if args.depth == "attractor" else None}
+    options, _ = split_settings(named, None, None)
+    if args.pattern == "auto" and args.loss is not None:
+        print(f"--loss {args.loss}: the automatic path probes and climbs a curve's or a shape's candidates with it; "
+              f"a fractal's maps are fitted with the {FRACTAL_LOSS} loss, and a shape's last stage with "
+              f"{POLISH_LOSS}", file=sys.stderr)
+    return options
+
+
 def cmd_fit(args: argparse.Namespace) -> None:
     import time
 
@@ -129,6 +149,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
     from .fitting.options import Checkpoint
 
     t0 = time.perf_counter()
+    options = _fit_options(args)  # every name checked before the image is read or a search starts
     target = load_target(args.target, args.size, invert=args.invert)
     if not args.quiet:
         # a fit of the background must never be silent: say which part is the figure, and how to take the other
@@ -150,8 +171,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
     saved = None if args.checkpoint is None and args.resume is None else Checkpoint(args.checkpoint,
                                                                                    resume=args.resume)
     result = fit(start, target, steps=args.steps, strategy=args.strategy, seed=args.seed, progress=not args.quiet,
-                 checkpoint=saved, lr=args.lr, loss=args.loss, tol=args.tol,
-                 depth="attractor" if attractor else None)
+                 checkpoint=saved, options=options)
     m = evaluate(result.best, target)
     result.best.meta["target"] = {"polarity": target.polarity, "inverted": target.inverted}
     result.best.meta["scores"] = {
@@ -252,6 +272,8 @@ def _render_parser(sub) -> None:
 
 def _fit_parser(sub) -> None:
     """``fit``'s options."""
+    from .scoring.losses import DEFAULT_LOSS, LOSSES
+
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
     f.add_argument("target", help="target image (its figure found from its border: the background is the colour "
                    "that touches it; a transparent background makes the opaque part the figure), or "
@@ -270,8 +292,7 @@ def _fit_parser(sub) -> None:
                    help="early stop: end a run when its best loss improved by at most this fraction over the last "
                         "steps (default: the strategy's; off for plain)")
     f.add_argument("--lr", type=float, default=0.003, help="learning rate (default 0.003, as the paper)")
-    f.add_argument("--loss", default="multiscale_distance",
-                   help="pixel, multiscale_pixel, distance or multiscale_distance (default)")
+    f.add_argument("--loss", default=None, help=f"{', '.join(LOSSES)} (default {DEFAULT_LOSS}, as the library's)")
     f.add_argument("--jitter", type=float, default=0.0, help="uniform jitter of the initial points (plane units)")
     f.add_argument("--seed", type=int, default=0, help="seed of the jitter and the run")
     f.add_argument("--invert", action=argparse.BooleanOptionalAction, default=None,

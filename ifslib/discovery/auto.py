@@ -24,7 +24,7 @@ copies of the target cover the target:
   searched for copies of itself
   (`ifslib.discovery.fractal.search`: template matching, covers, the collage refined, 2 to 8 maps
   compared by minimum description length). When the maps found draw an attractor within
-  `FRACTAL_CHAMFER` pixels of the target, the start is those maps (``kind="fractal"``, an
+  `ifslib.discovery.plan.FRACTAL_CHAMFER` pixels of the target, the start is those maps (``kind="fractal"``, an
   `ifslib.patterns.affine` IFS); else the figure is fitted as a shape, and ``meta["pattern"]``
   says why.
 
@@ -116,9 +116,6 @@ FRACTAL_MIN_PIXELS = 100
 #: of IoU 0.77 against the target made from its 256² image, and a fine shape fit scores better.
 #: (`ifslib.discovery.fractal.search` itself takes any size.)
 FRACTAL_MIN_SIZE = 128
-#: The fractal search's maps are the start when their attractor's symmetric Chamfer distance to the
-#: target (pixels, at the search's refining size) is at most this.
-FRACTAL_CHAMFER = 1.0
 
 #: At most this many one-pixel dilations join a dotted figure before its skeleton is taken.
 MAX_JOIN = 4
@@ -235,33 +232,6 @@ def shape_detail(target: Target) -> tuple[bool, bool]:
     small = resize_target(target, POROUS_SIZE)
     share = interior_share(small)
     return detailed(share, target.size), limbed(share, thin_share(small), target.size)
-
-
-def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
-                  progress: bool = True, *, config: fractal.SearchConfig = fractal.DEFAULT
-                  ) -> tuple[IFS | None, dict]:
-    """The maps of `ifslib.discovery.fractal.search` (with ``config``) as a start, or None when their attractor
-    does not fit.
-
-    Returns
-    -------
-    IFS or None
-        ``kind="fractal"`` affine maps, when the chosen attractor's Chamfer distance is at most
-        `FRACTAL_CHAMFER` pixels.
-    dict
-        What the search compared: ``search`` (one row per number of maps), ``rule``, ``verdict``.
-    """
-    found = fractal.search(target, maps, seed=seed, progress=progress, config=config)
-    chamfer_px = found.chosen["chamfer_px"]
-    record = {"search": found.table, "rule": found.rule}
-    if chamfer_px > FRACTAL_CHAMFER:
-        record["verdict"] = (f"not a fractal of at most {max(r['maps'] for r in found.table)} maps: the best attractor is "
-                             f"{chamfer_px:.2f} px from the target (> {FRACTAL_CHAMFER:g})")
-        return None, record
-    record["verdict"] = f"a fractal: {len(found.maps)} maps whose attractor is {chamfer_px:.2f} px from the target"
-    ifs = patterns.affine(found.maps, depth=depth, name="auto")
-    ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(found.maps), "depth": depth, **record}
-    return ifs, record
 
 
 def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) -> np.ndarray:

@@ -14,12 +14,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry import patterns
 from ..geometry.ifs import IFS
 from ..scoring.metrics import evaluate
 from ..targets.target import Target, resize_target
 from . import fractal
 from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, POROUS_SIZE, ROUGH_EDGE,
-                   THIN_PARTS, candidates, choices, classify, edge_dimension, detailed, fractal_start, interior_share,
+                   THIN_PARTS, candidates, choices, classify, edge_dimension, detailed, interior_share,
                    limbed, thin_share)
 
 #: A porous figure with at least this interior share (`ifslib.discovery.auto.interior_share`) may be a solid
@@ -34,6 +35,9 @@ CLEAR_FRACTAL_IOU = 0.93
 #: `ifslib.targets.silhouettes.thin_gallery`; the fractals of interior share 0.6 or more end their first search
 #: above 0.85 and never search again; docs/results/any-shape.md).
 AMBIGUOUS_SEARCH = dataclasses.replace(fractal.DEFAULT, again=0)
+#: The fractal search's maps are the start when their attractor's symmetric Chamfer distance to the
+#: target (pixels, at the search's refining size) is at most this.
+FRACTAL_CHAMFER = 1.0
 
 
 @dataclass(frozen=True)
@@ -74,6 +78,35 @@ class Plan:
         return self.start.depth
 
 
+def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
+                  progress: bool = True, *, config: fractal.SearchConfig = fractal.DEFAULT
+                  ) -> tuple[IFS | None, dict, fractal.Row]:
+    """The maps of `ifslib.discovery.fractal.search` (with ``config``) as a start, or None when their attractor
+    does not fit.
+
+    Returns
+    -------
+    IFS or None
+        ``kind="fractal"`` affine maps, when the chosen attractor's Chamfer distance is at most
+        `FRACTAL_CHAMFER` pixels.
+    dict
+        What the search compared, for the file: ``search`` (one row per number of maps), ``rule``, ``verdict``.
+    Row
+        The chosen number of maps' scores at full precision (what a later decision reads).
+    """
+    found = fractal.search(target, maps, seed=seed, progress=progress, config=config)
+    chamfer_px = found.choice.chamfer_px
+    record = {"search": found.table, "rule": found.rule}
+    if chamfer_px > FRACTAL_CHAMFER:
+        record["verdict"] = (f"not a fractal of at most {max(r.maps for r in found.rows)} maps: the best attractor is "
+                             f"{chamfer_px:.2f} px from the target (> {FRACTAL_CHAMFER:g})")
+        return None, record, found.choice
+    record["verdict"] = f"a fractal: {len(found.maps)} maps whose attractor is {chamfer_px:.2f} px from the target"
+    ifs = patterns.affine(found.maps, depth=depth, name="auto")
+    ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(found.maps), "depth": depth, **record}
+    return ifs, record, found.choice
+
+
 def _edge(target: Target, share: float, thin: float) -> float | None:
     """The figure's edge dimension (`ifslib.discovery.auto.edge_dimension`) where it decides whether the figure is
     searched: a porous figure of interior share at least `AMBIGUOUS_SHARE`, or a solid one without thin parts (its
@@ -95,28 +128,28 @@ def _searchable(target: Target, share: float, edge: float | None, maps: int | No
             and (maps is None or maps <= fractal.DEFAULT.max_maps))
 
 
-def ambiguous(share: float, fractal_pattern: dict, edge: float | None = None) -> str | None:
+def ambiguous(share: float, maps: int, iou: float, edge: float | None = None) -> str | None:
     """Why a figure (of interior share ``share``, `ifslib.discovery.auto.interior_share`) whose search found a
-    fractal may be a shape as well, or None when it is clearly a fractal: its interior share is at least
-    `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU is below `CLEAR_FRACTAL_IOU`. ``edge`` is the
-    edge dimension of a solid figure searched for its rough edge (`ifslib.discovery.auto.edge_dimension`)."""
-    chosen = next(r for r in fractal_pattern["search"] if r["maps"] == fractal_pattern["maps"])
-    if share < AMBIGUOUS_SHARE or chosen["iou"] >= CLEAR_FRACTAL_IOU:
+    fractal of ``maps`` maps may be a shape as well, or None when it is clearly a fractal: its interior share is
+    at least `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU ``iou`` (full precision,
+    `ifslib.discovery.fractal.SearchResult.choice`) is below `CLEAR_FRACTAL_IOU`. ``edge`` is the edge dimension
+    of a solid figure searched for its rough edge (`ifslib.discovery.auto.edge_dimension`)."""
+    if share < AMBIGUOUS_SHARE or iou >= CLEAR_FRACTAL_IOU:
         return None
     figure = (f"the figure is solid (interior share {share:.2f}) with a rough edge (dimension {edge:.2f} >= "
               f"{ROUGH_EDGE:g}: overlapping copies draw one, and so may a shape's)"
               if share >= POROUS_SHARE and edge is not None else
               f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin "
               f"parts has as much)")
-    return (f"{figure} and the search's {fractal_pattern['maps']} maps draw an attractor of IoU "
-            f"{chosen['iou']:.3f} < {CLEAR_FRACTAL_IOU:g}: fitted as a fractal and as a shape")
+    return (f"{figure} and the search's {maps} maps draw an attractor of IoU {iou:.3f} < {CLEAR_FRACTAL_IOU:g}: "
+            "fitted as a fractal and as a shape")
 
 
 def discover(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
              seed: int = 0) -> Plan:
     """The plan for ``target``: a fractal's maps when the figure is porous (or solid with a rough edge) and the
     search finds them
-    (`ifslib.discovery.auto.fractal_start`), else the curve or shape starts of the (maps, depth)
+    (`fractal_start`), else the curve or shape starts of the (maps, depth)
     pairs of `ifslib.discovery.auto.choices`, the nearest one the start. A fractal plan whose figure
     may be a shape as well (`ambiguous`) carries the shape plan as its rival. A detailed shape
     (`ifslib.discovery.auto.detailed`) is offered more maps, and one with limbs (`ifslib.discovery.auto.limbed`)
@@ -138,14 +171,15 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     wanted = choices(kind, maps, depth, detail=detail)  # checks maps and depth before any search
     if share is not None and _searchable(target, share, edge, maps):
         config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
-        start, searched = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed, config=config)
+        start, searched, choice = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed,
+                                                config=config)
         if edge is not None:  # why a figure with interior was searched, for the file
             searched["edge_dimension"] = round(edge, 3)
             if start is not None:
                 start.meta["pattern"]["edge_dimension"] = searched["edge_dimension"]
         if start is not None:
             found = Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
-            why = ambiguous(share, found.pattern, edge)
+            why = ambiguous(share, choice.maps, choice.iou, edge)
             if why is None:
                 return found
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs))

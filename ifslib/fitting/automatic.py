@@ -12,7 +12,9 @@ of maps is kept (`choose_kind`). The plan is taken as it is: nothing here calls 
 """
 from __future__ import annotations
 
+import dataclasses
 import time
+from dataclasses import dataclass
 
 from ..errors import IFSError
 from ..discovery.plan import Plan
@@ -50,6 +52,43 @@ FRACTAL_LOSS = "pixel"
 KIND_MAP_COST = 0.001
 
 
+@dataclass(frozen=True)
+class Kind:
+    """One kind's fit of an ambiguous figure, as `choose_kind` compares them: its number of maps, its attractor's
+    IoU at the target's size (full precision) and the steps it spent."""
+
+    kind: str
+    maps: int
+    attractor_iou: float
+    steps: int
+
+    @property
+    def score(self) -> float:
+        """1 - attractor IoU plus `KIND_MAP_COST` a map: the least is kept."""
+        return 1 - self.attractor_iou + KIND_MAP_COST * self.maps
+
+    def written(self) -> dict:
+        """The row for the history and the file, rounded to 4 digits."""
+        return {"kind": self.kind, "maps": self.maps, "attractor_iou": round(self.attractor_iou, 4),
+                "score": round(self.score, 4), "steps": self.steps}
+
+
+@dataclass(frozen=True)
+class Probe:
+    """A curve's or a shape's candidate after `AUTO_PROBE_STEPS` steps at the coarsest size: the lowest ``loss``
+    goes on (fewer maps on a tie)."""
+
+    maps: int
+    depth: int
+    loss: float
+    steps: int
+    seconds: float
+
+    def written(self) -> dict:
+        """The row for ``history.auto["candidates"]``."""
+        return dataclasses.asdict(self)
+
+
 def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor: bool = True) -> FitResult:
     """Fit ``plan`` (see the module docstring); ``history.auto`` lists the candidates and the one chosen.
 
@@ -73,13 +112,12 @@ def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = Non
     ``auto["kinds"]`` and ``auto["decision"]`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared,
     after ``why`` (why both kinds were fitted) when given. ``ious`` are the fits' attractor IoUs at the target's
     size where already measured (None where not): each is measured once."""
-    rows = []
+    kinds = []
     for result, known in zip(results, ious or [None] * len(results)):
-        maps = len(result.best.rules)
         iou = evaluate(result.best, frame.target, depth=ATTRACTOR)["iou"] if known is None else known
-        rows.append({"kind": result.history.auto["kind"], "maps": maps, "attractor_iou": round(iou, 4),
-                     "score": round(1 - iou + KIND_MAP_COST * maps, 4), "steps": result.history.cost})
-    best = min(range(len(rows)), key=lambda i: (rows[i]["score"], rows[i]["maps"]))
+        kinds.append(Kind(result.history.kind, len(result.best.rules), iou, result.history.cost))
+    best = min(range(len(kinds)), key=lambda i: (kinds[i].score, kinds[i].maps))  # full precision decides
+    rows = [k.written() for k in kinds]  # what the file and the history say
     decision = (f"{rows[best]['kind']} kept: " + "; ".join(
         f"{r['kind']} of {r['maps']} maps, attractor IoU {r['attractor_iou']:.3f}, score {r['score']:.3f}" for r in rows)
         + f" (1 - attractor IoU at {frame.target.size}² plus {KIND_MAP_COST:g} a map, the least kept)")
@@ -100,9 +138,9 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
         return _fit_fractal(plan, frame, options, end_on_attractor)
     tried = [_probe(frame, candidate, options) for candidate in plan.candidates]
     # the lowest loss after the same number of steps; fewer maps win a tie
-    winner, chosen = min(tried, key=lambda rc: (rc[1]["loss"], rc[1]["maps"]))
-    label = f"{chosen['maps']} maps"
-    options = options.replace(depth=chosen["depth"])
+    winner, chosen = min(tried, key=lambda rc: (rc[1].loss, rc[1].maps))
+    label = f"{chosen.maps} maps"
+    options = options.replace(depth=chosen.depth)
     result, stages = climb(frame, winner.best, options, label)
     shape = plan.kind == "shape"
     if shape and options.loss != POLISH_LOSS and not end_on_attractor:
@@ -118,19 +156,19 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
                                         label, max_leaves=SHAPE_MAX_LEAVES if shape else FIT_MAX_LEAVES)
         stages.append(stage)
     # the chosen candidate's own description, for the file (it decides nothing here)
-    choice = {**winner.best.meta["pattern"], "candidates": [c for _, c in tried], "chosen": chosen["maps"]}
-    return _finish(result, choice, stages, sum(c["steps"] for _, c in tried) + sum(s.steps for s in stages)), None
+    choice = {**winner.best.meta["pattern"], "candidates": [c.written() for _, c in tried], "chosen": chosen.maps}
+    cost = sum(c.steps for _, c in tried) + sum(s.steps for s in stages)
+    return _finish(result, plan.kind, choice, stages, cost), None
 
 
-def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, dict]:
+def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, Probe]:
     """A candidate fitted at the coarsest size for `AUTO_PROBE_STEPS` steps, and its row in ``history.auto``."""
     k, coarse = len(candidate.rules), frame.sizes[0]
     t0 = time.perf_counter()
     result = frame.run(candidate, min(frame.steps, AUTO_PROBE_STEPS),
                        options.replace(lr=options.lr * frame.target.size / coarse), target=frame.levels[coarse],
                        desc=f"{k} maps, depth {candidate.depth} · {coarse}²")
-    return result, {"maps": k, "depth": candidate.depth, "loss": result.best_loss, "steps": result.history.cost,
-                    "seconds": time.perf_counter() - t0}
+    return result, Probe(k, candidate.depth, result.best_loss, result.history.cost, time.perf_counter() - t0)
 
 
 def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
@@ -151,7 +189,7 @@ def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
                       best_loss=result.best_loss)
     choice = {**{k: v for k, v in pattern.items() if k != "search"}, "candidates": pattern.get("search", []),
               "chosen": pattern["maps"]}
-    return _finish(result, choice, [stage], stage.steps), iou
+    return _finish(result, plan.kind, choice, [stage], stage.steps), iou
 
 
 def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -> tuple[FitResult, float]:
@@ -174,12 +212,12 @@ def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -
                      best_loss=loss[0] if loss else result.best_loss, best_step=0), before  # the loss before step 0
 
 
-def _finish(result: FitResult, choice: dict, stages: list[Stage], cost: int) -> FitResult:
+def _finish(result: FitResult, kind: str, choice: dict, stages: list[Stage], cost: int) -> FitResult:
     """The history's account of the choice, and the fitted IFSs' description for the file."""
     for stage in stages:
         stage.maps = choice["chosen"]
     h = result.history
-    h.cost, h.stages, h.auto = cost, stages, choice
+    h.cost, h.stages, h.kind, h.auto = cost, stages, kind, choice
     for ifs in (result.best, result.final):
         ifs.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
     return result

@@ -14,6 +14,9 @@ from typing import Callable
 
 from ..errors import IFSError, check_int
 from ..geometry.attractor import check_depth_or_attractor
+from ..geometry.rules import check_gradient_mode
+from ..raster.distance import METHODS, resolve_device
+from ..scoring.losses import DEFAULT_LOSS, check_loss
 
 #: The paper's learning rate (plane units a step at the target's size).
 DEFAULT_LR = 0.003
@@ -46,7 +49,7 @@ class RunOptions:
         Learning rate at the target's size (the paper used 0.003); strategies scale it with the
         pixel size of a coarser stage.
     loss : str or callable
-        ``pixel``, ``multiscale_pixel``, ``distance``, ``multiscale_distance`` or ``f(distance, target)``.
+        One of `ifslib.scoring.losses.LOSSES` (`DEFAULT_LOSS` when not given) or ``f(distance, target)``.
     depth : int or "attractor", optional
         Render depth (``ifs.depth`` when None); ``"attractor"`` fits the attractor itself.
     sigma, levels
@@ -66,7 +69,7 @@ class RunOptions:
     """
 
     lr: float = DEFAULT_LR
-    loss: str | Callable = "multiscale_pixel"
+    loss: str | Callable = DEFAULT_LOSS
     depth: int | str | None = None
     sigma: float | None = None
     levels: int = 5
@@ -82,6 +85,11 @@ class RunOptions:
     def __post_init__(self) -> None:
         if not _finite(self.lr):
             raise IFSError(f"lr must be a finite number > 0, got {self.lr!r}")
+        check_loss(self.loss)
+        if self.method not in METHODS:
+            raise IFSError(f"unknown method {self.method!r}; known methods: {', '.join(METHODS)}")
+        resolve_device(self.device)  # a name torch does not know is refused here; an absent device when used
+        check_gradient_mode(self.gradient)
         check_stop(self.tol, self.patience)
         if not _finite(self.crossing_weight, allow_zero=True):
             raise IFSError(f"crossing_weight must be a finite number >= 0, got {self.crossing_weight!r}")

@@ -65,9 +65,11 @@ class History:
     starts_tried, chamfer, recovered, judged : optional
         The pyramid's: starts tried, the best start's Chamfer distance (pixels), whether it is at
         most ``success``, and what was judged (``"attractor"`` or ``"depth"``).
+    kind : str, optional
+        For a fit of a plan (the ``auto`` strategy): the kind fitted, ``"curve"``, ``"shape"`` or ``"fractal"``.
     auto : dict, optional
-        The automatic pattern's choice: what ``meta["pattern"]`` records, with the ``candidates``
-        compared and the number of maps ``chosen``.
+        The automatic pattern's choice as written for the file: what ``meta["pattern"]`` records, with
+        the ``candidates`` compared and the number of maps ``chosen``.
     snapshots, pattern : dict, optional
         With ``keep_every``: ``{"step": [...], "points": [...]}`` and the pattern as a dict, for `ifslib.animate`.
     """
@@ -84,6 +86,7 @@ class History:
     chamfer: float | None = None
     recovered: bool | None = None
     judged: str | None = None
+    kind: str | None = None
     auto: dict | None = None
     snapshots: dict | None = None
     pattern: dict | None = None

@@ -62,12 +62,12 @@ import torch
 
 from ..errors import IFSError
 from ..geometry.attractor import ATTRACTOR, is_attractor
-from ..geometry.crossings import check_curve
+from ..geometry.crossings import check_curve, is_curve
 from ..geometry.ifs import IFS
 from ..progress import note
-from ..discovery.initialization import initialize, is_curve
 from ..discovery.plan import Plan
 from ..scoring.metrics import evaluate, self_crossings
+from ..targets.placement import place
 from ..targets.target import Target
 from .automatic import fit_plan
 from .options import RunOptions, StrategyOptions
@@ -128,15 +128,15 @@ def _crosses(ifs: IFS) -> bool:
 
 def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Generator) -> list[IFS]:
     """``n`` starting points: ``ifs`` itself, then jittered copies of it and, for curves, every other
-    one a best-fit-line start (`ifslib.initialize`, a placement of the same pattern): the first exactly
+    one a best-fit-line start (`ifslib.targets.placement.place`, no discovery): the first exactly
     on the line, the paper's advice and the start that recovers most often (docs/results/strategies.md),
     the later ones jittered."""
     out = [ifs]
     for k in range(1, n):
         if is_curve(ifs) and k % 2 == 1:
-            line = initialize(ifs, target, jitter=0.0 if k == 1 else jitter, seed=int(rng.integers(2**31)))
+            line = place(ifs, target, jitter=0.0 if k == 1 else jitter, seed=int(rng.integers(2**31)))
             if k == 1 and torch.allclose(line.points, ifs.points):  # the given start is the line itself
-                line = initialize(ifs, target, jitter=jitter, seed=int(rng.integers(2**31)))
+                line = place(ifs, target, jitter=jitter, seed=int(rng.integers(2**31)))
             out.append(line)
         else:
             out.append(ifs.jittered(jitter, rng))

@@ -21,6 +21,17 @@ from ..raster.render import default_sigma, shade
 from ..targets.target import Target
 
 LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
+#: The loss of a fit when none is named, for the library, the command line and the sweep alike: the
+#: distance loss pulls a copy towards the figure from anywhere in the frame (a pixel loss is flat away
+#: from the drawn strokes), and the multiscale sum is the paper's; the lessons name it too.
+DEFAULT_LOSS = "multiscale_distance"
+
+
+def check_loss(kind) -> str | Callable:
+    """Return ``kind`` if it is a callable or one of `LOSSES`, else raise `IFSError` naming them."""
+    if not callable(kind) and kind not in LOSSES:
+        raise IFSError(f"unknown loss {kind!r}; known losses: {', '.join(LOSSES)} (or a function f(distance, target))")
+    return kind
 
 
 def mse(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
@@ -92,8 +103,7 @@ def loss(distance: torch.Tensor, target: Target, kind: str | Callable = "multisc
         if distance.ndim == 3:
             return torch.stack([kind(d, target) for d in distance])
         return kind(distance, target)
-    if kind not in LOSSES:
-        raise IFSError(f"unknown loss {kind!r}; known losses: {', '.join(LOSSES)}")
+    check_loss(kind)
     if distance.shape[-2:] != target.mask.shape or distance.ndim not in (2, 3):
         raise IFSError(f"the distance field is {tuple(distance.shape)} but the target is {target.mask.shape}")
     if kind.endswith("pixel"):

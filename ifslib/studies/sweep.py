@@ -29,7 +29,7 @@ from ..geometry.rules import check_gradient_mode
 from ..threads import cores, fixed_threads
 from ..fitting.fit import fit
 from ..discovery.initialization import initialize
-from ..scoring.losses import LOSSES
+from ..scoring.losses import DEFAULT_LOSS, LOSSES
 from ..scoring.metrics import evaluate, point_error, self_crossings
 from ..fitting.strategies import check_strategy
 from ..targets.target import load_target
@@ -56,7 +56,7 @@ class Cell:
     strategy: str = "plain"
     gradient: str = "exact"
     init: str = "paper"
-    loss: str = "multiscale_distance"
+    loss: str = DEFAULT_LOSS
 
 
 @dataclass(frozen=True)

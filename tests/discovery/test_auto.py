@@ -106,7 +106,7 @@ def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records
     best = min(tried, key=lambda c: (c["loss"], c["maps"]))
     assert result.history.auto["chosen"] == best["maps"] == result.best.meta["pattern"]["maps"]
     assert len(result.best.rules) == best["maps"]
-    assert result.history.strategy == "auto"
+    assert result.history.strategy == "auto" and result.history.kind == plan.kind == result.best.meta["pattern"]["kind"]
     assert result.history.cost == sum(c["steps"] for c in tried) + sum(s.steps for s in result.history.stages)
     last = result.history.stages[-1]
     assert last.loss == "multiscale_pixel" and last.depth == "attractor"  # a shape ends on its attractor, pixel loss

@@ -24,7 +24,7 @@ def searches(monkeypatch):
 
     def no_fractal(target, maps, depth, seed, *, config):
         calls.append((target, config))
-        return None, {"search": [], "rule": "", "verdict": "none"}
+        return None, {"search": [], "rule": "", "verdict": "none"}, None
 
     monkeypatch.setattr(plan, "fractal_start", no_fractal)
     return calls
@@ -46,11 +46,6 @@ def _koch_snowflake(size: int) -> np.ndarray:
     return silhouettes._inside(Path(np.array(points)), size)
 
 
-def _pattern(maps: int, iou: float) -> dict:
-    """What a fractal search records, reduced to what `ambiguous` reads: the chosen row among others."""
-    return {"maps": maps, "search": [{"maps": 2, "iou": 0.99}, {"maps": maps, "iou": iou}]}
-
-
 def test_a_thin_limbed_creature_looks_porous_but_a_blob_does_not():
     creature = ifslib.load_target(silhouettes.limbed(128, seed=2, width=0.03).astype(float), 128)
     blob = ifslib.load_target(silhouettes.blob(128, seed=2).astype(float), 128)
@@ -59,17 +54,18 @@ def test_a_thin_limbed_creature_looks_porous_but_a_blob_does_not():
     assert len(silhouettes.thin_gallery(32)) == 6
 
 
-def test_ambiguous_reads_the_chosen_row_and_the_figure_share():
+def test_ambiguous_reads_the_chosen_iou_at_full_precision_and_the_figure_share():
     creature = ifslib.load_target(silhouettes.limbed(128, seed=2, width=0.03).astype(float), 128)
-    why = plan.ambiguous(auto.interior_share(creature), _pattern(5, 0.85))
-    assert why is not None and "IoU 0.850" in why and "fitted as a fractal and as a shape" in why
-    # the chosen row is the one of the chosen number of maps, not the best row of the table
-    assert plan.ambiguous(auto.interior_share(creature), _pattern(5, plan.CLEAR_FRACTAL_IOU)) is None
+    why = plan.ambiguous(auto.interior_share(creature), 5, 0.85)
+    assert why is not None and "IoU 0.850" in why and "5 maps" in why and "fitted as a fractal and as a shape" in why
+    assert plan.ambiguous(auto.interior_share(creature), 5, plan.CLEAR_FRACTAL_IOU) is None
+    # just below the bar is below it, though it would round up to the bar in the file
+    assert plan.ambiguous(auto.interior_share(creature), 5, plan.CLEAR_FRACTAL_IOU - 1e-6) is not None
     lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
     assert auto.interior_share(lace) < plan.AMBIGUOUS_SHARE
     # a lace is a fractal however poorly it was found
-    assert plan.ambiguous(auto.interior_share(lace), _pattern(3, 0.5)) is None
+    assert plan.ambiguous(auto.interior_share(lace), 3, 0.5) is None
 
 
 @pytest.mark.parametrize("kwargs, message", [({"limbs": -1}, "limbs must be an integer >= 0"),
@@ -139,7 +135,7 @@ def test_a_solid_figure_is_searched_when_its_edge_is_rough(searches, overlap):
     # searched once: a shape fit to fall back on
     assert found.kind == "shape" and [c for _, c in searches] == [plan.AMBIGUOUS_SEARCH]
     assert found.pattern["fractal_search"]["edge_dimension"] == round(auto.edge_dimension(overlap), 3)
-    why = plan.ambiguous(auto.interior_share(overlap), _pattern(3, 0.9), auto.edge_dimension(overlap))
+    why = plan.ambiguous(auto.interior_share(overlap), 3, 0.9, auto.edge_dimension(overlap))
     assert "solid (interior share" in why and "rough edge" in why and "fitted as a fractal and as a shape" in why
 
 

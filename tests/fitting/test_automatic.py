@@ -73,3 +73,25 @@ def test_a_fractal_fit_never_returns_an_attractor_worse_than_its_start(monkeypat
     monkeypatch.setattr(automatic, "attractor_stage", stage_to(truth))  # a stage no worse: its fit is returned
     fitted = ifslib.fit(_fractal_plan(worse.clone(), iou=0.5), target, steps=5, progress=False)
     assert fitted.best.points.detach().equal(truth.points.detach()) and fitted.history.stages[0].kept_start is None
+
+
+def test_the_kind_is_chosen_on_full_precision_scores_and_written_rounded():
+    from ifslib.fitting.automatic import Kind, choose_kind
+    from ifslib.fitting.frame import Frame
+
+    target = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 32, method="chaos", points=50_000,
+                                              seed=1).numpy(), 32)
+    results = []
+    for kind, maps in (("fractal", 3), ("shape", 4)):
+        result = ifslib.fit(ifslib.patterns.random_ifs(maps, 2), target, steps=0, strategy="plain", progress=False)
+        result.history.kind, result.history.auto = kind, {"kind": kind}
+        for ifs in (result.best, result.final):
+            ifs.meta["pattern"] = {"kind": kind}
+        results.append(result)
+    # the shape's score is 4e-5 below the fractal's: equal to 4 digits, where the fewer maps won
+    fractal_iou, shape_iou = 0.9, 0.9 + KIND_MAP_COST + 4e-5
+    rows = (Kind("fractal", 3, fractal_iou, 0), Kind("shape", 4, shape_iou, 0))
+    assert rows[1].score < rows[0].score and rows[0].written()["score"] == rows[1].written()["score"]
+    kept = choose_kind(results, Frame(target, 0, 0, progress=False), ious=[fractal_iou, shape_iou])
+    assert kept.best.meta["pattern"]["kind"] == "shape" and "shape kept" in kept.history.auto["decision"]
+    assert [r["attractor_iou"] for r in kept.history.auto["kinds"]] == [round(fractal_iou, 4), round(shape_iou, 4)]

@@ -1,13 +1,11 @@
-"""Losses, initialization, fitting (reproducible, resumable, NaN-safe), metrics and the CLI."""
+"""`ifslib.fit`: each loss fits, and a fit is reproducible, resumable and NaN-safe; snapshots and animations."""
 import json
 import math
 
-import numpy as np
 import pytest
 import torch
 
 import ifslib
-from ifslib.cli import main as cli
 
 SIZE, DEPTH = 48, 2
 
@@ -25,31 +23,6 @@ def _start(target, seed=0):
 def test_each_loss_decreases_on_a_koch_target(koch_target, kind):
     r = ifslib.fit(_start(koch_target), koch_target, steps=15, lr=0.01, loss=kind, progress=False, strategy="plain")
     assert r.best_loss < 0.8 * r.history.loss[0]
-
-
-def test_multiscale_sums_the_pyramid():
-    a, b = torch.rand(16, 16), torch.rand(16, 16)
-    levels = ifslib.losses.pyramid(a, 5)
-    assert [t.shape[0] for t in levels] == [16, 8, 4, 2, 1]
-    assert ifslib.losses.multiscale_mse(a, b, 0) == ifslib.losses.mse(a, b)
-    mn = ifslib.losses.pyramid(a, 1, "min")[1]
-    assert mn[0, 0] == a[:2, :2].min()
-
-
-def test_unknown_loss(koch_target):
-    with pytest.raises(ValueError, match="unknown loss 'l3'; known losses: pixel, multiscale_pixel"):
-        ifslib.loss(torch.zeros(SIZE, SIZE), koch_target, "l3")
-
-
-def test_best_fit_line_initialization(koch_target):
-    centre, direction, lo, hi = ifslib.best_fit_line(koch_target)
-    assert abs(direction[1]) < 0.2  # the Koch curve lies along x
-    start = ifslib.initialize(ifslib.patterns.koch(), koch_target)
-    pts = start.points.detach().numpy()
-    assert np.allclose(np.diff(pts[:, 0]), (hi - lo) / 4 * direction[0], atol=1e-6)  # evenly spaced on the line
-    carpet = ifslib.initialize(ifslib.patterns.sierpinski_carpet(), ifslib.load_target(np.pad(np.ones((10, 10)), 3), 16))
-    p = carpet.points.detach().numpy()
-    assert p.min() == pytest.approx(-0.5 + 3.5 / 16) and p.max() == pytest.approx(-0.5 + 12.5 / 16)
 
 
 def test_seeded_fit_is_reproducible(koch_target):
@@ -105,39 +78,6 @@ def test_fixed_points_do_not_move(koch_target):
     r = ifslib.fit(ifs, koch_target, steps=5, lr=0.01, progress=False, strategy="plain")
     assert torch.equal(r.final.points[[0, 4]], ifs.points[[0, 4]])
     assert not torch.equal(r.final.points[2], ifs.points[2])
-
-
-def test_metrics():
-    a = np.zeros((10, 10), bool)
-    a[2, 2:8] = True
-    b = np.zeros((10, 10), bool)
-    b[3, 2:8] = True
-    assert ifslib.iou(a, a) == 1 and ifslib.iou(a, b) == 0 and ifslib.f1(a, a) == 1
-    assert ifslib.chamfer(a, b) == pytest.approx(1.0) and ifslib.chamfer(a, a) == 0
-    koch = ifslib.patterns.koch()
-    moved = koch.clone(koch.points.detach() * 0.5 + torch.tensor([0.1, -0.2]))  # a similarity of it
-    assert ifslib.point_error(moved, koch) < 1e-6
-    mirrored = koch.clone(koch.points.detach() * torch.tensor([1.0, -1.0]))
-    assert ifslib.point_error(mirrored, koch) < 1e-6
-    bent = koch.clone(koch.points.detach() + torch.tensor([[0, 0], [0, 0], [0, 0.05], [0, 0], [0, 0]]))
-    assert ifslib.point_error(bent, koch) > 0.02
-
-
-def test_cli_render_fit_info(tmp_path, capsys):
-    png, spec, fitted = tmp_path / "k.png", tmp_path / "k.json", tmp_path / "fitted.json"
-    ifslib.save_ifs(ifslib.patterns.koch(depth=2), spec)
-    assert cli(["render", str(spec), "--size", "48", "-o", str(png)]) == 0
-    assert cli(["fit", str(png), "--pattern", "koch", "--size", "48", "--depth", "2", "--steps", "5", "--quiet",
-                "-o", str(fitted)]) == 0
-    out = capsys.readouterr().out
-    assert "IoU" in out and "(pyramid" in out  # the default strategy, and the steps it spent
-    assert cli(["info", str(fitted)]) == 0
-    out = capsys.readouterr().out
-    assert "contraction" in out and "leaves at depth 2: 4^2 x 1 = 16" in out
-    assert cli(["fit", str(tmp_path / "none.png"), "-o", str(fitted)]) == 2
-    assert capsys.readouterr().err.strip().startswith("ifslib fit: error: no image file at")
-    with pytest.raises(SystemExit):
-        cli(["render"])
 
 
 def test_keep_every_snapshots_and_gif_animation(tmp_path):

@@ -1,6 +1,8 @@
 """Strategies on small sizes: each runs, counts its steps, and returns a result at least as good as its start."""
 import math
 
+import numpy as np
+
 import pytest
 
 import ifslib
@@ -90,3 +92,33 @@ def test_attractor_stage_falls_back_to_sampled_leaves_when_the_cut_outgrows_the_
     result, record = pyramid.attractor_stage(frame, ifs, ifslib.RunOptions(lr=1e-3), "test")
     assert record.method == "sampled" and "outgrew the leaf budget" in record.fallback
     assert math.isfinite(result.best_loss)
+
+
+def test_a_fit_calls_no_discovery(target, monkeypatch):
+    """The pyramid's best-fit-line starts are placed by `ifslib.targets.placement`: every discovery entry point
+    switched off, a fit of a pattern (a plan's too, handed in whole) still runs."""
+    from ifslib.discovery import auto, fractal, initialization, plan
+
+    plan_of_koch = ifslib.initialize("auto", target, depth=2)
+
+    def off(*args, **kwargs):
+        raise AssertionError("a fit called discovery")
+
+    for module, name in [(initialization, "initialize"), (initialization, "best_fit_line"), (plan, "discover"),
+                         (auto, "candidates"), (plan, "fractal_start"), (fractal, "search"), (ifslib, "initialize")]:
+        monkeypatch.setattr(module, name, off)
+    start = ifslib.patterns.koch_paper(1, depth=2)
+    result = ifslib.fit(start, target, steps=4, n_starts=2, success=0.0, progress=False)
+    assert result.history.starts_tried == 2  # the second start is the one placed on the best-fit line
+    assert ifslib.fit(plan_of_koch, target, steps=4, progress=False).history.strategy == "auto"
+
+
+def test_the_second_pyramid_start_is_the_pattern_on_the_best_fit_line(target):
+    from ifslib.targets.placement import best_fit_line, placed_points
+
+    start = ifslib.patterns.koch_paper(1, depth=2)
+    line = strategies.starts(start, target, 2, 0.05, np.random.default_rng(0))[1]
+    centre, direction, lo, hi = best_fit_line(target)
+    on_line = centre + np.linspace(lo, hi, start.n_points)[:, None] * direction
+    assert np.allclose(line.points.detach().numpy(), on_line, atol=1e-6)
+    assert np.allclose(placed_points(start, target), on_line)

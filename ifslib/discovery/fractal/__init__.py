@@ -64,12 +64,13 @@ from ...scoring.collage import collage_terms, copy_terms
 from .collage import refine
 from .config import DEFAULT, SearchConfig
 from .covers import beam_covers, collage_sets, greedy_covers
+from .board import Row
 from .driver import SearchResult, check_maps, search
 from .judge import as_ifs, attractor_chamfer, attractor_iou, occupancy_iou
 from .moves import region_grow, region_swap, reorient, swap, turns
 from .regions import rotation, sqrtm_psd
 
-__all__ = ["search", "SearchResult", "SearchConfig", "DEFAULT", "check_maps", "attractor_iou", "attractor_chamfer",
+__all__ = ["search", "SearchResult", "Row", "SearchConfig", "DEFAULT", "check_maps", "attractor_iou", "attractor_chamfer",
            "copy_candidates", "linear_grid", "footprints", "collage_sets", "beam_covers", "greedy_covers", "refine",
            "reorient", "swap", "region_swap", "region_grow", "as_ifs", "plane_maps", "largest", "sqrtm_psd",
            "rotation", "random_starts", "copy_terms", "collage_terms", "occupancy_iou", "turns", "regions"]

@@ -50,6 +50,13 @@ class SearchConfig:
     search_steps: int = 150
     # Adam steps of the collage at `refine_size` (and in every move): as `search_steps`, at the finer size
     refine_steps: int = 150
+    # Adam's learning rate of the collage at `search_size`, plane units a step: faster moves copies further, less steadily
+    search_lr: float = 0.005
+    # Adam's learning rate of the collage at `refine_size` and in every move: as `search_lr`, for finer placements
+    refine_lr: float = 0.002
+    # IoU by which a move's attractor must beat the maps it replaces to be kept: higher ignores chaos-game noise,
+    # lower keeps smaller gains
+    accept_margin: float = 1e-3
     # starts that go on from `search_size` to `refine_size`: more keeps more chances, each refined again
     keep: int = 4
     # starts with the least collage whose attractors are drawn to choose the `keep`: more judged, more chaos games

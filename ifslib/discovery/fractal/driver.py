@@ -7,7 +7,7 @@ length; `search` runs it again from the next seed while no attractor fits.
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -15,7 +15,7 @@ from tqdm.auto import tqdm
 from ...errors import IFSError, check_int
 from ...progress import draw_bars, note
 from ...targets.target import Target, foreground_points, resize_target
-from .board import Board, Context
+from .board import Board, Context, Row
 from .candidates import candidate_copies
 from .config import DEFAULT, SearchConfig
 from .covers import cover_sets
@@ -30,26 +30,33 @@ class SearchResult:
     ----------
     maps : numpy.ndarray
         ``(k, 2, 3)`` the chosen maps ``[A | t]``, plane units.
-    table : list of dict
-        One row per number of maps tried: ``maps``, ``cover`` (share of the figure the greedy
-        copies covered at ``search_size``), ``collage_px`` (at ``refine_size``), ``chamfer_px``
-        (the attractor's, at ``refine_size``), ``iou`` (the attractor's, at ``judge_size``),
-        ``score`` (``1 - iou + map_cost * maps``), ``seconds``; ``reoriented``, ``regions`` (the
-        rounds of `region_swap` that replaced maps), ``grown`` (the maps are the fewer's and one
-        more, `region_grow`) and ``swapped`` (the rounds of `swap` that replaced a map) where they
-        apply (the sizes and costs are `SearchConfig` fields).
+    rows : tuple of Row
+        One `Row` per number of maps tried, in the order tried, at full precision: what decides.
     rule : str
         How the number of maps was chosen, in words.
     """
 
     maps: np.ndarray
-    table: list[dict] = field(default_factory=list)
+    rows: tuple[Row, ...] = ()
     rule: str = ""
 
     @property
+    def choice(self) -> Row:
+        """The row of the chosen number of maps."""
+        return next(row for row in self.rows if row.maps == len(self.maps))
+
+    @property
+    def table(self) -> list[dict]:
+        """The rows as the file writes them (`Row.written`): ``maps``, ``cover`` (share of the figure the greedy
+        copies covered at ``search_size``), ``collage_px`` (at ``refine_size``), ``chamfer_px`` (the attractor's,
+        at ``refine_size``), ``iou`` (the attractor's, at ``judge_size``), ``score`` (``1 - iou + map_cost *
+        maps``), ``seconds``; ``reoriented``, ``regions``, ``grown`` and ``swapped`` where they apply."""
+        return [row.written() for row in self.rows]
+
+    @property
     def chosen(self) -> dict:
-        """The table's row of the chosen number of maps."""
-        return next(row for row in self.table if row["maps"] == len(self.maps))
+        """The chosen row as the file writes it."""
+        return self.choice.written()
 
 
 def check_maps(maps, *, config: SearchConfig = DEFAULT) -> tuple[int, ...]:
@@ -101,14 +108,13 @@ def search(target: Target, maps=None, *, seed: int = 0, progress: bool = True,
     found = _search(first, ks, progress, "fractal search")
     tries = [found]
     for run in range(1, config.again + 1):
-        if max(r["iou"] for r in found.table) >= config.swap_below or not any(r.get("reoriented")
-                                                                            for r in found.table):
+        if max(r.iou for r in found.rows) >= config.swap_below or not any(r.reoriented for r in found.rows):
             break  # an attractor fits, or the search gave up (not a fractal of a few maps: nothing reoriented)
         again = dataclasses.replace(first, rng=np.random.default_rng(seed + run), seed=seed + run)
         tries.append(_search(again, ks, progress, f"fractal search again (seed {seed + run})"))
-        found = min(tries, key=lambda r: (r.chosen["score"], len(r.maps)))
+        found = min(tries, key=lambda r: (r.choice.score, len(r.maps)))
     if len(tries) > 1:
-        scores = ", ".join(f"{r.chosen['score']:.3f}" for r in tries)
+        scores = ", ".join(f"{r.choice.score:.3f}" for r in tries)
         found.rule += (f"; no attractor reached IoU {config.swap_below}, so the search ran from seeds "
                        f"{seed}-{seed + len(tries) - 1}, whose chosen maps scored {scores}: the least was kept")
     return found
@@ -140,26 +146,25 @@ def _search(context: Context, ks: tuple[int, ...], progress: bool, title: str) -
             break
         move(board)
     if progress and not draw_bars():
-        note(f"{title}: " + ", ".join(f"{r['maps']} maps IoU {r['iou']:.3f}, {r['chamfer_px']:.2f} px"
-                                      for r in board.table))
+        note(f"{title}: " + ", ".join(f"{r.maps} maps IoU {r.iou:.3f}, {r.chamfer_px:.2f} px" for r in board.table))
     chosen = board.best()
-    return SearchResult(board.found[chosen["maps"]], board.table, _rule(board, chosen))
+    return SearchResult(board.found[chosen.maps], tuple(board.table), _rule(board, chosen))
 
 
-def _rule(board: Board, chosen: dict) -> str:
+def _rule(board: Board, chosen: Row) -> str:
     """How the number of maps was chosen, and what each phase did, in words."""
     config, table = board.config, board.table
     rule = (f"fewest maps for the fit: least 1 - attractor IoU at {board.context.judge.size}² plus {config.map_cost} "
             f"a map (minimum description length), among the {config.reorient} reoriented (the least attractor "
             f"Chamfer distance at {board.context.fine.size}² plus {config.chamfer_cost} px a map); "
-            f"{chosen['maps']} maps scored {chosen['score']:.3f}")
-    regions = [r for r in table if r.get("regions")]
+            f"{chosen.maps} maps scored {chosen.score:.3f}")
+    regions = [r for r in table if r.regions]
     if regions:
-        rule += "; " + ", ".join(f"{r['maps']} maps had {r['regions']} round(s) of maps matched to uncovered regions"
+        rule += "; " + ", ".join(f"{r.maps} maps had {r.regions} round(s) of maps matched to uncovered regions"
                                  for r in regions) + f" (the reoriented attractor's IoU was below {config.swap_below})"
-    swapped = [r for r in table if r.get("swapped")]
+    swapped = [r for r in table if r.swapped]
     if swapped:
-        rule += "; " + ", ".join(f"{r['maps']} maps had {r['swapped']} map(s) swapped" for r in swapped) + \
+        rule += "; " + ", ".join(f"{r.maps} maps had {r.swapped} map(s) swapped" for r in swapped) + \
                 f" (no reoriented attractor reached IoU {config.swap_below})"
     if board.hopeless:
         rule += (f"; {', '.join(map(str, board.hopeless))} maps not tried, and none reoriented: up to "

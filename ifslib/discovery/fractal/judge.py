@@ -61,7 +61,7 @@ def best_trial(trials: np.ndarray, fine: Target, judge: Target, seed: int, *,
     """Of ``trials`` ``(S, k, 2, 3)`` and their collage refinements at ``fine``'s size, the one whose attractor
     (``config.screen_points`` points) overlaps ``fine`` most: its maps ``(k, 2, 3)`` and attractor IoU at
     ``judge``'s size."""
-    refined, _ = refine(trials, fine, config.refine_steps, 0.002, config.collage_points[1], seed, config=config)
+    refined, _ = refine(trials, fine, config.refine_steps, config.refine_lr, config.collage_points[1], seed, config=config)
     variants = np.concatenate([trials, refined.numpy()])
     j = int(np.argmax([iou(_drawn(m, fine, config.screen_points), fine.mask) for m in variants]))
     return variants[j], attractor_iou(variants[j], judge, config=config)

@@ -68,7 +68,7 @@ def reorient(maps: np.ndarray, target: Target, rounds: int = 3, seed: int = 0, *
         batch = np.array(batch)
         _, first = refine(batch, target, 0, 0.0, config.collage_points[1], seed, config=config)
         keep = torch.cat([torch.tensor([0]), 1 + torch.argsort(first[1:])[:config.screen]])
-        work, err = refine(batch[keep.numpy()], target, config.refine_steps, 0.002, config.collage_points[1], seed,
+        work, err = refine(batch[keep.numpy()], target, config.refine_steps, config.refine_lr, config.collage_points[1], seed,
                            config=config)
         scores = [attractor_chamfer(m, target, config.screen_points) for m in work.numpy()]
         best = int(np.argmin(scores))
@@ -89,7 +89,7 @@ def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge
     game at ``coarse``'s size (`chaos_occupancy`) and ranked by its IoU with ``coarse``; the
     ``config.swap_top`` best are refined on the collage at ``fine``'s size (`refine`), and of them and
     their unrefined selves the one whose attractor (`best_trial`) overlaps ``fine`` most is
-    kept when its attractor IoU at ``judge``'s size beats the maps' by more than 0.001. Stops after
+    kept when its attractor IoU at ``judge``'s size beats the maps' by more than ``config.accept_margin``. Stops after
     ``rounds`` rounds or a round that keeps nothing.
 
     Parameters
@@ -132,7 +132,7 @@ def swap(maps: np.ndarray, pool: np.ndarray, coarse: Target, fine: Target, judge
         for t, flat in enumerate(best):
             trials[t, flat // len(pool)] = pool[flat % len(pool)]
         replaced, overlap = best_trial(trials, fine, judge, seed, config=config)
-        if overlap <= value + 1e-3:
+        if overlap <= value + config.accept_margin:
             break
         maps, value, kept = replaced, overlap, kept + 1
     return maps, value, kept
@@ -147,7 +147,7 @@ def region_swap(maps: np.ndarray, fine: Target, judge: Target, points: np.ndarra
     (a pair: two thin maps are often missed together, and one alone does not raise the IoU) is
     drawn by a short chaos game at ``fine``'s size and ranked by its IoU with it; the
     ``config.region_top`` best are refined on the collage and the best by their attractor is kept when its IoU at
-    ``judge``'s size beats the maps' by more than 0.001.
+    ``judge``'s size beats the maps' by more than ``config.accept_margin``.
 
     Parameters and returns are those of `swap` (``fine`` ranks and refines, ``judge`` judges), but
     for ``points``, ``(P, 2)`` plane points of the figure denser than ``fine`` (its pixels at
@@ -166,7 +166,7 @@ def region_swap(maps: np.ndarray, fine: Target, judge: Target, points: np.ndarra
     ranks = occupancy_iou(torch.as_tensor(trials, dtype=torch.float32), fine, seed)
     best = torch.argsort(ranks, descending=True)[:config.region_top].numpy()
     replaced, overlap = best_trial(trials[best], fine, judge, seed, config=config)
-    if overlap <= value + 1e-3:
+    if overlap <= value + config.accept_margin:
         return maps, value, False
     return replaced, overlap, True
 

@@ -12,12 +12,13 @@ import time
 import numpy as np
 import torch
 
-from .board import Board
+from .board import Board, Row
 from .candidates import random_starts
 from .collage import refine
 from .covers import collage_sets
 from .judge import attractor_chamfer
 from .moves import region_grow, region_swap, reorient, swap
+from .scores import least_choice_score
 
 
 def try_maps(board: Board, k: int) -> None:
@@ -26,19 +27,17 @@ def try_maps(board: Board, k: int) -> None:
     coarse, fine, seed = context.coarse, context.fine, context.seed
     t0 = time.perf_counter()
     batch, covered = _starts(board, k)
-    work, err = refine(batch, coarse, config.search_steps, 0.005, config.collage_points[0], seed, config=config)
+    work, err = refine(batch, coarse, config.search_steps, config.search_lr, config.collage_points[0], seed, config=config)
     best = torch.argsort(err)[:config.shortlist]
     drawn = np.array([attractor_chamfer(m, fine, config.screen_points) for m in work[best].numpy()])
     best = best[np.argsort(drawn, kind="stable")[:config.keep]]
     if fine.size > coarse.size:  # a target no larger than the search size is refined once
-        work, err = refine(work[best], fine, config.refine_steps, 0.002, config.collage_points[1], seed, config=config)
+        work, err = refine(work[best], fine, config.refine_steps, config.refine_lr, config.collage_points[1], seed, config=config)
     else:
         work, err = work[best], err[best]
     j = int(np.argmin([attractor_chamfer(m, fine, config.screen_points) for m in work.numpy()]))
-    row = {"maps": k, "cover": round(covered, 4), "collage_px": round(float(err[j]), 4)}
-    board.judge(row, work[j].numpy())
-    row["seconds"] = round(time.perf_counter() - t0, 2)
-    board.table.append(row)
+    board.judge(Row(maps=k, cover=covered, collage_px=float(err[j])), work[j].numpy())
+    board.add_time(k, t0)
 
 
 def _starts(board: Board, k: int) -> tuple[np.ndarray, float]:
@@ -60,37 +59,34 @@ def reorient_best(board: Board) -> None:
     none when the search gave up."""
     if board.hopeless:
         return
-    board.turned = sorted(board.table, key=lambda r: (board.chamfer_score(r), r["maps"]))[:board.config.reorient]
-    for row in board.turned:
+    least = sorted(board.table, key=lambda r: (board.chamfer_score(r), r.maps))[:board.config.reorient]
+    board.turned = [r.maps for r in least]
+    for k in board.turned:
         t0 = time.perf_counter()
-        maps, error = reorient(board.found[row["maps"]], board.context.fine, seed=board.context.seed,
-                               config=board.config)
-        row["reoriented"] = True
-        row["collage_px"] = round(error, 4)
-        board.judge(row, maps)
-        board.add_time(row, t0)
+        maps, error = reorient(board.found[k], board.context.fine, seed=board.context.seed, config=board.config)
+        board.judge(board.rows[k], maps, reoriented=True, collage_px=error)
+        board.add_time(k, t0)
 
 
 def regions(board: Board) -> None:
     """Each reoriented number of maps, the best scoring first, has maps matched to uncovered regions (step 5)."""
-    for row in board.by_score(board.turned):
-        region_rounds(board, row)
+    for row in board.by_score(board.turned_rows):
+        region_rounds(board, row.maps)
 
 
-def region_rounds(board: Board, row: dict) -> None:
-    """Rounds of `region_swap` for ``row``'s maps while a round raises its attractor's IoU and none fits yet."""
-    context, k = board.context, row["maps"]
+def region_rounds(board: Board, k: int) -> None:
+    """Rounds of `region_swap` for the maps of row ``k`` while a round raises its attractor's IoU and none fits yet."""
+    context = board.context
     for _ in range(board.config.region_rounds):
         if not board.stuck():
             return
         t0 = time.perf_counter()
         maps, overlap, kept = region_swap(board.found[k], context.fine, context.judge, context.dense,
-                                          seed=context.seed, value=board.overlaps[k], config=board.config)
-        board.add_time(row, t0)
+                                          seed=context.seed, value=board.rows[k].iou, config=board.config)
+        row = board.add_time(k, t0)
         if not kept:
             return
-        row["regions"] = row.get("regions", 0) + 1
-        board.judge(row, maps, overlap)
+        board.judge(row, maps, overlap, regions=row.regions + 1)
 
 
 def grow(board: Board) -> None:
@@ -100,22 +96,20 @@ def grow(board: Board) -> None:
     for _ in range(board.config.grow_rounds):
         if not board.stuck():
             break
-        row = board.best(board.turned)
-        after = board.row(row["maps"] + 1)
-        if after is None or row["maps"] in grew:
+        k = board.best(board.turned_rows).maps
+        if k + 1 not in board.rows or k in grew:
             break  # no next number of maps tried, or the best has grown already (nothing changed since)
-        grew.add(row["maps"])
+        grew.add(k)
         t0 = time.perf_counter()
-        grown, overlap = region_grow(board.found[row["maps"]], context.fine, context.judge, context.dense,
+        grown, overlap = region_grow(board.found[k], context.fine, context.judge, context.dense,
                                      seed=context.seed, config=board.config)
-        board.add_time(after, t0)
-        if grown is None or overlap <= board.overlaps[after["maps"]] + 1e-3:
+        after = board.add_time(k + 1, t0)
+        if grown is None or overlap <= after.iou + board.config.accept_margin:
             break
-        after["grown"] = True
-        board.judge(after, grown, overlap)
-        if after not in board.turned:
-            board.turned.append(after)
-        region_rounds(board, after)
+        board.judge(after, grown, overlap, grown=True)
+        if k + 1 not in board.turned:
+            board.turned.append(k + 1)
+        region_rounds(board, k + 1)
 
 
 def swaps(board: Board) -> None:
@@ -123,23 +117,21 @@ def swaps(board: Board) -> None:
     at a time, each round that keeps a map followed by region rounds again, until a round keeps nothing for it
     (then the next best) or ``config.swap_rounds`` run out (step 7)."""
     context, config = board.context, board.config
-    open_rows, rounds = list(board.turned), config.swap_rounds
-    while rounds and open_rows and board.stuck():
-        row = board.best(open_rows)
-        k = row["maps"]
-        if config.map_cost * k >= min(r["score"] for r in board.turned):
-            open_rows.remove(row)  # even an attractor of IoU 1 would not score below the best
+    open_ks, rounds = list(board.turned), config.swap_rounds
+    while rounds and open_ks and board.stuck():
+        k = board.best([board.rows[j] for j in open_ks]).maps
+        if least_choice_score(k, config) >= min(r.score for r in board.turned_rows):
+            open_ks.remove(k)  # even an attractor of IoU 1 would not score below the best
             continue
         t0, rounds = time.perf_counter(), rounds - 1
         maps, overlap, kept = swap(board.found[k], context.copies.pool, context.coarse, context.fine, context.judge,
-                                   rounds=1, seed=context.seed, value=board.overlaps[k], config=config)
-        board.add_time(row, t0)
+                                   rounds=1, seed=context.seed, value=board.rows[k].iou, config=config)
+        row = board.add_time(k, t0)
         if kept:
-            row["swapped"] = row.get("swapped", 0) + 1
-            board.judge(row, maps, overlap)
-            region_rounds(board, row)
+            board.judge(row, maps, overlap, swapped=row.swapped + 1)
+            region_rounds(board, k)
         else:
-            open_rows.remove(row)
+            open_ks.remove(k)
 
 
 #: The moves after reorienting, in the order they are tried, each while no reoriented attractor fits.
