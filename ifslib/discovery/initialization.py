@@ -14,13 +14,10 @@ from ..errors import IFSError
 from ..geometry.crossings import is_curve
 from ..geometry.ifs import IFS
 from .plan import Plan, discover
-from ..targets.placement import best_fit_line, check_jitter, place, placed_points
+from ..targets.placement import best_fit_line, check_jitter, place
 from ..targets.target import Target, foreground_points
 
 __all__ = ["initialize", "best_fit_line", "foreground_points", "is_curve"]
-
-#: The placement's points under the name the tutorial's check reads.
-_placed = placed_points
 
 
 def initialize(pattern: IFS | str, target: Target, jitter: float = 0.0, seed: int | None = None, *,
