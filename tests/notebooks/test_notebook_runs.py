@@ -29,7 +29,8 @@ REFERENCE = ROOT / "tests" / "reference"
 FIGURES = {"01_koch_iterations": "koch_iterations", "02_fitting_gallery": "fitting_gallery",
            "03_gradient_fields": "gradient_fields", "04_local_minima": "local_minima",
            "05_more_examples": "more_examples", "06_convergence_study": "convergence_study",
-           "07_your_own_image": "your_own_image", "08_real_fractals": "real_fractals"}
+           "07_your_own_image": "your_own_image", "08_real_fractals": "real_fractals",
+           "10_fractal_compression": "fractal_compression"}
 MIN_SSIM = 0.9  # tolerates last-bit differences between CPUs; a changed figure scores far lower
 
 
