@@ -61,17 +61,6 @@ def test_quick_parameters_refuse_unknown_names_and_wrong_types(tmp_path):
         run.quick_parameters(book([64]))
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
-def test_stored_with_python3_kernel_and_executed_in_order(path):
-    book = load(path)
-    assert book["metadata"]["kernelspec"]["name"] == "python3"
-    code = [c for c in book["cells"] if c["cell_type"] == "code"]
-    assert [c["execution_count"] for c in code] == list(range(1, len(code) + 1)), "run top to bottom in a fresh kernel"
-    errors = [o for c in code for o in c["outputs"] if o["output_type"] == "error"]
-    assert not errors
-    assert any("image/png" in o.get("data", {}) for c in code for o in c["outputs"]), "the figure is shown"
-
-
 @pytest.mark.parametrize("path", ALL, ids=lambda p: p.stem)
 def test_claims_are_checked_by_asserts(path):
     """Each notebook checks its lesson's claims with plain asserts (run at both presets), not with nbval's stored-output tags."""
