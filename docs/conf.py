@@ -3,8 +3,8 @@
 The source tree is not this folder: ``docs/build.py`` assembles it in ``build/book/src`` from
 ``docs/index.md``, README.md, ``figures/``, ``notebooks/[0-9][0-9]_*.ipynb`` and the pages under
 ``docs/`` (kept at ``docs/...`` there, so links resolve alike on GitHub and in the book) and runs
-``sphinx-build -c docs`` on it. The notebooks are rendered from their stored outputs (the ci
-preset), never executed; the API reference is generated from the docstrings (autodoc,
+``sphinx-build -c docs`` on it. The notebooks are rendered from their stored outputs (the
+teaching run), never executed; the API reference is generated from the docstrings (autodoc,
 autosummary, napoleon for the numpy style); nothing is fetched from the network at build time.
 """
 
