@@ -11,6 +11,6 @@ c.CourseDirectory.course_id = "ifslib"
 c.ClearSolutions.code_stub = {"python": "...  # YOUR CODE HERE"}
 c.ClearSolutions.text_stub = "YOUR ANSWER HERE"
 
-# Autograding runs each notebook top to bottom: the fits of the tutorial, 05 and 07 take seconds to a
-# minute at the teaching sizes on one CPU thread.
+# Autograding runs each notebook top to bottom: at the teaching sizes the longest lessons (02, 04, 06)
+# take minutes on one CPU thread, each cell well under this limit.
 c.ExecutePreprocessor.timeout = 600
