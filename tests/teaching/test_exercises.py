@@ -81,7 +81,7 @@ def test_every_exercise_is_an_answer_cell_and_a_locked_test_cell_with_hidden_tes
                             "grade_id": f"{grader['grade_id']}-test", "schema_version": 3}
             assert test["points"] > 0 and "### BEGIN HIDDEN TESTS" in book.cells[i + 1].source
             auto += 1
-    assert (auto, written) == (15, 2)
+    assert (auto, written) == (16, 2)
 
 
 CHEAP = ["00_tutorial-koch-t3", "00_tutorial-carpet-leaves", "00_tutorial-contraction", "00_tutorial-chaos-game",
@@ -235,3 +235,29 @@ def test_the_shipped_target_is_the_hidden_truths_picture_and_the_truth_passes(gr
 def test_a_shipped_target_at_another_size_is_refused():
     with pytest.raises(IFSError, match="64, 128, 256"):
         ifslib.exercises.koch_target(100)
+
+
+COPY_MAP = "07_your_own_image-copy-map"
+
+
+def copy_map_names():
+    """What the copy-map exercise's cells read from the notebook: the letter at 64² and foreground_points."""
+    from ifslib.targets import silhouettes
+    from ifslib.targets.target import foreground_points
+
+    target = ifslib.load_target(silhouettes.letter("G", 64).astype(float), 64)
+    return {"target": target, "foreground_points": foreground_points}
+
+
+@pytest.mark.parametrize("body, words", [
+    (None, ["returns nothing yet"]),   # the release's blank answer
+    ("def copy_map(points, part):\n    return np.c_[np.eye(2), part.mean(0) - points.mean(0)]\n",
+     ["covariance", "check A"]),        # the mean moved, the spread not
+    ("def copy_map(points, part):\n    a = 0.5 * np.eye(2)\n    return np.c_[a, part.mean(0)]\n",
+     ["mean", "check t"]),             # t forgets that A moves the whole's mean too
+    ("def copy_map(points, part):\n    return np.eye(3)\n", ["2 x 3"]),
+])
+def test_copy_map_answer_passes_and_wrong_ones_get_their_hints(body, words):
+    names = copy_map_names()
+    run(COPY_MAP, **names)
+    fails(COPY_MAP, *words, answer_source=blank(COPY_MAP) if body is None else body, **names)
