@@ -128,7 +128,7 @@ def test_tutorial_exercise_gives_a_hint(page, lab, shots):
     cell = code_cell(page, "T3 = None")
     replace_and_run(page, cell, "T3 = [[1/6, 3**0.5/6, 0], [-3**0.5/6, 1/6, 0], [0, 0, 1]]   # my (wrong) answer")
     assert not problems(page, cell), problems(page, cell)
-    test = code_cell(page, "# Test: exercise 1 ")
+    test = code_cell(page, "# Test of exercise 1 ")
     replace_and_run(page, test, test.locator(".cm-content").inner_text())
     text = outputs_text(test)
     test.screenshot(path=shots / "tutorial_hint.png")
@@ -139,7 +139,7 @@ def test_tutorial_exercise_gives_a_hint(page, lab, shots):
     cell = code_cell(page, "def leaf_count(")
     replace_and_run(page, cell, "def leaf_count(m, primitives, depth):\n    return primitives + m * depth\n"
                                 "carpet_leaves = leaf_count(8, 1, 4)")
-    test = code_cell(page, "# Test: exercise 2 ")
+    test = code_cell(page, "# Test of exercise 2 ")
     replace_and_run(page, test, test.locator(".cm-content").inner_text())
     text = outputs_text(test)
     test.screenshot(path=shots / "tutorial_hint_leaves.png")
