@@ -19,6 +19,6 @@ cp course/run_edition.py "$work/"
 cd "$work/class"
 # nothing of the repository on the path: the kernel imports the installed wheel, targets included
 export PYTHONPATH= IFSLIB_THREADS=1
-"$work/venv/bin/python" -c "import ifslib, ifslib.exercises as e; assert 'site-packages' in ifslib.__file__; \
+"$work/venv/bin/python" -c "import ifslib; e = ifslib.exercises; assert 'site-packages' in ifslib.__file__; \
 e.koch_target(64); print('ifslib from', ifslib.__file__)"
 "$work/venv/bin/python" "$work/run_edition.py" "$work/class"
