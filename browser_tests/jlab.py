@@ -96,12 +96,22 @@ def code_cell(page, contains: str):
 
 def replace_and_run(page, cell, source: str, timeout_s: float = 60) -> None:
     """Type ``source`` over the cell's text (as a user would), Shift+Enter, wait for its new prompt."""
-    prompt = cell.locator(".jp-InputArea-prompt")
-    before = prompt.inner_text().strip()
     cell.locator(".cm-content").click()
     page.keyboard.press("ControlOrMeta+a")
     page.keyboard.insert_text(source)     # as pasted text: no auto-closed brackets, no completer
     assert cell.locator(".cm-content").inner_text().strip() == source.strip(), "the editor did not take the text"
+    run_cell(page, cell, timeout_s)
+
+
+def run_cell(page, cell, timeout_s: float = 60) -> None:
+    """Run the cell as it stands (click into it, Shift+Enter) and wait for its new prompt.
+
+    A long cell is not retyped: CodeMirror draws only the lines in view, so its text as read from the
+    page is not the whole source.
+    """
+    prompt = cell.locator(".jp-InputArea-prompt")
+    before = prompt.inner_text().strip()
+    cell.locator(".cm-content").click()
     page.keyboard.press("Shift+Enter")
     page.wait_for_function(
         """([el, before]) => { const p = el.textContent.trim(); return /^\\[\\d+\\]:$/.test(p) && p !== before; }""",

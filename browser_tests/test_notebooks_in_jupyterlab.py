@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from jlab import code_cell, open_notebook, outputs_text, png, problems, replace_and_run, run_all
+from jlab import code_cell, open_notebook, outputs_text, png, problems, replace_and_run, run_all, run_cell
 
 ROOT = Path(__file__).resolve().parent.parent
 # Run All Cells, in seconds. Idle 2-core machine: explorer 4-20 s (the torch import), tutorial 20-35 s
@@ -129,7 +129,7 @@ def test_tutorial_exercise_gives_a_hint(page, lab, shots):
     replace_and_run(page, cell, "T3 = [[1/6, 3**0.5/6, 0], [-3**0.5/6, 1/6, 0], [0, 0, 1]]   # my (wrong) answer")
     assert not problems(page, cell), problems(page, cell)
     test = code_cell(page, "# Test of exercise 1 ")
-    replace_and_run(page, test, test.locator(".cm-content").inner_text())
+    run_cell(page, test)
     text = outputs_text(test)
     test.screenshot(path=shots / "tutorial_hint.png")
     assert "AssertionError" in text and "the translation is where the map sends the origin" in text, \
@@ -140,7 +140,7 @@ def test_tutorial_exercise_gives_a_hint(page, lab, shots):
     replace_and_run(page, cell, "def leaf_count(m, primitives, depth):\n    return primitives + m * depth\n"
                                 "carpet_leaves = leaf_count(8, 1, 4)")
     test = code_cell(page, "# Test of exercise 2 ")
-    replace_and_run(page, test, test.locator(".cm-content").inner_text())
+    run_cell(page, test)
     text = outputs_text(test)
     test.screenshot(path=shots / "tutorial_hint_leaves.png")
     assert "AssertionError" in text and "depth 1 draws one copy of the primitive per map" in text, \
