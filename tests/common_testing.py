@@ -13,3 +13,15 @@ def polygon_sdf(p, corners):
     dist = min(point_segment(p, a, b) for a, b in edges)
     inside = all(((b - a)[0] * (p - a)[1] - (b - a)[1] * (p - a)[0]) > 0 for a, b in edges)
     return -dist if inside else dist
+
+
+def load_module(name, path):
+    """The script at ``path`` imported as module ``name`` (once; a script outside the package, such as docs/slides.py)."""
+    import importlib.util
+    import sys
+
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, path)
+        sys.modules[name] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]

@@ -3,13 +3,12 @@ what goes to the speaker notes, on small notebooks built here and on the real le
 
 ``browser_tests/test_slides.py`` measures the built decks in Chromium; these run in a few seconds.
 """
-import importlib.util
 import io
 import re
-import sys
 from pathlib import Path
 
 import nbformat
+from common_testing import load_module
 import numpy as np
 import pytest
 from PIL import Image
@@ -18,15 +17,9 @@ ROOT = Path(__file__).resolve().parents[2]
 v4 = nbformat.v4
 
 
-def _load(name, path):
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, path)
-        sys.modules[name] = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(sys.modules[name])
-    return sys.modules[name]
 
 
-slides = _load("ifslib_docs_slides", ROOT / "docs" / "slides.py")
+slides = load_module("ifslib_docs_slides", ROOT / "docs" / "slides.py")
 LIMIT = slides.CONDENSE.bullet_chars
 LONG = ("The Hutchinson operator replaces a shape $S$ by the union of its images $H(S) = \\bigcup_i T_i(S)$, "
         "and repeating it converges to the attractor, whatever non-empty bounded shape we start from, "

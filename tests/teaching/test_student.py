@@ -4,27 +4,21 @@ The transformation is checked on small notebooks built here, in nbgrader's form,
 notebooks as they are: their student edition must hold none of their solution lines. ``make
 student`` executes the real edition; these tests run in well under a second.
 """
-import importlib.util
 import sys
 from pathlib import Path
 
 import nbformat
+from common_testing import load_module
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 v4 = nbformat.v4
 
 
-def _load(name, path):
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, path)
-        sys.modules[name] = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(sys.modules[name])
-    return sys.modules[name]
 
 
-student = _load("ifslib_student_edition", ROOT / "notebooks" / "student.py")
-book_build = _load("ifslib_docs_build", ROOT / "docs" / "build.py")
+student = load_module("ifslib_student_edition", ROOT / "notebooks" / "student.py")
+book_build = load_module("ifslib_docs_build", ROOT / "docs" / "build.py")
 
 GRADER = {"grade": True, "solution": True, "locked": False, "points": 1, "grade_id": "koch_map",
           "schema_version": 3}
