@@ -23,6 +23,13 @@ from typing import Iterator
 # MKL reads it at its first call, so it holds when torch was imported first; a value set by the
 # user is kept.
 os.environ.setdefault("MKL_CBWR", "AUTO,STRICT")
+# OpenMP's idle threads sleep rather than spin between torch's parallel regions. A spinning thread
+# holds its core for a while after each small operation; beside another busy process (a test worker,
+# a notebook, a sweep's fits) that doubles a 2-thread fit's CPU time and more (a fractal search: 41 s
+# of CPU spinning against 10 s passive, the same maps; docs/results/threads.md). libgomp reads it
+# when torch loads: set before torch is imported it holds here, and always in the processes started
+# from here (notebook kernels, the CLI's runs). A value set by the user is kept.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import torch  # noqa: E402
 

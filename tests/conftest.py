@@ -9,9 +9,9 @@ import os
 import re
 
 import pytest
-import torch
 
-import ifslib
+import ifslib  # first: it sets OpenMP's wait policy before torch loads (ifslib/threads.py)
+import torch  # noqa: E402
 
 
 def perturbed(ifs, scale=0.01, seed=0, dtype=torch.float64):
