@@ -7,7 +7,7 @@ PRESET ?= teaching
 IFSLIB_DATA ?= $(if $(wildcard ../shared/data/koch.png),$(abspath ../shared/data),)
 export IFSLIB_DATA
 
-.PHONY: setup test test-fast figures book slides student setup-browser test-browser bench clean
+.PHONY: setup setup-grading test test-fast figures book slides student setup-browser test-browser bench clean
 
 # pyproject.toml declares ranges; constraints.txt pins the versions the tests ran with (torch==2.13.0:
 # this machine's local CPU wheel, never a multi-GB CUDA build from the index).
@@ -16,23 +16,31 @@ export IFSLIB_DATA
 $(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep]'
+	touch $@
+
+# nbgrader (and the classic notebook server it brings) only for the commands that run it: make student,
+# .ci/nbgrader.sh; make test leaves out the tests marked `grading`
+$(VENV)/.installed-grading: $(VENV)/.installed
 	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,grading]'
 	touch $@
 
-$(VENV)/.installed-docs: $(VENV)/.installed
+$(VENV)/.installed-docs: $(VENV)/.installed-grading
 	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,grading,docs,browser]'
 	touch $@
 
-setup: $(VENV)/.installed $(VENV)/.installed-docs  ## create .venv and install ifslib (editable) with all its extras, at the tested versions (constraints.txt)
+setup-grading: $(VENV)/.installed-grading  ## nbgrader for make student and .ci/nbgrader.sh
+
+setup: $(VENV)/.installed $(VENV)/.installed-grading $(VENV)/.installed-docs  ## create .venv and install ifslib (editable) with all its extras, at the tested versions (constraints.txt)
 
 # one pytest-xdist worker per core, at one torch thread each (tests/conftest.py); each notebook runs at its
 # quick values (metadata["ifslib"]["quick"]) in a temporary copy, and its figure is compared on the same worker
 test: $(VENV)/.installed  ## run the whole test suite (every notebook at its quick values)
-	$(PY) -m pytest -q -n auto --dist loadscope
+	$(PY) -m pytest -q -n auto --dist loadscope -m "not grading"
 
 # the inner loop of work: the library's quick tests, without the notebooks' runs and the slow searches
 test-fast: $(VENV)/.installed  ## the library's quick tests: no notebook, no whole fractal search (under a minute)
-	$(PY) -m pytest tests -q -n auto --dist loadscope -m "not notebook and not slow"
+	$(PY) -m pytest tests -q -n auto --dist loadscope -m "not notebook and not slow and not grading"
 
 # PRESET=teaching (the default) stores each notebook's run in the notebook itself and writes figures/;
 # PRESET=quick runs the quick values into build/quick/ and build/figures-quick/, never over the stored outputs
@@ -54,7 +62,7 @@ book: $(VENV)/.installed-docs $(MATHJAX)  ## static HTML book of the notebooks (
 slides: $(VENV)/.installed-docs $(REVEAL)  ## a reveal.js deck per lecture (docs/slides/lectures.yaml; stored outputs, speaker notes, offline) in build/slides/
 	$(PY) docs/slides.py
 
-student: $(VENV)/.installed  ## student edition (nbgrader's release: solutions stubbed, hidden tests out) in build/student, each executed and checked
+student: $(VENV)/.installed-grading  ## student edition (nbgrader's release: solutions stubbed, hidden tests out) in build/student, each executed and checked
 	$(PY) notebooks/student.py build/student --check
 
 setup-browser: $(VENV)/.installed-docs  ## Debian's chromium (apt-get, as root, only when missing) and playwright, for test-browser

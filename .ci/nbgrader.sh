@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# nbgrader itself grades the course: lay out build/course from notebooks/ with each notebook's quick
+# nbgrader itself: the tests marked `grading` (make test leaves them out), then nbgrader grades the course: lay out build/course from notebooks/ with each notebook's quick
 # values, `nbgrader generate_assignment`, then `nbgrader autograde` the instructor's source (every
 # auto-graded point; the written answers left for manual grading) and the blank release (0 points).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+make setup-grading
+IFSLIB_THREADS=1 .venv/bin/python -m pytest tests -q -p no:cacheprovider -m grading
 IFSLIB_THREADS=1 .venv/bin/python course/grading.py build/course --quick --check

@@ -116,7 +116,23 @@ def test_unbalanced_markers_are_refused_naming_notebook_and_cell(source, message
     assert str(raised.value) == f"lesson.ipynb, cell 3 (id broken): {message}"
 
 
-def test_write_edition_rewrites_exercise_notebooks_copies_the_rest_and_refuses_bad_ones(tmp_path, capsys):
+def test_write_edition_copies_plain_notebooks_and_refuses_bad_markers_before_writing(tmp_path, capsys):
+    source, out = tmp_path / "notebooks", tmp_path / "student"
+    source.mkdir()
+    plain = notebook(v4.new_code_cell("x = 1", execution_count=2))
+    nbformat.write(plain, source / "01_plain.ipynb")
+    assert student.write_edition(out, source) == []
+    assert (out / "01_plain.ipynb").read_bytes() == (source / "01_plain.ipynb").read_bytes()
+    nbformat.write(notebook(exercise(MATRIX)), source / "00_tutorial.ipynb")
+    nbformat.write(notebook(exercise("### BEGIN SOLUTION\nx = 1")), source / "02_bad.ipynb")
+    (out / "01_plain.ipynb").unlink()
+    assert student.main([str(out), "--source", str(source)]) == 2
+    assert "02_bad.ipynb, cell 2" in capsys.readouterr().err
+    assert not list(out.iterdir())  # nothing written when one notebook is refused
+
+
+@pytest.mark.grading
+def test_write_edition_releases_exercise_notebooks_through_nbgrader(tmp_path):
     source, out = tmp_path / "notebooks", tmp_path / "student"
     source.mkdir()
     nbformat.write(notebook(exercise(MATRIX)), source / "00_tutorial.ipynb")
@@ -124,12 +140,8 @@ def test_write_edition_rewrites_exercise_notebooks_copies_the_rest_and_refuses_b
     nbformat.write(plain, source / "01_plain.ipynb")
     assert student.write_edition(out, source) == [out / "00_tutorial.ipynb"]
     assert (out / "01_plain.ipynb").read_bytes() == (source / "01_plain.ipynb").read_bytes()
-    assert "YOUR CODE HERE" in (out / "00_tutorial.ipynb").read_text()
-    nbformat.write(notebook(exercise("### BEGIN SOLUTION\nx = 1")), source / "02_bad.ipynb")
-    (out / "00_tutorial.ipynb").unlink()
-    assert student.main([str(out), "--source", str(source)]) == 2
-    assert "02_bad.ipynb, cell 2" in capsys.readouterr().err
-    assert not (out / "00_tutorial.ipynb").exists()  # nothing written when one notebook is refused
+    released = (out / "00_tutorial.ipynb").read_text()
+    assert "YOUR CODE HERE" in released and "BEGIN SOLUTION" not in released
 
 
 def test_book_folds_each_solution_into_a_hidden_cell(tmp_path):
