@@ -6,6 +6,11 @@ PRESET ?= teaching
 # The paper's target images: use the shared copy beside the checkout when there is one.
 IFSLIB_DATA ?= $(if $(wildcard ../shared/data/koch.png),$(abspath ../shared/data),)
 export IFSLIB_DATA
+# pip byte-compiles every module it installs (torch's thousands: a third of the set-up's time), so the
+# installs below skip it (--no-compile) and Python compiles a module the first time it is imported and
+# keeps it, even where the shell sets PYTHONDONTWRITEBYTECODE (the .pyc files go to .venv and to
+# __pycache__ folders that git ignores)
+export PYTHONDONTWRITEBYTECODE :=
 
 .PHONY: setup setup-grading test test-fast figures book slides student setup-browser test-browser bench clean
 
@@ -16,17 +21,17 @@ export IFSLIB_DATA
 $(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep]'
+	$(PY) -m pip install --quiet --no-compile -c constraints.txt -e '.[dev,sweep]'
 	touch $@
 
 # nbgrader (and the classic notebook server it brings) only for the commands that run it: make student,
 # .ci/nbgrader.sh; make test leaves out the tests marked `grading`
 $(VENV)/.installed-grading: $(VENV)/.installed
-	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,grading]'
+	$(PY) -m pip install --quiet --no-compile -c constraints.txt -e '.[dev,sweep,grading]'
 	touch $@
 
 $(VENV)/.installed-docs: $(VENV)/.installed-grading
-	$(PY) -m pip install --quiet -c constraints.txt -e '.[dev,sweep,grading,docs,browser]'
+	$(PY) -m pip install --quiet --no-compile -c constraints.txt -e '.[dev,sweep,grading,docs,browser]'
 	touch $@
 
 setup-grading: $(VENV)/.installed-grading  ## nbgrader for make student and .ci/nbgrader.sh
