@@ -84,14 +84,18 @@ class RefineOptions:
         Adam steps on the quantized contrasts and means through the decoder's fixed point (0: none).
     lr : float
         Adam's step, in quantization levels.
+    repartitions : int
+        Rounds that choose the quadtree and the flat blocks again for the decoded image at no more bits
+        (`repartition`), each followed by the two moves above (0: keep the collage coder's partition).
     """
 
     searches: int = 3
     steps: int = 30
     lr: float = 0.3
+    repartitions: int = 1
 
     def __post_init__(self):
-        for name in ("searches", "steps"):
+        for name in ("searches", "steps", "repartitions"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 0:
                 raise IFSError(f"{name} must be an integer >= 0, got {value!r}")

@@ -22,6 +22,7 @@ from .decode import Plan, fixed_point, iterate, plan, start_image
 from .domains import pool_with_isometries
 from .encode import check_image, pad, search
 from .quantize import dequantize_m, dequantize_s, zero_s
+from .repartition import repartition
 
 
 def implicit_fixed_point(p: Plan, s: torch.Tensor, m: torch.Tensor, start: torch.Tensor,
@@ -142,8 +143,24 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
     return best
 
 
+def refine_maps(code: Code, target: torch.Tensor, padded: torch.Tensor, options: RefineOptions,
+                progress: bool = False) -> tuple[Code, float, torch.Tensor]:
+    """Moves 1 and 2 on a fixed partition: ``(code, its decoded mean squared error, its padded fixed point)``."""
+    best_err, x = decoded_error(code, target)
+    for _ in range(options.searches):
+        candidate = search_again(code, padded, x)
+        err, new_x = decoded_error(candidate, target)
+        if err >= best_err:
+            break
+        code, best_err, x = candidate, err, new_x
+    if options.steps:
+        code = descend(code, target, options.steps, options.lr, progress)
+        best_err, x = decoded_error(code, target)
+    return code, best_err, x
+
+
 def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress: bool = False) -> Code:
-    """Attractor coding: ``code`` improved for its decoded image's distance to ``image``, at the same bits.
+    """Attractor coding: ``code`` improved for its decoded image's distance to ``image``, in no more bits.
 
     Parameters
     ----------
@@ -158,19 +175,19 @@ def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress
     Returns
     -------
     Code
-        Same partition and flat blocks as ``code`` (so the same file size); never decodes worse.
+        No more bits than ``code`` (so no larger a file); with ``options.repartitions == 0`` the same
+        partition and flat blocks (the same bits). Never decodes worse.
     """
     target = check_image(image).float()
     if tuple(target.shape) != (code.height, code.width):
         raise IFSError(f"the image is {tuple(target.shape)} but the code is of a {code.height} x {code.width} image")
     padded = pad(target, code.options)
-    best_err, x = decoded_error(code, target)
-    for _ in range(options.searches):
-        candidate = search_again(code, padded, x)
-        err, new_x = decoded_error(candidate, target)
+    budget = code.bits()
+    code, best_err, x = refine_maps(code, target, padded, options, progress)
+    for _ in range(options.repartitions):
+        candidate = repartition(code, padded, x, budget, progress)
+        candidate, err, new_x = refine_maps(candidate, target, padded, options, progress)
         if err >= best_err:
             break
         code, best_err, x = candidate, err, new_x
-    if options.steps:
-        code = descend(code, target, options.steps, options.lr, progress)
     return code

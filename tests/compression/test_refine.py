@@ -41,12 +41,21 @@ def test_the_implicit_gradient_matches_finite_differences():
 def test_refinement_decodes_closer_at_the_same_bytes():
     image = photo(48, seed=4)
     code = encode(image, O, bpp=1.0)
-    better = refine(code, image, RefineOptions(searches=2, steps=8))
+    better = refine(code, image, RefineOptions(searches=2, steps=8, repartitions=0))
     assert len(to_bytes(better)) == len(to_bytes(code))
     assert torch.equal(better.size, code.size) and torch.equal(better.flat, code.flat)
     before, _ = decoded_error(code, image)
     after, _ = decoded_error(better, image)
     assert after < before
+
+
+def test_a_new_partition_is_kept_only_in_no_more_bits_and_closer():
+    image = photo(64, seed=5)
+    code = encode(image, O, bpp=0.8)
+    held = refine(code, image, RefineOptions(searches=1, steps=4, repartitions=0))
+    moved = refine(code, image, RefineOptions(searches=1, steps=4, repartitions=1))
+    assert moved.bits() <= code.bits() and len(to_bytes(moved)) <= len(to_bytes(code))
+    assert decoded_error(moved, image)[0] <= decoded_error(held, image)[0]
 
 
 def test_refine_refuses_another_image():
