@@ -103,6 +103,9 @@ class RefineOptions:
             raise IFSError(f"lr must be a number > 0, got {self.lr!r}")
 
 
+#: bisection steps on the price of a bit when pruning the quadtree to a budget (`partition.prune_to_budget`):
+#: more land closer to the budget (fewer bits left unspent), each costs one pass over the block grids.
+PRUNE_ROUNDS = 40
 #: the decoder stops when no pixel changed by more than this (gray levels in [0, 1]) in one iteration.
 DECODE_TOL = 1e-4
 #: the decoder's cap on iterations: with |s| <= 0.95 and the means stored, 10-20 usually suffice.

@@ -11,7 +11,7 @@ from typing import Iterator
 
 import numpy as np
 
-from .config import CodeOptions
+from .config import PRUNE_ROUNDS, CodeOptions
 
 Node = tuple[int, int, int]  # (size, y, x)
 
@@ -149,12 +149,20 @@ class Pruned:
     err: float
 
 
-def prune(height: int, width: int, options: CodeOptions, choices: dict[int, LeafChoice], lam: float) -> Pruned:
+def prune(options: CodeOptions, choices: dict[int, LeafChoice], lam: float) -> Pruned:
     """The quadtree and flat blocks of least ``err + lam * bits``, exactly, by dynamic programming from the leaves up.
 
     Greedy growth (`grow`) splits the best ratio first and never undoes a split or stores a block flat
     that has a usable domain; the optimum for a Lagrange multiplier ``lam`` (squared error per bit)
     weighs every subtree against its leaf (Sullivan and Baker's quadtree optimisation).
+
+    Parameters
+    ----------
+    options : CodeOptions
+    choices : dict
+        ``{size: LeafChoice}`` for every block size, each on its size's grid of the padded image.
+    lam : float
+        The price of a bit, in squared error.
     """
     best: dict[int, tuple] = {}
     leaf_flat: dict[int, np.ndarray] = {}
@@ -182,21 +190,21 @@ def prune(height: int, width: int, options: CodeOptions, choices: dict[int, Leaf
     return Pruned(split_nodes, leaf_flat, int(bits.sum()), float(err.sum()))
 
 
-def prune_to_budget(height: int, width: int, options: CodeOptions, choices: dict[int, LeafChoice],
-                    budget_bits: float, rounds: int = 40) -> Pruned:
+def prune_to_budget(options: CodeOptions, choices: dict[int, LeafChoice], budget_bits: float) -> Pruned:
     """The `prune` of the smallest multiplier (bisected) whose tree fits in ``budget_bits``.
 
-    Returns the coarsest tree (every top block flat) if even that does not fit.
+    A tree of fewer bits than the coarsest one (every top block flat) does not exist: that one is
+    returned, over the budget, if the budget is below it.
     """
     lo, hi = 0.0, 1e-3
     for _ in range(60):
-        if prune(height, width, options, choices, hi).bits <= budget_bits:
+        if prune(options, choices, hi).bits <= budget_bits:
             break
         lo, hi = hi, hi * 4
-    best = prune(height, width, options, choices, hi)
-    for _ in range(rounds):
+    best = prune(options, choices, hi)
+    for _ in range(PRUNE_ROUNDS):
         mid = (lo + hi) / 2
-        tree = prune(height, width, options, choices, mid)
+        tree = prune(options, choices, mid)
         if tree.bits <= budget_bits:
             hi, best = mid, tree
         else:

@@ -75,7 +75,7 @@ def repartition(code: Code, target: torch.Tensor, decoded: torch.Tensor, budget_
     o = code.options
     H, W = target.shape
     mapped, flat, choices = level_choices(target, decoded, o, progress)
-    tree = prune_to_budget(H, W, o, choices, code.bits() if budget_bits is None else budget_bits)
+    tree = prune_to_budget(o, choices, code.bits() if budget_bits is None else budget_bits)
     fits = {}
     for size in o.sizes:
         f = torch.as_tensor(tree.flat[size].reshape(-1))

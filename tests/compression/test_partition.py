@@ -75,7 +75,7 @@ def test_pruning_finds_the_least_lagrangian_cost_of_every_tree_by_brute_force():
                                 bits=np.stack([np.full((16 // size,) * 2, 20), np.full((16 // size,) * 2, 12)]))
                for size in small.sizes}
     for lam in (0.01, 0.5, 4.0):
-        tree = prune(16, 16, small, choices, lam)
+        tree = prune(small, choices, lam)
         total = 0.0
         for i, j in np.ndindex(2, 2):  # each 8 px root: a leaf (with a domain or flat), or 4 leaves of 4 px
             leaf = [choices[8].err[k, i, j] + lam * (choices[8].bits[k, i, j] + 1) for k in (0, 1)]
@@ -98,7 +98,7 @@ def test_pruning_to_a_budget_keeps_it():
                for size in small.sizes}
     spent = []
     for budget in (60, 300, 900):
-        tree = prune_to_budget(32, 32, small, choices, budget)
+        tree = prune_to_budget(small, choices, budget)
         assert tree.bits <= budget
         spent.append(tree.err)
     assert spent[0] >= spent[1] >= spent[2]

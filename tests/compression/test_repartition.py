@@ -23,6 +23,6 @@ def test_the_new_code_keeps_the_budget_and_its_collage_error_is_the_prunings():
         back = from_bytes(to_bytes(new))
         assert torch.equal(back.size, new.size) and torch.equal(back.s_idx, new.s_idx)
         assert (new.domain[new.flat] == 0).all() and (new.iso[new.flat] == 0).all()
-        tree = prune_to_budget(64, 64, O, level_choices(image, image, O)[2], budget)
+        tree = prune_to_budget(O, level_choices(image, image, O)[2], budget)
         collage = iterate(plan(new), image, new.s(), new.m())
         assert float(((collage - image) ** 2).sum()) == pytest.approx(tree.err, rel=1e-4)
