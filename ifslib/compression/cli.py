@@ -88,7 +88,7 @@ def add_parsers(sub) -> None:
     rate.add_argument("--quality", type=_rate, metavar="Q",
                       help="split blocks until the collage's PSNR reaches Q dB (e.g. 30)")
     c.add_argument("--method", choices=METHODS, default="attractor",
-                   help="collage (the classic coder) or attractor (the same bits, refined through the decoder; "
+                   help="collage (the classic coder) or attractor (no more bits, refined through the decoder; "
                         "the default)")
     c.add_argument("--quiet", action="store_true", help="no progress bars")
     c.add_argument("-o", "--output", required=True, help="compressed file to write (.ifsc)")

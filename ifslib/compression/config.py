@@ -84,14 +84,18 @@ class RefineOptions:
         Adam steps on the quantized contrasts and means through the decoder's fixed point (0: none).
     lr : float
         Adam's step, in quantization levels.
+    repartitions : int
+        Rounds that choose the quadtree and the flat blocks again for the decoded image at no more bits
+        (`repartition`), each followed by the two moves above (0: keep the collage coder's partition).
     """
 
     searches: int = 3
     steps: int = 30
     lr: float = 0.3
+    repartitions: int = 1
 
     def __post_init__(self):
-        for name in ("searches", "steps"):
+        for name in ("searches", "steps", "repartitions"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 0:
                 raise IFSError(f"{name} must be an integer >= 0, got {value!r}")
@@ -99,6 +103,9 @@ class RefineOptions:
             raise IFSError(f"lr must be a number > 0, got {self.lr!r}")
 
 
+#: bisection steps on the price of a bit when pruning the quadtree to a budget (`partition.prune_to_budget`):
+#: more land closer to the budget (fewer bits left unspent), each costs one pass over the block grids.
+PRUNE_ROUNDS = 40
 #: the decoder stops when no pixel changed by more than this (gray levels in [0, 1]) in one iteration.
 DECODE_TOL = 1e-4
 #: the decoder's cap on iterations: with |s| <= 0.95 and the means stored, 10-20 usually suffice.

@@ -22,7 +22,7 @@ def compress(image, bpp: float | None = None, quality: float | None = None, meth
     bpp, quality : float, optional
         Exactly one: the file's bits per pixel, or the collage's PSNR in dB (`encode.encode`).
     method : str
-        ``"collage"`` or ``"attractor"`` (the same bits, a closer decoded image).
+        ``"collage"`` or ``"attractor"`` (no more bits, a closer decoded image).
     options, refinement : CodeOptions, RefineOptions
     progress : bool
 

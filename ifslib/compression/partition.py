@@ -11,7 +11,7 @@ from typing import Iterator
 
 import numpy as np
 
-from .config import CodeOptions
+from .config import PRUNE_ROUNDS, CodeOptions
 
 Node = tuple[int, int, int]  # (size, y, x)
 
@@ -124,3 +124,89 @@ def grow(height: int, width: int, options: CodeOptions, costs: dict[int, LevelCo
         for child in children(node):
             offer(child)
     return split
+
+
+@dataclass(frozen=True)
+class LeafChoice:
+    """What each aligned block of one size costs as a leaf, stored with a domain or flat (its mean alone).
+
+    ``err`` and ``bits`` are ``(2, rows, cols)``: index 0 with a domain, index 1 flat.
+    """
+
+    err: np.ndarray
+    bits: np.ndarray
+
+
+@dataclass(frozen=True)
+class Pruned:
+    """A quadtree chosen by `prune`: ``split``, the nodes split where reached (`leaves_in_order` walks them);
+    ``flat``, ``{size: (rows, cols) bool}``, which blocks are stored flat when leaves; its ``bits`` (flags and
+    maps) and ``err`` (total squared error)."""
+
+    split: set
+    flat: dict
+    bits: int
+    err: float
+
+
+def prune(options: CodeOptions, choices: dict[int, LeafChoice], lam: float) -> Pruned:
+    """The quadtree and flat blocks of least ``err + lam * bits``, exactly, by dynamic programming from the leaves up.
+
+    Greedy growth (`grow`) splits the best ratio first and never undoes a split or stores a block flat
+    that has a usable domain; the optimum for a Lagrange multiplier ``lam`` (squared error per bit)
+    weighs every subtree against its leaf (Sullivan and Baker's quadtree optimisation).
+
+    Parameters
+    ----------
+    options : CodeOptions
+    choices : dict
+        ``{size: LeafChoice}`` for every block size, each on its size's grid of the padded image.
+    lam : float
+        The price of a bit, in squared error.
+    """
+    best: dict[int, tuple] = {}
+    leaf_flat: dict[int, np.ndarray] = {}
+    splits: dict[int, np.ndarray] = {}
+    for size in reversed(options.sizes):  # smallest first
+        c = choices[size]
+        flag = 1 if size > options.min_block else 0
+        total = c.err + lam * c.bits
+        flat = total[1] < total[0]
+        cost, err, bits = (np.where(flat, a[1], a[0]) for a in (total, c.err, c.bits))
+        cost, bits = cost + lam * flag, bits + flag
+        leaf_flat[size] = flat
+        if size > options.min_block:
+            rows, cols = cost.shape
+            k_cost, k_err, k_bits = (a.reshape(rows, 2, cols, 2).sum((1, 3)) for a in best[size // 2])
+            split = k_cost + lam * flag < cost
+            splits[size] = split
+            cost = np.where(split, k_cost + lam * flag, cost)
+            err = np.where(split, k_err, err)
+            bits = np.where(split, k_bits + flag, bits)
+        best[size] = (cost, err, bits)
+    _, err, bits = best[options.max_block]
+    split_nodes = {(size, int(i) * size, int(j) * size)
+                   for size, grid in splits.items() for i, j in zip(*np.nonzero(grid))}
+    return Pruned(split_nodes, leaf_flat, int(bits.sum()), float(err.sum()))
+
+
+def prune_to_budget(options: CodeOptions, choices: dict[int, LeafChoice], budget_bits: float) -> Pruned:
+    """The `prune` of the smallest multiplier (bisected) whose tree fits in ``budget_bits``.
+
+    A tree of fewer bits than the coarsest one (every top block flat) does not exist: that one is
+    returned, over the budget, if the budget is below it.
+    """
+    lo, hi = 0.0, 1e-3
+    for _ in range(60):
+        if prune(options, choices, hi).bits <= budget_bits:
+            break
+        lo, hi = hi, hi * 4
+    best = prune(options, choices, hi)
+    for _ in range(PRUNE_ROUNDS):
+        mid = (lo + hi) / 2
+        tree = prune(options, choices, mid)
+        if tree.bits <= budget_bits:
+            hi, best = mid, tree
+        else:
+            lo = mid
+    return best

@@ -1,7 +1,7 @@
 """Attractor coding: improve a collage code for the image the decoder returns, not for the collage.
 
-Two moves, each kept only when the decoded image gets closer to the target, with the file's layout
-unchanged (same partition, same flat blocks, so the same bits):
+Three moves, each kept only when the decoded image gets closer to the target. The first two keep the
+file's layout (same partition, same flat blocks, so the same bits):
 
 1. a local search on the discrete choices: each block's domain and isometry are searched again with
    the domain pool cut from the current decoded image instead of the original;
@@ -9,6 +9,9 @@ unchanged (same partition, same flat blocks, so the same bits):
    gradient is the fixed point's implicit derivative: for x* = T(x*; s, m), dL/d(s, m) = v^T dT/d(s, m)
    with v = g + J^T v (J = dT/dx, g = dL/dx*), solved by iterating (it converges as T contracts).
    Quantization is kept by a straight-through estimate: the forward pass uses the rounded levels.
+
+The third (`repartition`) chooses the quadtree and the flat blocks again for the decoded image, in no
+more bits than the collage code, and the first two run again on the result.
 """
 from __future__ import annotations
 
@@ -22,6 +25,7 @@ from .decode import Plan, fixed_point, iterate, plan, start_image
 from .domains import pool_with_isometries
 from .encode import check_image, pad, search
 from .quantize import dequantize_m, dequantize_s, zero_s
+from .repartition import repartition
 
 
 def implicit_fixed_point(p: Plan, s: torch.Tensor, m: torch.Tensor, start: torch.Tensor,
@@ -142,8 +146,24 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
     return best
 
 
+def refine_maps(code: Code, target: torch.Tensor, padded: torch.Tensor, options: RefineOptions,
+                progress: bool = False) -> tuple[Code, float, torch.Tensor]:
+    """Moves 1 and 2 on a fixed partition: ``(code, its decoded mean squared error, its padded fixed point)``."""
+    best_err, x = decoded_error(code, target)
+    for _ in range(options.searches):
+        candidate = search_again(code, padded, x)
+        err, new_x = decoded_error(candidate, target)
+        if err >= best_err:
+            break
+        code, best_err, x = candidate, err, new_x
+    if options.steps:
+        code = descend(code, target, options.steps, options.lr, progress)
+        best_err, x = decoded_error(code, target)
+    return code, best_err, x
+
+
 def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress: bool = False) -> Code:
-    """Attractor coding: ``code`` improved for its decoded image's distance to ``image``, at the same bits.
+    """Attractor coding: ``code`` improved for its decoded image's distance to ``image``, in no more bits.
 
     Parameters
     ----------
@@ -158,19 +178,19 @@ def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress
     Returns
     -------
     Code
-        Same partition and flat blocks as ``code`` (so the same file size); never decodes worse.
+        No more bits than ``code`` (so no larger a file); with ``options.repartitions == 0`` the same
+        partition and flat blocks (the same bits). Never decodes worse.
     """
     target = check_image(image).float()
     if tuple(target.shape) != (code.height, code.width):
         raise IFSError(f"the image is {tuple(target.shape)} but the code is of a {code.height} x {code.width} image")
     padded = pad(target, code.options)
-    best_err, x = decoded_error(code, target)
-    for _ in range(options.searches):
-        candidate = search_again(code, padded, x)
-        err, new_x = decoded_error(candidate, target)
+    budget = code.bits()
+    code, best_err, x = refine_maps(code, target, padded, options, progress)
+    for _ in range(options.repartitions):
+        candidate = repartition(code, padded, x, budget, progress)
+        candidate, err, new_x = refine_maps(candidate, target, padded, options, progress)
         if err >= best_err:
             break
         code, best_err, x = candidate, err, new_x
-    if options.steps:
-        code = descend(code, target, options.steps, options.lr, progress)
     return code

@@ -18,7 +18,7 @@ def test_bad_code_options_say_what_to_change(kwargs, words):
         CodeOptions(**kwargs)
 
 
-@pytest.mark.parametrize("kwargs", [{"searches": -1}, {"steps": 1.5}, {"lr": 0}, {"steps": True}])
+@pytest.mark.parametrize("kwargs", [{"searches": -1}, {"steps": 1.5}, {"lr": 0}, {"steps": True}, {"repartitions": -1}])
 def test_bad_refine_options(kwargs):
     with pytest.raises(IFSError):
         RefineOptions(**kwargs)

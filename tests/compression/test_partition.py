@@ -1,9 +1,14 @@
-"""The quadtree: its leaves tile the image, the walk matches them, and the greedy growth keeps its budget."""
+"""The quadtree: its leaves tile the image, the walk matches them, the greedy growth keeps its budget, and the
+rate-distortion pruning is exact."""
+from itertools import product
+
 import numpy as np
+import pytest
 import torch
 
 from ifslib.compression.config import CodeOptions
-from ifslib.compression.partition import LevelCost, children, grow, leaves_in_order, top_nodes, walk
+from ifslib.compression.partition import (LeafChoice, LevelCost, children, grow, leaves_in_order, prune,
+                                          prune_to_budget, top_nodes, walk)
 
 O = CodeOptions(min_block=4, max_block=16)
 
@@ -61,3 +66,39 @@ def test_growth_stops_at_the_target_error():
     err = sum(float(c[s].err[y // s, x // s]) for s, y, x in leaves)
     assert err <= target and len(split) < len(everything)
     assert top_nodes(32, 32, O) == [(16, 0, 0), (16, 0, 16), (16, 16, 0), (16, 16, 16)]
+
+
+def test_pruning_finds_the_least_lagrangian_cost_of_every_tree_by_brute_force():
+    small = CodeOptions(min_block=4, max_block=8)
+    rng = np.random.default_rng(2)
+    choices = {size: LeafChoice(err=rng.random((2, 16 // size, 16 // size)) * size**2,
+                                bits=np.stack([np.full((16 // size,) * 2, 20), np.full((16 // size,) * 2, 12)]))
+               for size in small.sizes}
+    for lam in (0.01, 0.5, 4.0):
+        tree = prune(small, choices, lam)
+        total = 0.0
+        for i, j in np.ndindex(2, 2):  # each 8 px root: a leaf (with a domain or flat), or 4 leaves of 4 px
+            leaf = [choices[8].err[k, i, j] + lam * (choices[8].bits[k, i, j] + 1) for k in (0, 1)]
+            kids = choices[4].err[:, 2 * i:2 * i + 2, 2 * j:2 * j + 2] + lam * choices[4].bits[:, 2 * i:2 * i + 2, 2 * j:2 * j + 2]
+            best_split = min(sum(kids[ks[q], q // 2, q % 2] for q in range(4)) for ks in product((0, 1), repeat=4))
+            total += min(leaf + [best_split + lam])
+        assert tree.err + lam * tree.bits == pytest.approx(total)
+        leaves = leaves_in_order(16, 16, small, tree.split)
+        assert (covered(leaves, 16, 16) == 1).all()
+        bits = 4  # a split flag on each 8 px root
+        bits += sum(int(choices[s].bits[int(tree.flat[s][y // s, x // s]), y // s, x // s]) for s, y, x in leaves)
+        assert bits == tree.bits
+
+
+def test_pruning_to_a_budget_keeps_it():
+    small = CodeOptions(min_block=4, max_block=16)
+    rng = np.random.default_rng(3)
+    choices = {size: LeafChoice(err=np.sort(rng.random((2, 32 // size, 32 // size)), 0) * size**3,
+                                bits=np.stack([np.full((32 // size,) * 2, 25), np.full((32 // size,) * 2, 12)]))
+               for size in small.sizes}
+    spent = []
+    for budget in (60, 300, 900):
+        tree = prune_to_budget(small, choices, budget)
+        assert tree.bits <= budget
+        spent.append(tree.err)
+    assert spent[0] >= spent[1] >= spent[2]
