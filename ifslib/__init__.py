@@ -22,58 +22,75 @@ Typical use::
     image = ifslib.render(ifs, 256)            # (256, 256) tensor in [0, 1], differentiable
     limit = ifslib.render(ifs, 256, "attractor")  # the attractor itself, within half a pixel
 """
-from .threads import configure_threads
+import importlib
+import os
 
-configure_threads()  # IFSLIB_THREADS=N fixes torch's thread count for the package; unset: the free cores
+# MKL's strict reproducible mode: a matrix product gives the same bits at any thread count (by
+# default a long product is split between the threads, and its last bits follow their number).
+# MKL reads it at its first call, so it holds when torch was imported first; a value set by the
+# user is kept.
+os.environ.setdefault("MKL_CBWR", "AUTO,STRICT")
+# OpenMP's idle threads sleep rather than spin between torch's parallel regions. A spinning thread
+# holds its core for a while after each small operation; beside another busy process (a test worker,
+# a notebook, a sweep's fits) that doubles a 2-thread fit's CPU time and more (a fractal search: 41 s
+# of CPU spinning against 10 s passive, the same maps; docs/results/threads.md). libgomp reads it
+# when torch loads: set before torch is imported it holds here, and always in the processes started
+# from here (notebook kernels, the CLI's runs). A value set by the user is kept.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
-from .errors import IFSError  # noqa: E402
-from .geometry import crossings, patterns  # noqa: E402
-from .geometry.ifs import IFS  # noqa: E402
-from .geometry.io import load_ifs, save_ifs  # noqa: E402
-from .geometry.leaves import expand  # noqa: E402
-from .geometry.primitives import Primitive  # noqa: E402
-from .geometry.rules import Rule, rule_maps  # noqa: E402
-from .raster.chaos import chaos_game  # noqa: E402
-from .raster.measure import chaos_measure, invariant_measure  # noqa: E402
-from .raster.distance import distance_field  # noqa: E402
-from .raster.nearest import nearest_leaf, pixel_centres  # noqa: E402
-from .raster.render import default_sigma, render  # noqa: E402
-from . import data  # noqa: E402
-from .targets.target import Target, load_target  # noqa: E402
-from .scoring import dimension, losses, metrics  # noqa: E402
-from .scoring.losses import LOSSES, loss  # noqa: E402
-from .scoring.metrics import chamfer, evaluate, f1, iou, point_error  # noqa: E402
-from . import compression  # noqa: E402
-from .discovery import auto, fractal, initialization  # noqa: E402
-from .discovery.initialization import best_fit_line, initialize  # noqa: E402
-from .discovery.plan import Plan, discover  # noqa: E402
-from .fitting import strategies  # noqa: E402
-from .fitting.batch import fit_many  # noqa: E402
-from .fitting.fit import fit  # noqa: E402
-from .fitting.measure_fit import fit_measure  # noqa: E402
-from .fitting.options import Checkpoint, RunOptions, StrategyOptions  # noqa: E402
-from .fitting.result import FitResult, History, Stage  # noqa: E402
-from .studies import sweep  # noqa: E402
 
-#: The teaching modules load matplotlib; they are imported on first use (``ifslib.figures``), so the
-#: command line and a fit without figures start half a second sooner.
-_TEACHING = {"exercises": "exercises", "figures": "figures", "landscape": "landscape", "animate": "animate"}
+#: Every public name, and where it lives: (module, attribute), or (module, None) for a module. A name is
+#: imported on first use, so ``python -m ifslib fit IMAGE --loss typo`` refuses the name before torch
+#: loads; torch's thread count is set when the first folder that computes is imported (`ifslib.threads`).
+_PUBLIC = {
+    "IFSError": ("errors", "IFSError"),
+    "configure_threads": ("threads", "configure_threads"),
+    "data": ("data", None),
+    # the paper's core: geometry -> raster -> targets -> scoring -> fitting
+    "crossings": ("geometry.crossings", None), "patterns": ("geometry.patterns", None),
+    "IFS": ("geometry.ifs", "IFS"), "load_ifs": ("geometry.io", "load_ifs"), "save_ifs": ("geometry.io", "save_ifs"),
+    "expand": ("geometry.leaves", "expand"), "Primitive": ("geometry.primitives", "Primitive"),
+    "Rule": ("geometry.rules", "Rule"), "rule_maps": ("geometry.rules", "rule_maps"),
+    "chaos_game": ("raster.chaos", "chaos_game"), "distance_field": ("raster.distance", "distance_field"),
+    "nearest_leaf": ("raster.nearest", "nearest_leaf"), "pixel_centres": ("raster.nearest", "pixel_centres"),
+    "default_sigma": ("raster.render", "default_sigma"), "render": ("raster.render", "render"),
+    "Target": ("targets.target", "Target"), "load_target": ("targets.target", "load_target"),
+    "losses": ("scoring.losses", None), "metrics": ("scoring.metrics", None),
+    "LOSSES": ("names", "LOSSES"), "loss": ("scoring.losses", "loss"),
+    "chamfer": ("scoring.metrics", "chamfer"), "evaluate": ("scoring.metrics", "evaluate"),
+    "f1": ("scoring.metrics", "f1"), "iou": ("scoring.metrics", "iou"), "point_error": ("scoring.metrics", "point_error"),
+    "strategies": ("fitting.strategies", None), "fit_many": ("fitting.batch", "fit_many"), "fit": ("fitting.fit", "fit"),
+    "Checkpoint": ("fitting.options", "Checkpoint"), "RunOptions": ("fitting.options", "RunOptions"),
+    "StrategyOptions": ("fitting.options", "StrategyOptions"), "FitResult": ("fitting.result", "FitResult"),
+    "History": ("fitting.result", "History"), "Stage": ("fitting.result", "Stage"),
+    "initialization": ("discovery.initialization", None), "best_fit_line": ("discovery.initialization", "best_fit_line"),
+    "initialize": ("discovery.initialization", "initialize"),
+    # beyond the paper: the automatic path, measures, compression, studies
+    "auto": ("discovery.auto", None), "fractal": ("discovery.fractal", None),
+    "Plan": ("discovery.plan", "Plan"), "discover": ("discovery.plan", "discover"),
+    "chaos_measure": ("raster.measure", "chaos_measure"), "invariant_measure": ("raster.measure", "invariant_measure"),
+    "dimension": ("scoring.dimension", None), "fit_measure": ("fitting.measure_fit", "fit_measure"),
+    "compression": ("compression", None), "sweep": ("studies.sweep", None),
+    # the teaching modules load matplotlib
+    "exercises": ("teaching.exercises", None), "figures": ("teaching.figures", None),
+    "landscape": ("teaching.landscape", None), "animate": ("teaching.animate", "animate"),
+}
 
 
 def __getattr__(name: str):
-    if name in _TEACHING:
-        import importlib
+    if name not in _PUBLIC:
+        raise AttributeError(f"module 'ifslib' has no attribute {name!r}")
+    where, attribute = _PUBLIC[name]
+    module = importlib.import_module(f".{where}", __name__)
+    value = module if attribute is None else getattr(module, attribute)
+    globals()[name] = value
+    return value
 
-        module = importlib.import_module(f".teaching.{_TEACHING[name]}", __name__)
-        value = module.animate if name == "animate" else module
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'ifslib' has no attribute {name!r}")
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_PUBLIC))
+
 
 __version__ = "0.1.0"
 
-__all__ = ["Checkpoint", "FitResult", "History", "Plan", "RunOptions", "Stage", "StrategyOptions", "discover", "IFS", "IFSError", "LOSSES", "Primitive", "Rule", "Target", "animate", "auto", "best_fit_line", "fractal",
-           "chamfer", "chaos_game", "chaos_measure", "configure_threads", "crossings", "data", "default_sigma", "dimension", "distance_field", "evaluate",
-           "exercises", "expand", "f1", "figures", "fit", "fit_many", "fit_measure", "initialization", "initialize", "invariant_measure", "iou",
-           "landscape", "load_ifs", "load_target", "loss", "losses", "metrics", "nearest_leaf", "patterns",
-           "pixel_centres", "point_error", "render", "rule_maps", "save_ifs", "strategies", "sweep"]
+__all__ = sorted(_PUBLIC)

@@ -186,10 +186,9 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
 
 def cmd_info(args: argparse.Namespace) -> None:
-    import torch
-
     from .geometry.leaves import leaf_count_text
     from .geometry.rules import singular_values
+    import torch  # after ifslib's folders: they set torch's threads and OpenMP's wait policy first
 
     ifs = _spec(args.spec)
     depth = ifs.depth if args.depth is None else args.depth
@@ -230,8 +229,6 @@ def _print_measure(ifs) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import __version__
-
     codes = "\n".join(textwrap.fill(text, 96, initial_indent=f"  {code:<4} ", subsequent_indent=" " * 7)
                       for code, text in EXIT_CODES.items())
     parser = argparse.ArgumentParser(
@@ -240,13 +237,12 @@ def build_parser() -> argparse.ArgumentParser:
                     "fractal-compress a photograph.",
         epilog="progress: live bars on standard error when it is a terminal; otherwise one line per stage.\n"
                f"exit codes:\n{codes}\n\n`python -m ifslib COMMAND --help` describes a command's options.")
-    parser.add_argument("--version", action="version", version=f"ifslib {__version__} (torch {_torch_version()}, "
-                        f"Python {sys.version.split()[0]})")
+    parser.add_argument("--version", action=_Version, nargs=0, help="show the versions of ifslib, torch and Python, and exit")
     sub = parser.add_subparsers(dest="command", required=True, metavar="{render,fit,info,compress,decompress}")
     _render_parser(sub)
     _fit_parser(sub)
     _info_parser(sub)
-    from .compression.cli import add_parsers
+    from .cli_compress import add_parsers
 
     add_parsers(sub)
     return parser
@@ -272,7 +268,7 @@ def _render_parser(sub) -> None:
 
 def _fit_parser(sub) -> None:
     """``fit``'s options."""
-    from .scoring.losses import DEFAULT_LOSS, LOSSES
+    from .names import DEFAULT_LOSS, LOSSES, STRATEGIES
 
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
     f.add_argument("target", help="target image (its figure found from its border: the background is the colour "
@@ -292,7 +288,8 @@ def _fit_parser(sub) -> None:
                    help="early stop: end a run when its best loss improved by at most this fraction over the last "
                         "steps (default: the strategy's; off for plain)")
     f.add_argument("--lr", type=float, default=0.003, help="learning rate (default 0.003, as the paper)")
-    f.add_argument("--loss", default=None, help=f"{', '.join(LOSSES)} (default {DEFAULT_LOSS}, as the library's)")
+    f.add_argument("--loss", default=None, choices=LOSSES, metavar="LOSS",
+                   help=f"{', '.join(LOSSES)} (default {DEFAULT_LOSS}, as the library's)")
     f.add_argument("--jitter", type=float, default=0.0, help="uniform jitter of the initial points (plane units)")
     f.add_argument("--seed", type=int, default=0, help="seed of the jitter and the run")
     f.add_argument("--invert", action=argparse.BooleanOptionalAction, default=None,
@@ -300,7 +297,7 @@ def _fit_parser(sub) -> None:
                         "(or opaque) part (default: found from the image's border, and said on standard error)")
     f.add_argument("--checkpoint", help="write a resumable checkpoint here every 100 steps")
     f.add_argument("--resume", help="continue from this checkpoint")
-    f.add_argument("--strategy", default=None,
+    f.add_argument("--strategy", default=None, choices=STRATEGIES, metavar="STRATEGY",
                    help="pyramid (the default: coarse to fine in pixels, starts tried until one recovers the "
                         "target; a single run with --checkpoint/--resume; auto for --pattern auto), plain (one run, the paper's), multistart, "
                         "coarse_to_fine, restart, anneal or uncross")
@@ -319,10 +316,16 @@ def _info_parser(sub) -> None:
     i.set_defaults(run=cmd_info)
 
 
-def _torch_version() -> str:
-    import torch
+class _Version(argparse.Action):
+    """``--version``: torch's version is read only when asked for (importing torch takes a second)."""
 
-    return torch.__version__
+    def __call__(self, parser, namespace, values, option_string=None):
+        import torch
+
+        from . import __version__
+
+        print(f"ifslib {__version__} (torch {torch.__version__}, Python {sys.version.split()[0]})")
+        parser.exit()
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -18,18 +18,7 @@ import time
 from contextlib import contextmanager
 from typing import Iterator
 
-# MKL's strict reproducible mode: a matrix product gives the same bits at any thread count (by
-# default a long product is split between the threads, and its last bits follow their number).
-# MKL reads it at its first call, so it holds when torch was imported first; a value set by the
-# user is kept.
-os.environ.setdefault("MKL_CBWR", "AUTO,STRICT")
-# OpenMP's idle threads sleep rather than spin between torch's parallel regions. A spinning thread
-# holds its core for a while after each small operation; beside another busy process (a test worker,
-# a notebook, a sweep's fits) that doubles a 2-thread fit's CPU time and more (a fractal search: 41 s
-# of CPU spinning against 10 s passive, the same maps; docs/results/threads.md). libgomp reads it
-# when torch loads: set before torch is imported it holds here, and always in the processes started
-# from here (notebook kernels, the CLI's runs). A value set by the user is kept.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+# MKL_CBWR and OMP_WAIT_POLICY are set in ifslib/__init__.py, before any of the package's modules imports torch.
 
 import torch  # noqa: E402
 
@@ -178,3 +167,8 @@ def fixed_threads(threads: int) -> Iterator[int]:
     finally:
         _state["auto"] = saved[0]
         torch.set_num_threads(saved[1])
+
+
+# Set when the package's first computing folder is imported (each folder's __init__ imports this module),
+# before any of its modules runs torch: IFSLIB_THREADS=N fixes the count; unset, the free cores.
+configure_threads()

@@ -10,7 +10,7 @@ import re
 
 import pytest
 
-import ifslib  # first: it sets OpenMP's wait policy before torch loads (ifslib/threads.py)
+import ifslib  # first: it sets OpenMP's wait policy before torch loads (ifslib/__init__.py)
 import torch  # noqa: E402
 
 

@@ -22,6 +22,7 @@ Typical use::
     write(code, "photo.ifsc")
     image = decode(code, scale=2).image        # (2h, 2w) tensor
 """
+from .. import threads as _threads  # noqa: F401 - torch's thread count is set before this folder computes
 from .code import Code
 from .config import CodeOptions, RefineOptions
 from .decode import Decoded, decode

@@ -7,7 +7,7 @@ from .config import CodeOptions, RefineOptions
 from .encode import encode
 from .refine import refine
 
-METHODS = ("collage", "attractor")
+from ..names import COMPRESSION_METHODS as METHODS  # noqa: E402 - the names live apart, for the command line
 
 
 def compress(image, bpp: float | None = None, quality: float | None = None, method: str = "attractor",

@@ -67,6 +67,7 @@ from ..geometry.ifs import IFS
 from ..progress import note
 from ..discovery.plan import Plan
 from ..scoring.metrics import evaluate, self_crossings
+from ..names import DEFAULT_STRATEGY, STRATEGIES  # the names live apart, for the command line to check without torch
 from ..targets.placement import place
 from ..targets.target import Target
 from .automatic import fit_plan
@@ -75,10 +76,6 @@ from .frame import Frame
 from .pyramid import attractor_stage, climb, with_early_stop
 from .result import FitResult
 
-STRATEGIES = ("pyramid", "auto", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
-
-#: What `ifslib.fit` does when given no strategy.
-DEFAULT_STRATEGY = "pyramid"
 
 #: The crossing barrier's weight in ``uncross`` when the fit sets none.
 UNCROSS_WEIGHT = 0.1

@@ -17,14 +17,9 @@ import torch
 import torch.nn.functional as F
 
 from ..errors import IFSError
+from ..names import DEFAULT_LOSS, LOSSES  # the names live apart, for the command line to check without torch
 from ..raster.render import default_sigma, shade
 from ..targets.target import Target
-
-LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
-#: The loss of a fit when none is named, for the library, the command line and the sweep alike: the
-#: distance loss pulls a copy towards the figure from anywhere in the frame (a pixel loss is flat away
-#: from the drawn strokes), and the multiscale sum is the paper's; the lessons name it too.
-DEFAULT_LOSS = "multiscale_distance"
 
 
 def check_loss(kind) -> str | Callable:

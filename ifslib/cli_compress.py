@@ -1,5 +1,7 @@
 """The ``compress`` and ``decompress`` subcommands of ``python -m ifslib`` (registered by `ifslib.cli`).
 
+The coder (`ifslib.compression`) and torch are imported once the arguments are checked.
+
 Examples::
 
     python -m ifslib compress photo.png -o photo.ifsc --bpp 0.25
@@ -12,14 +14,10 @@ import time
 from pathlib import Path
 
 import numpy as np
-import torch
 
-from ..errors import IFSError
-from ..progress import draw_bars, note
-from .config import DECODE_TOL
-from .decode import decode
-from .fileformat import read, write
-from .method import METHODS, compress
+from .errors import IFSError
+from .names import COMPRESSION_METHODS
+from .progress import draw_bars, note
 
 
 def read_gray(path: str) -> np.ndarray:
@@ -42,6 +40,8 @@ def psnr(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def cmd_compress(args: argparse.Namespace) -> None:
+    from .compression import compress, decode, write
+
     t0 = time.perf_counter()
     image = read_gray(args.image)
     code = compress(image, bpp=args.bpp, quality=args.quality, method=args.method,
@@ -53,6 +53,8 @@ def cmd_compress(args: argparse.Namespace) -> None:
 
 
 def cmd_decompress(args: argparse.Namespace) -> None:
+    from .compression import decode, read
+    from .compression.config import DECODE_TOL
     from PIL import Image
 
     code = read(args.file)
@@ -87,7 +89,7 @@ def add_parsers(sub) -> None:
     rate.add_argument("--bpp", type=_rate, help="file size in bits per pixel, header included (e.g. 0.25)")
     rate.add_argument("--quality", type=_rate, metavar="Q",
                       help="split blocks until the collage's PSNR reaches Q dB (e.g. 30)")
-    c.add_argument("--method", choices=METHODS, default="attractor",
+    c.add_argument("--method", choices=COMPRESSION_METHODS, default="attractor",
                    help="collage (the classic coder) or attractor (no more bits, refined through the decoder; "
                         "the default)")
     c.add_argument("--quiet", action="store_true", help="no progress bars")

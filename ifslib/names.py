@@ -1,0 +1,24 @@
+"""The names a user gives the library: losses and strategies, with their defaults.
+
+They live apart from the code they name, in a module that imports nothing, so that the command line
+refuses a misspelt name (``ifslib fit IMAGE --loss typo``) before torch is loaded; `ifslib.scoring.losses`
+and `ifslib.fitting.strategies` take their lists from here and implement each name.
+"""
+
+#: The losses `ifslib.scoring.losses.loss` computes, by name.
+LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
+
+#: The loss of a fit when none is named, for the library, the command line and the sweep alike: the
+#: distance loss pulls a copy towards the figure from anywhere in the frame (a pixel loss is flat away
+#: from the drawn strokes), and the multiscale sum is the paper's; the lessons name it too.
+DEFAULT_LOSS = "multiscale_distance"
+
+#: The strategies `ifslib.fit` runs, by name.
+STRATEGIES = ("pyramid", "auto", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
+
+#: What `ifslib.fit` does when given no strategy.
+DEFAULT_STRATEGY = "pyramid"
+
+#: The coders `ifslib.compression.compress` runs: the classic collage coder, and the same bits refined
+#: through the decoder (attractor coding).
+COMPRESSION_METHODS = ("collage", "attractor")
