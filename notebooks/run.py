@@ -31,7 +31,6 @@ from pathlib import Path
 
 from ifslib.errors import IFSError
 from ifslib.paths import figures_dir, repo_root
-from ifslib.threads import cores
 
 #: What ``--preset`` takes: the values stored in the notebooks, and the quick ones CI runs.
 PRESETS = ("teaching", "quick")
@@ -143,6 +142,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"no notebook starts with {' or '.join([*args.names, *args.only])}")
     root = repo_root()
     where = args.into or ("the notebooks, in place" if args.preset == "teaching" else root / "build" / "quick")
+    from ifslib.threads import cores  # loads torch: only once there is a notebook to run
+
     jobs = max(1, min(args.jobs or cores(), len(books)))
     os.environ.setdefault("IFSLIB_THREADS", str(max(1, cores() // jobs)))
     logs = root / "build" / "logs"
