@@ -6,7 +6,7 @@ not slow down by half but collapses, many times slower (measured in docs/results
 
 So by default (``IFSLIB_THREADS`` unset or ``auto``) ifslib counts the cores that other processes
 keep busy (`busy_cores`, a short sample of ``/proc/stat``) and gives torch the rest, at least one:
-when the package is imported and again at the start of a single run (`refresh`; each stage of a
+when the package's first computing folder is imported (``import ifslib`` itself loads nothing) and again at the start of a single run (`refresh`; each stage of a
 strategy is one) once `REFRESH_SECONDS` have passed since the last look, so a long fit and a
 notebook that runs for an hour follow the machine. ``IFSLIB_THREADS=N`` fixes the count for the
 notebooks, the CLI and the tests alike; `configure_threads` does the same from Python.
