@@ -4,12 +4,14 @@ Gradient descent (Adam) through the deterministic invariant measure (`ifslib.ras
 probabilities live on the simplex as a softmax of free logits; the maps move through the IFS's
 control points (its ``fixed`` points stay). The loss compares densities (mass times the number of
 pixels) summed over pooled copies of both images, the multiscale squared error of the paper, so a
-map's copy that lands a few pixels off still feels a pull. The start's maps are the caller's: from
-near the truth (control points moved by 0.015) the fern's gray image is fitted to a density
-correlation of 0.98 (docs/results/measures.md); a start read from the image alone is not made here.
+map's copy that lands a few pixels off still feels a pull. `fit_measure` starts from the caller's maps;
+`fit_measure_from_support` reads them from the image first: the measure's support (the pixels with
+mass) is a binary figure, and the library's fractal search (`ifslib.initialize("auto", ...)`) finds
+maps whose attractor covers it (docs/results/measures.md says how far each start gets).
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 from tqdm.auto import tqdm
@@ -18,10 +20,21 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
+from ..discovery.auto import FRACTAL_MIN_SIZE
+from ..discovery.initialization import initialize
 from ..errors import IFSError, check_int, check_positive
+from ..geometry.rules import singular_values
 from ..geometry.ifs import IFS
+from ..targets.target import Target, target_from_mask
 from ..progress import draw_bars
 from ..raster.measure import MeasureOptions, measure_from_maps
+
+
+#: A step of the maps that leaves a map's scale (largest singular value) at or above this is halved until none
+#: does (`MAX_HALVINGS` times at most, then not taken): the measure exists only while every map contracts, and a
+#: start read from the support alone has maps of scale 0.9 that a full step pushes past 1.
+MAX_FIT_SCALE = 0.98
+MAX_HALVINGS = 8
 
 
 @dataclass(frozen=True)
@@ -82,12 +95,15 @@ class MeasureFit:
         The loss at each step.
     correlation : float
         Pearson correlation of the fitted measure's densities with the target's, at the target's size.
+    start : IFS or None
+        The maps read from the image's support (`fit_measure_from_support`); None when the caller gave them.
     """
 
     ifs: IFS
     probabilities: tuple[float, ...]
     losses: tuple[float, ...]
     correlation: float
+    start: IFS | None = None
 
 
 def check_measure_image(image) -> torch.Tensor:
@@ -154,7 +170,10 @@ def fit_measure(ifs: IFS, image, options: MeasureFitOptions = MeasureFitOptions(
         loss.backward()
         if options.fit_maps:
             work.points.grad *= free
+        before = work.points.detach().clone()
         optimizer.step()
+        if options.fit_maps:
+            _keep_contractive(work, before)
         losses.append(float(loss.detach()))
         if not np.isfinite(losses[-1]):
             raise IFSError("the measure fit's loss is not finite: lower lr, or start nearer (the maps may have "
@@ -168,4 +187,109 @@ def fit_measure(ifs: IFS, image, options: MeasureFitOptions = MeasureFitOptions(
     return MeasureFit(fitted.to(ifs.points.dtype), p, tuple(losses), correlation(final, target))
 
 
-__all__ = ["MeasureFit", "MeasureFitOptions", "check_measure_image", "correlation", "fit_measure", "multiscale_loss"]
+def support_target(image, threshold: float = 0.0) -> Target:
+    """The support of a measure's image as a binary `Target`: the pixels above ``threshold`` of its largest gray level.
+
+    Parameters
+    ----------
+    image : array-like
+        ``(S, S)`` gray levels >= 0 (`check_measure_image`), row 0 at the top.
+    threshold : float
+        Share of the largest gray level, from 0 (every pixel with mass, right for a chaos game's histogram,
+        whose faintest parts, a fern's stem, hold a few points a pixel) to below 1 (a photograph's dark
+        background left out).
+
+    Returns
+    -------
+    Target
+        ``(S, S)`` mask, named ``"support"``.
+    """
+    if not (isinstance(threshold, (int, float)) and 0 <= threshold < 1):
+        raise IFSError(f"threshold must be a share of the largest gray level, from 0 to below 1, got {threshold!r}")
+    img = check_measure_image(image).numpy()
+    mask = img > threshold * img.max()
+    if mask.all():
+        raise IFSError(f"every pixel is above {threshold} of the largest gray level, so the support fills the frame: "
+                       "raise threshold to leave the background out")
+    return target_from_mask(mask, "support", gray=img / img.max(), polarity="the measure's support (pixels with mass)")
+
+
+def pool_measure(image, size: int) -> torch.Tensor:
+    """A measure's ``(S, S)`` image summed into ``(size, size)`` cells (``size`` must divide ``S``), summing to 1."""
+    img = check_measure_image(image)
+    check_int(size, "size", 2)
+    if img.shape[0] % size:
+        raise IFSError(f"the fit's size {size} must divide the image's {img.shape[0]} pixels a side")
+    k = img.shape[0] // size
+    return img.view(size, k, size, k).sum((1, 3))
+
+
+def fit_measure_from_support(image, maps: int | None = None, options: MeasureFitOptions = MeasureFitOptions(
+        steps=200, map_lr=0.001, fit_maps=True), *, fit_size: int = 64, threshold: float = 0.0,
+        seed: int = 0) -> MeasureFit:
+    """Fit maps and probabilities to a measure's gray image when the maps are unknown.
+
+    The image's support (`support_target`) is a binary figure; the library's fractal search reads maps
+    whose attractor covers it (`ifslib.initialize` with ``"auto"``, no fit: the search refines its maps on
+    the collage and judges them by their attractor); `fit_measure` then moves those maps and the
+    probabilities (from the default, proportional to ``|det|``) towards the gray levels, on the image
+    summed to ``fit_size`` pixels a side.
+
+    Parameters
+    ----------
+    image : array-like
+        ``(S, S)`` gray levels >= 0 of the measure on the frame, row 0 at the top, with ``S`` at least
+        the fractal search's 128 (`ifslib.discovery.auto.FRACTAL_MIN_SIZE`).
+    maps : int, optional
+        The number of maps, when known (the search chooses otherwise).
+    options : MeasureFitOptions
+        The measure fit (``fit_maps=False`` keeps the search's maps and fits the probabilities alone).
+    fit_size : int
+        Pixels a side of the measure fit; must divide ``S`` (its cost grows with the pixels lit).
+    threshold : float
+        Of `support_target`.
+    seed : int
+        The search's seed.
+
+    Returns
+    -------
+    MeasureFit
+        With ``start``, the search's maps.
+
+    Raises
+    ------
+    IFSError
+        An image below 128 px, or a support that the search does not read as a fractal (a solid shape,
+        or no maps whose attractor lies within a pixel of it).
+    """
+    if not isinstance(options, MeasureFitOptions):
+        raise IFSError(f"options must be a MeasureFitOptions, got {type(options).__name__}")
+    small = pool_measure(image, fit_size)
+    size = check_measure_image(image).shape[0]
+    if size < FRACTAL_MIN_SIZE:
+        raise IFSError(f"the fractal search reads the support at {FRACTAL_MIN_SIZE} px a side or more, got "
+                       f"{size}: give the gray image at that size (the measure is fitted at fit_size)")
+    target = support_target(image, threshold)
+    plan = initialize("auto", target, maps=maps, seed=seed)
+    if plan.kind != "fractal":
+        raise IFSError(f"the search found no fractal's maps for the image's support (read as a {plan.kind}: "
+                       f"{plan.pattern.get('fractal_search', {}).get('verdict', 'not searched')}); give the maps "
+                       "and call fit_measure")
+    fitted = fit_measure(plan.start, small, options)
+    return dataclasses.replace(fitted, start=plan.start)
+
+
+def _keep_contractive(work: IFS, before: torch.Tensor) -> None:
+    """Halve the step just taken from ``before`` (``(n, 2)`` points) until every map's scale is below `MAX_FIT_SCALE`."""
+    with torch.no_grad():
+        step = work.points - before
+        for _ in range(MAX_HALVINGS):
+            if float(singular_values(work.maps())[1].max()) < MAX_FIT_SCALE:
+                return
+            step /= 2
+            work.points.copy_(before + step)
+        work.points.copy_(before)
+
+
+__all__ = ["MAX_FIT_SCALE", "MeasureFit", "MeasureFitOptions", "check_measure_image", "correlation", "fit_measure",
+           "fit_measure_from_support", "multiscale_loss", "pool_measure", "support_target"]
