@@ -19,13 +19,15 @@ from tqdm.auto import tqdm
 import numpy as np
 import torch
 import torch.nn.functional as F
+from scipy import ndimage
 
 from ..discovery.auto import FRACTAL_MIN_SIZE
 from ..discovery.initialization import initialize
 from ..errors import IFSError, check_int, check_positive
 from ..geometry.rules import singular_values
 from ..geometry.ifs import IFS
-from ..targets.target import Target, target_from_mask
+from ..geometry import patterns
+from ..targets.target import Target, foreground_points, target_from_mask
 from ..progress import draw_bars
 from ..raster.measure import MeasureOptions, measure_from_maps
 
@@ -35,6 +37,19 @@ from ..raster.measure import MeasureOptions, measure_from_maps
 #: start read from the support alone has maps of scale 0.9 that a full step pushes past 1.
 MAX_FIT_SCALE = 0.98
 MAX_HALVINGS = 8
+
+#: A copy is known from the support only up to the figure's symmetries: ``T_i S`` draws the same set as
+#: ``T_i`` when ``S`` keeps the figure, but not the same measure. The turns tried as ``S``: this many
+#: rotations about the support's mean, in the frame where its covariance is round, each with and
+#: without a reflection (24: every 15 degrees, so a square's and an equilateral triangle's hold).
+SYMMETRY_TURNS = 24
+#: ... a turn is a symmetry when this share of the support's pixels land on the support grown by a pixel.
+SYMMETRY_OVERLAP = 0.9
+#: Rounds of turning one map at a time, each followed by a fit of the probabilities (`SYMMETRY_STEPS` steps).
+SYMMETRY_ROUNDS = 3
+SYMMETRY_STEPS = 40
+#: ... a map is turned when that lowers the loss by at least this share (turns that draw the same measure tie).
+SYMMETRY_GAIN = 0.01
 
 
 @dataclass(frozen=True)
@@ -96,7 +111,8 @@ class MeasureFit:
     correlation : float
         Pearson correlation of the fitted measure's densities with the target's, at the target's size.
     start : IFS or None
-        The maps read from the image's support (`fit_measure_from_support`); None when the caller gave them.
+        The maps the search read from the image's support (`fit_measure_from_support`), before `reorient`;
+        None when the caller gave them.
     """
 
     ifs: IFS
@@ -226,12 +242,13 @@ def pool_measure(image, size: int) -> torch.Tensor:
 
 def fit_measure_from_support(image, maps: int | None = None, options: MeasureFitOptions = MeasureFitOptions(
         steps=200, map_lr=0.001, fit_maps=True), *, fit_size: int = 64, threshold: float = 0.0,
-        seed: int = 0) -> MeasureFit:
+        turn: bool = True, seed: int = 0) -> MeasureFit:
     """Fit maps and probabilities to a measure's gray image when the maps are unknown.
 
     The image's support (`support_target`) is a binary figure; the library's fractal search reads maps
     whose attractor covers it (`ifslib.initialize` with ``"auto"``, no fit: the search refines its maps on
-    the collage and judges them by their attractor); `fit_measure` then moves those maps and the
+    the collage and judges them by their attractor), each turned by the support's symmetry that matches
+    the gray levels best (`reorient`); `fit_measure` then moves those maps and the
     probabilities (from the default, proportional to ``|det|``) towards the gray levels, on the image
     summed to ``fit_size`` pixels a side.
 
@@ -248,6 +265,9 @@ def fit_measure_from_support(image, maps: int | None = None, options: MeasureFit
         Pixels a side of the measure fit; must divide ``S`` (its cost grows with the pixels lit).
     threshold : float
         Of `support_target`.
+    turn : bool
+        Compose the search's maps with the support's symmetries that match the gray levels best
+        (`reorient`) before the fit: the support cannot tell a copy from its turned twin.
     seed : int
         The search's seed.
 
@@ -275,8 +295,77 @@ def fit_measure_from_support(image, maps: int | None = None, options: MeasureFit
         raise IFSError(f"the search found no fractal's maps for the image's support (read as a {plan.kind}: "
                        f"{plan.pattern.get('fractal_search', {}).get('verdict', 'not searched')}); give the maps "
                        "and call fit_measure")
-    fitted = fit_measure(plan.start, small, options)
+    start = reorient(plan.start, small, support_symmetries(target), options) if turn else plan.start
+    fitted = fit_measure(start, small, options)
     return dataclasses.replace(fitted, start=plan.start)
+
+
+def support_symmetries(target: Target) -> np.ndarray:
+    """The affine maps that keep the support: ``(k, 3, 3)`` in plane units, the identity first.
+
+    Each keeps the support's mean and covariance (`SYMMETRY_TURNS` rotations in its whitened frame,
+    with and without a reflection) and sends at least `SYMMETRY_OVERLAP` of its pixels onto it.
+    """
+    points = foreground_points(target)
+    mean, cov = points.mean(0), np.cov(points.T)
+    vals, vecs = np.linalg.eigh(cov)
+    root, inverse = vecs @ np.diag(np.sqrt(vals)) @ vecs.T, vecs @ np.diag(1 / np.sqrt(vals)) @ vecs.T
+    grown = ndimage.binary_dilation(target.mask)
+    found = []
+    for k in range(SYMMETRY_TURNS):
+        a = 2 * np.pi * k / SYMMETRY_TURNS
+        turn = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+        for q in (turn, turn @ np.diag([1.0, -1.0])):
+            lin = root @ q @ inverse
+            image = (points - mean) @ lin.T + mean
+            col, row = np.floor((image[:, 0] + 0.5) * target.size), np.floor((0.5 - image[:, 1]) * target.size)
+            inside = (col >= 0) & (col < target.size) & (row >= 0) & (row < target.size)
+            on = grown[row[inside].astype(int), col[inside].astype(int)].sum()
+            if on >= SYMMETRY_OVERLAP * len(points):
+                found.append(np.block([[lin, (mean - lin @ mean)[:, None]], [np.zeros((1, 2)), np.ones((1, 1))]]))
+    return np.stack(found)
+
+
+def reorient(ifs: IFS, image, symmetries: np.ndarray, options: MeasureFitOptions = MeasureFitOptions(),
+             steps: int = SYMMETRY_STEPS) -> IFS:
+    """Each map composed with the support's symmetry whose measure matches ``image`` best, one map at a time.
+
+    Rounds (`SYMMETRY_ROUNDS`): the probabilities fitted to ``image`` with the maps given (``steps``
+    steps of `fit_measure` with ``options``' rates and measure), then every map ``T_i`` replaced by
+    ``T_i S`` for the ``S`` of ``symmetries`` (``(k, 3, 3)``, `support_symmetries`) that lowers the loss
+    most, by `SYMMETRY_GAIN` at least; until no map turns.
+
+    Returns
+    -------
+    IFS
+        Affine maps (`ifslib.geometry.patterns.affine`) with the fitted probabilities.
+    """
+    target = check_measure_image(image)
+    maps = ifs.to(torch.float64).maps().detach()
+    p = ifs.measure_probabilities(maps)
+    sym = torch.as_tensor(symmetries, dtype=torch.float64)
+    check_int(steps, "steps", 1)
+    quick = dataclasses.replace(options, steps=steps, fit_maps=False)
+    for _ in range(SYMMETRY_ROUNDS):
+        start = patterns.affine(maps, depth=ifs.depth, name=ifs.name, dtype=torch.float64)
+        start.probabilities = tuple(p.tolist())
+        p = torch.tensor(fit_measure(start, target, quick).probabilities, dtype=torch.float64)
+        turned = False
+        for i in range(len(maps)):
+            trials = maps[None].repeat(len(sym), 1, 1, 1)
+            trials[:, i] = maps[i] @ sym
+            with torch.no_grad():  # a turn that stretches (a long figure's) may stop the map contracting: not tried
+                loss = [float(multiscale_loss(measure_from_maps(t, p, target.shape[0], options.measure), target,
+                                              options.scales)) if singular_values(t)[1].max() < MAX_FIT_SCALE
+                        else np.inf for t in trials]
+            best = int(np.argmin(loss))
+            if loss[best] < (1 - SYMMETRY_GAIN) * loss[0]:
+                maps, turned = trials[best], True
+        if not turned:
+            break
+    out = patterns.affine(maps, depth=ifs.depth, name=ifs.name, dtype=ifs.points.dtype)
+    out.probabilities = tuple(float(x) / float(p.sum()) for x in p)
+    return out
 
 
 def _keep_contractive(work: IFS, before: torch.Tensor) -> None:
@@ -292,4 +381,5 @@ def _keep_contractive(work: IFS, before: torch.Tensor) -> None:
 
 
 __all__ = ["MAX_FIT_SCALE", "MeasureFit", "MeasureFitOptions", "check_measure_image", "correlation", "fit_measure",
-           "fit_measure_from_support", "multiscale_loss", "pool_measure", "support_target"]
+           "fit_measure_from_support", "multiscale_loss", "pool_measure", "reorient", "support_symmetries",
+           "support_target"]

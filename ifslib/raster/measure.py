@@ -1,10 +1,10 @@
-"""The invariant measure of an IFS with probabilities, drawn as gray levels on the pixel grid, two ways.
+"""The invariant measure of an IFS with probabilities, drawn as gray levels on the pixel grid, three ways.
 
 With probabilities ``p_i`` an IFS has one invariant measure ``mu = sum_i p_i mu o T_i^-1`` (Hutchinson,
 Barnsley): the share of chaos-game points that fall in a region, in the long run. A pixel's gray level
 is the mass of its cell; an image of the measure sums to 1.
 
-- `chaos_measure`: the chaos game's histogram (float64 points, binned, never stored): the reference.
+- `chaos_measure`: the chaos game's histogram (float64 points, binned, never stored).
 - `cylinder_measure`: deterministic and exact up to a stated share of the mass, not differentiable. The
   cylinder ``T_w(A)`` of a word ``w`` holds mass ``p_w`` (the product of its maps' probabilities);
   one whose bounding ellipse lies in a pixel gives that pixel all of it, the others are split into
@@ -16,7 +16,7 @@ is the mass of its cell; an image of the measure sums to 1.
   from uniform mass, `MeasureOptions.iterations` times; the fine grid is summed into the output's
   pixels.
 
-Both cover the frame ``[-0.5, 0.5]^2``, row 0 at the top (``y = 0.5``), like `ifslib.render`.
+All three cover the frame ``[-0.5, 0.5]^2``, row 0 at the top (``y = 0.5``), like `ifslib.render`.
 """
 from __future__ import annotations
 
@@ -172,7 +172,7 @@ class CylinderOptions:
     smallest : float
         A cylinder still crossing a pixel's edge when its bounding box is narrower than this many pixels
         is placed whole at its centre of mass: the share of mass so placed bounds half the L1 error
-        (1/64: the lopsided triangle at 256 px leaves 0.005 of its mass so, a few million cylinders).
+        (1/64: at 256 px the lopsided triangle places 0.019 of its mass so in 1 s, the fern 0.019 in 31 s).
     max_depth : int
         Levels of words at most (a map of scale near 1 shrinks its cylinders slowly); what is left then
         is placed as above.
