@@ -49,7 +49,8 @@ def measures(size: int, points: int, quick: bool) -> None:
         exact, placed = cylinder_measure(ifs, size, CylinderOptions(smallest=1 / 64))
         t2 = time.perf_counter()
         noise = np.sqrt(2 / np.pi / points) * np.sqrt(exact).sum()  # the histogram's expected L1 noise
-        print(f"  {name:>20} {'even' if p is None else p[0]:>5}: cylinders to chaos game {l1_distance(exact, chaos):.4f} "
+        print(f"  {name:>20} {'even' if p is None else p[0]:>5}: cylinders to chaos game "
+              f"{l1_distance(exact, chaos):.4f} "
               f"(its noise {noise:.4f}; {placed:.3f} of the mass placed; cylinders {t2 - t1:.1f} s, chaos game "
               f"{t1 - t0:.1f} s)", flush=True)
         for s in ((4,) if quick else (4, supersample)):
@@ -91,7 +92,8 @@ def support_fits(size: int, fit_size: int, steps: int) -> None:
             before = correlation(measure_from_maps(start.maps(), start.measure_probabilities(), fit_size,
                                                    MeasureFitOptions().measure), target)
         print(f"{name} from its {size} px support's search, fitted at {fit_size} px: density correlation {before:.3f} "
-              f"(search's maps) -> {fit.correlation:.3f}, probabilities {', '.join(f'{x:.4f}' for x in fit.probabilities)}"
+              f"(search's maps) -> {fit.correlation:.3f}, probabilities "
+              f"{', '.join(f'{x:.4f}' for x in fit.probabilities)}"
               f", {time.perf_counter() - t0:.1f} s", flush=True)
 
 

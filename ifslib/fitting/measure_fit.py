@@ -369,7 +369,8 @@ def reorient(ifs: IFS, image, symmetries: np.ndarray, options: MeasureFitOptions
 
 
 def _keep_contractive(work: IFS, before: torch.Tensor) -> None:
-    """Halve the step just taken from ``before`` (``(n, 2)`` points) until every map's scale is below `MAX_FIT_SCALE`."""
+    """Halve the step just taken from ``before`` (``(n, 2)`` points) until every map's scale is below
+    `MAX_FIT_SCALE` (`MAX_HALVINGS` times at most, then undo it)."""
     with torch.no_grad():
         step = work.points - before
         for _ in range(MAX_HALVINGS):

@@ -98,7 +98,8 @@ def test_the_triangle_s_symmetries_are_found_and_turned_copies_turned_back():
     sym = support_symmetries(support_target(chaos_measure(tri, 32, n=50_000)))
     assert len(sym) == 6 and np.allclose(sym[0], np.eye(3))
     maps = tri.maps().detach()
-    third = next(torch.as_tensor(s) for s in sym if abs(np.trace(s[:2, :2]) + 1) < 0.05 and np.linalg.det(s[:2, :2]) > 0)
+    third = next(torch.as_tensor(s) for s in sym  # a third of a turn: trace -1, a rotation
+                 if abs(np.trace(s[:2, :2]) + 1) < 0.05 and np.linalg.det(s[:2, :2]) > 0)
     turned = ifslib.patterns.affine(maps @ third, dtype=torch.float64)
     image = measure_from_maps(maps, tri.probabilities, 16, QUICK)
     options = MeasureFitOptions(lr=0.2, measure=QUICK, scales=3)

@@ -107,7 +107,8 @@ def test_cylinders_give_each_pixel_its_words_mass_exactly():
 
 
 def test_cylinders_agree_with_the_chaos_game_within_its_noise():
-    """The lopsided triangle at 32 px: the chaos game's L1 noise is sqrt(2 / (pi n)) sum sqrt(mass) (cells independent)."""
+    """The lopsided triangle at 32 px: the chaos game's L1 noise is sqrt(2 / (pi n)) sum sqrt(mass), each cell's
+    count binomial."""
     tri = ifslib.patterns.sierpinski_triangle().to(torch.float64)
     tri.probabilities = (0.5, 0.3, 0.2)
     exact, placed = cylinder_measure(tri, 32)
