@@ -307,8 +307,10 @@ def support_symmetries(target: Target) -> np.ndarray:
     with and without a reflection) and sends at least `SYMMETRY_OVERLAP` of its pixels onto it.
     """
     points = foreground_points(target)
-    mean, cov = points.mean(0), np.cov(points.T)
+    mean, cov = points.mean(0), np.cov(points.T, bias=True)
     vals, vecs = np.linalg.eigh(cov)
+    if not vals.min() > 1e-9 * vals.max():  # a support on a line (or a pixel) has no round frame: only the identity
+        return np.eye(3)[None]
     root, inverse = vecs @ np.diag(np.sqrt(vals)) @ vecs.T, vecs @ np.diag(1 / np.sqrt(vals)) @ vecs.T
     grown = ndimage.binary_dilation(target.mask)
     found = []

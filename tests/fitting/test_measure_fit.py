@@ -97,6 +97,9 @@ def test_the_triangle_s_symmetries_are_found_and_turned_copies_turned_back():
     tri.probabilities = (0.6, 0.25, 0.15)
     sym = support_symmetries(support_target(chaos_measure(tri, 32, n=50_000)))
     assert len(sym) == 6 and np.allclose(sym[0], np.eye(3))
+    line = np.zeros((16, 16))
+    line[8, 2:14] = 1
+    assert np.array_equal(support_symmetries(support_target(line)), np.eye(3)[None])  # no round frame: identity alone
     maps = tri.maps().detach()
     third = next(torch.as_tensor(s) for s in sym  # a third of a turn: trace -1, a rotation
                  if abs(np.trace(s[:2, :2]) + 1) < 0.05 and np.linalg.det(s[:2, :2]) > 0)
