@@ -1,12 +1,14 @@
-"""The goals of issue 47, measured: the invariant measure two ways, the measure fit, and box counting.
+"""The goals of issue 47, measured: the invariant measure three ways, the measure fit, and box counting.
 
-    python benchmarks/measures.py            # every goal (about 15 min of one core)
+    python benchmarks/measures.py            # every goal (about 30 min of one core)
     python benchmarks/measures.py --quick    # smaller sizes, a few minutes
 
 Prints, for the fern (Barnsley's probabilities), the Koch curve and the Sierpinski triangle (even
-probabilities) and the triangle with (0.5, 0.3, 0.2): the L1 distance of the normalised images of the chaos game's histogram (10^8 points)
-and of the deterministic push at 256 px; the fern's probabilities fitted with the maps given, and
-maps and probabilities fitted from a jittered start (density correlation); box counting on 10^6
+probabilities) and the triangle with (0.5, 0.3, 0.2): the L1 distances of the normalised images of
+the chaos game's histogram (10^8 points, with its expected noise), the cylinders' measure and the
+deterministic push at 256 px; the fern's probabilities fitted with the maps given, maps and
+probabilities fitted from a jittered start, and from the maps the fractal search reads from the
+image's support (the fern and the lopsided triangle: density correlation); box counting on 10^6
 chaos-game points against Moran's root for the triangle, the Koch curve and the carpet.
 """
 from __future__ import annotations
@@ -18,8 +20,10 @@ import numpy as np
 import torch
 
 import ifslib
-from ifslib.fitting.measure_fit import MeasureFitOptions, correlation, fit_measure
-from ifslib.raster.measure import MeasureOptions, chaos_measure, invariant_measure, l1_distance, measure_from_maps
+from ifslib.fitting.measure_fit import (MeasureFitOptions, correlation, fit_measure, fit_measure_from_support,
+                                        pool_measure)
+from ifslib.raster.measure import (CylinderOptions, MeasureOptions, chaos_measure, cylinder_measure, invariant_measure,
+                                   l1_distance, measure_from_maps)
 from ifslib.scoring import dimension
 
 BARNSLEY = (0.01, 0.85, 0.07, 0.07)
@@ -35,18 +39,26 @@ def with_probabilities(name: str, p) -> ifslib.IFS:
 
 
 def measures(size: int, points: int, quick: bool) -> None:
-    print(f"invariant measure at {size} px: L1 of normalised images, push vs chaos game ({points:,} points)")
+    print(f"invariant measure at {size} px: L1 of normalised images; chaos game of {points:,} points, cylinders "
+          "to 1/64 px, push")
     for name, p, supersample in MEASURES:
         ifs = with_probabilities(name, p)
         t0 = time.perf_counter()
         chaos = chaos_measure(ifs, size, n=points)
         t1 = time.perf_counter()
+        exact, placed = cylinder_measure(ifs, size, CylinderOptions(smallest=1 / 64))
+        t2 = time.perf_counter()
+        noise = np.sqrt(2 / np.pi / points) * np.sqrt(exact).sum()  # the histogram's expected L1 noise
+        print(f"  {name:>20} {'even' if p is None else p[0]:>5}: cylinders to chaos game "
+              f"{l1_distance(exact, chaos):.4f} "
+              f"(its noise {noise:.4f}; {placed:.3f} of the mass placed; cylinders {t2 - t1:.1f} s, chaos game "
+              f"{t1 - t0:.1f} s)", flush=True)
         for s in ((4,) if quick else (4, supersample)):
-            t2 = time.perf_counter()
+            t3 = time.perf_counter()
             with torch.no_grad():
                 pushed = invariant_measure(ifs, size, MeasureOptions(supersample=s))
-            print(f"  {name:>20} {'even' if p is None else p[0]:>5} supersample {s:>2}: L1 {l1_distance(pushed, chaos):.4f} "
-                  f"(push {time.perf_counter() - t2:.1f} s, chaos game {t1 - t0:.1f} s)", flush=True)
+            print(f"  {'':>26} push, supersample {s:>2}: to chaos game {l1_distance(pushed, chaos):.4f}, to cylinders "
+                  f"{l1_distance(pushed, exact):.4f} ({time.perf_counter() - t3:.1f} s)", flush=True)
 
 
 def fits(size: int, steps: int) -> None:
@@ -68,6 +80,23 @@ def fits(size: int, steps: int) -> None:
           f"{', '.join(f'{x:.4f}' for x in both.probabilities)}, {time.perf_counter() - t0:.1f} s", flush=True)
 
 
+def support_fits(size: int, fit_size: int, steps: int) -> None:
+    for name, p in (("fern", BARNSLEY), ("sierpinski_triangle", (0.5, 0.3, 0.2))):
+        image = chaos_measure(with_probabilities(name, p), size, n=4_000_000)
+        t0 = time.perf_counter()
+        fit = fit_measure_from_support(image, len(p), MeasureFitOptions(steps=steps, map_lr=0.001, fit_maps=True),
+                                       fit_size=fit_size)
+        target = pool_measure(image, fit_size)
+        start = fit.start.to(torch.float64)
+        with torch.no_grad():
+            before = correlation(measure_from_maps(start.maps(), start.measure_probabilities(), fit_size,
+                                                   MeasureFitOptions().measure), target)
+        print(f"{name} from its {size} px support's search, fitted at {fit_size} px: density correlation {before:.3f} "
+              f"(search's maps) -> {fit.correlation:.3f}, probabilities "
+              f"{', '.join(f'{x:.4f}' for x in fit.probabilities)}"
+              f", {time.perf_counter() - t0:.1f} s", flush=True)
+
+
 def dimensions(points: int, finest: int) -> None:
     print(f"box counting on {points:,} chaos-game points, boxes 1/8 .. 1/{finest}")
     for name in ("sierpinski_triangle", "koch", "sierpinski_carpet"):
@@ -84,9 +113,9 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="smaller sizes (not the goals' sizes)")
     args = parser.parse_args()
     if args.quick:
-        measures(128, 10_000_000, True), fits(32, 60), dimensions(300_000, 256)
+        measures(128, 10_000_000, True), fits(32, 60), support_fits(128, 32, 60), dimensions(300_000, 256)
     else:
-        measures(256, 100_000_000, False), fits(64, 150), dimensions(1_000_000, 512)
+        measures(256, 100_000_000, False), fits(64, 150), support_fits(128, 64, 200), dimensions(1_000_000, 512)
 
 
 if __name__ == "__main__":

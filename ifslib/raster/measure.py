@@ -1,17 +1,22 @@
-"""The invariant measure of an IFS with probabilities, drawn as gray levels on the pixel grid, two ways.
+"""The invariant measure of an IFS with probabilities, drawn as gray levels on the pixel grid, three ways.
 
 With probabilities ``p_i`` an IFS has one invariant measure ``mu = sum_i p_i mu o T_i^-1`` (Hutchinson,
 Barnsley): the share of chaos-game points that fall in a region, in the long run. A pixel's gray level
 is the mass of its cell; an image of the measure sums to 1.
 
-- `chaos_measure`: the chaos game's histogram (float64 points, binned, never stored): the reference.
+- `chaos_measure`: the chaos game's histogram (float64 points, binned, never stored).
+- `cylinder_measure`: deterministic and exact up to a stated share of the mass, not differentiable. The
+  cylinder ``T_w(A)`` of a word ``w`` holds mass ``p_w`` (the product of its maps' probabilities);
+  one whose bounding ellipse lies in a pixel gives that pixel all of it, the others are split into
+  their children, and only those still crossing a pixel's edge when smaller than
+  `CylinderOptions.smallest` pixels are placed at their centre of mass (their share is returned).
 - `invariant_measure`: deterministic and differentiable in the maps and the probabilities. Mass on a
   grid finer than the output (`MeasureOptions.supersample`) is pushed through every map and split
   bilinearly among the four cells around its image (the Markov operator of the IFS on the grid),
   from uniform mass, `MeasureOptions.iterations` times; the fine grid is summed into the output's
   pixels.
 
-Both cover the frame ``[-0.5, 0.5]^2``, row 0 at the top (``y = 0.5``), like `ifslib.render`.
+All three cover the frame ``[-0.5, 0.5]^2``, row 0 at the top (``y = 0.5``), like `ifslib.render`.
 """
 from __future__ import annotations
 
@@ -154,6 +159,119 @@ def _bin(points: np.ndarray, size: int) -> np.ndarray:
     return np.bincount(flat, minlength=size * size + 1)
 
 
+#: Bytes `cylinder_measure` holds per cylinder of a level and its children (maps, shifts, masses, boxes).
+CYLINDER_BYTES = 400
+
+
+@dataclass(frozen=True)
+class CylinderOptions:
+    """How `cylinder_measure` splits cylinders.
+
+    Attributes
+    ----------
+    smallest : float
+        A cylinder still crossing a pixel's edge when its bounding box is narrower than this many pixels
+        is placed whole at its centre of mass: the share of mass so placed bounds half the L1 error
+        (1/64: at 256 px the lopsided triangle places 0.019 of its mass so in 1 s, the fern 0.019 in 31 s).
+    max_depth : int
+        Levels of words at most (a map of scale near 1 shrinks its cylinders slowly); what is left then
+        is placed as above.
+    """
+
+    smallest: float = 1 / 64
+    max_depth: int = 200
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.smallest, (int, float)) and 0 < self.smallest <= 1):
+            raise IFSError(f"smallest must be a width in pixels above 0 and at most 1, got {self.smallest!r}")
+        check_int(self.max_depth, "max_depth", 1)
+
+
+def _invariant_ball(lin: np.ndarray, shift: np.ndarray, centre: np.ndarray) -> float:
+    """Radius of a ball about ``centre`` that every map sends into itself: it holds the attractor."""
+    scale = np.linalg.norm(lin, ord=2, axis=(1, 2))
+    reach = np.linalg.norm(lin @ centre + shift - centre, axis=1)
+    return float((reach / (1 - scale)).max())
+
+
+def cylinder_measure(ifs: IFS, size: int, options: CylinderOptions = CylinderOptions()) -> tuple[np.ndarray, float]:
+    """The invariant measure by cylinders: ``(size, size)`` float64 cell masses summing to 1, and the share placed.
+
+    Each cylinder ``T_w(A)`` (mass ``p_w``, centre of mass ``T_w(m)`` with ``m`` the measure's mean) lies in
+    ``T_w(B)`` for a ball ``B`` that every map sends into itself; when that ellipse's box lies in one pixel
+    the pixel gets ``p_w`` exactly, else the cylinder is split into its ``m`` children. Only cylinders
+    narrower than ``options.smallest`` pixels (or at ``options.max_depth``) that still cross an edge are
+    placed at their centre of mass. Mass outside the frame is dropped and the rest scaled to 1, as
+    `chaos_measure` does.
+
+    Parameters
+    ----------
+    ifs : IFS
+        Its maps must contract; its probabilities are `IFS.measure_probabilities`.
+    size : int
+        Pixels per side.
+    options : CylinderOptions
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(size, size)`` float64, row 0 at the top.
+    float
+        The share of the mass placed at a centre of mass while crossing an edge (the L1 distance to the
+        true measure is at most twice this).
+    """
+    check_int(size, "size", 1)
+    if not isinstance(options, CylinderOptions):
+        raise IFSError(f"options must be a CylinderOptions, got {type(options).__name__}")
+    with torch.no_grad():
+        maps_t = ifs.to(torch.float64).maps()
+        check_contractive_maps(maps_t, ifs.rules)
+        p = ifs.measure_probabilities(maps_t).numpy()
+    lin, shift = maps_t[:, :2, :2].numpy(), maps_t[:, :2, 2].numpy()
+    mean = np.linalg.solve(np.eye(2) - np.einsum("i,ijk->jk", p, lin), p @ shift)
+    radius = _invariant_ball(lin, shift, mean)
+    a, b, mass = np.eye(2)[None], np.zeros((1, 2)), np.ones(1)  # the cylinders' maps x -> a x + b
+    counts, placed = np.zeros(size * size + 1), 0.0
+    for depth in range(options.max_depth + 1):
+        centre = a @ mean + b
+        half = radius * np.linalg.norm(a, axis=2)  # (k, 2) half-widths of the ellipse's box, plane units
+        lo, hi = _pixel_of(centre, half, size), _pixel_of(centre, -half, size)  # its top-left and bottom-right pixels
+        whole = (lo == hi).all(1) | (hi < 0).any(1) | (lo >= size).any(1)  # in one pixel, or wholly outside
+        counts += np.bincount(_flat(lo[whole], size), mass[whole], size * size + 1)
+        last = (2 * half.max(1) * size < options.smallest) | (depth == options.max_depth)
+        settle = ~whole & last
+        counts += np.bincount(_flat(_pixel_of(centre[settle], 0 * half[settle], size), size), mass[settle],
+                              size * size + 1)
+        placed += float(mass[settle].sum())
+        split = ~whole & ~last
+        if not split.any():
+            break
+        check_bytes(int(split.sum()) * len(p) * CYLINDER_BYTES, f"{int(split.sum()) * len(p):,} cylinders",
+                    "use a larger CylinderOptions.smallest or a smaller size")
+        a, b, mass = a[split], b[split], mass[split]
+        b = (np.einsum("kab,ib->kia", a, shift) + b[:, None]).reshape(-1, 2)
+        a = np.einsum("kab,ibc->kiac", a, lin).reshape(-1, 2, 2)
+        mass = (mass[:, None] * p[None]).reshape(-1)
+    total = counts[:-1].sum()
+    if total == 0:
+        raise IFSError("no cylinder fell in the frame [-0.5, 0.5]^2: the attractor lies outside it")
+    return (counts[:-1] / total).reshape(size, size), placed / total
+
+
+def _pixel_of(centre: np.ndarray, half: np.ndarray, size: int) -> np.ndarray:
+    """``(k, 2)`` (column, row) of the pixels holding ``centre - half`` in x and ``centre + half`` in y (top-left)."""
+    col = np.floor((centre[:, 0] - half[:, 0] + 0.5) * size)
+    row = np.floor((0.5 - centre[:, 1] - half[:, 1]) * size)
+    return np.stack([col, row], 1)
+
+
+def _flat(pixel: np.ndarray, size: int) -> np.ndarray:
+    """Row-major index of ``(k, 2)`` (column, row) pixels, with ``size * size`` for those outside the frame."""
+    col, row = pixel[:, 0], pixel[:, 1]
+    inside = (col >= 0) & (col < size) & (row >= 0) & (row < size)
+    return np.where(inside, row * size + col, size * size).astype(np.int64)
+
+
 def push_mass(mass: torch.Tensor, maps: torch.Tensor, probabilities: torch.Tensor) -> torch.Tensor:
     """One push of the Markov operator on the grid: ``sum_i p_i`` times the mass moved by ``T_i``.
 
@@ -275,5 +393,6 @@ def l1_distance(a, b) -> float:
     return float(np.abs(a / a.sum() - b / b.sum()).sum())
 
 
-__all__ = ["BURN_IN", "DEFAULT_MEASURE_POINTS", "MAX_LOST_MASS", "MEASURE_CHAINS", "MeasureOptions", "chaos_measure",
+__all__ = ["BURN_IN", "CylinderOptions", "DEFAULT_MEASURE_POINTS", "MAX_LOST_MASS", "MEASURE_CHAINS", "MeasureOptions",
+           "chaos_measure", "cylinder_measure",
            "invariant_measure", "l1_distance", "measure_from_maps", "push_mass"]
