@@ -69,7 +69,9 @@ _PUBLIC = {
     "auto": ("discovery.auto", None), "fractal": ("discovery.fractal", None),
     "Plan": ("discovery.plan", "Plan"), "discover": ("discovery.plan", "discover"),
     "chaos_measure": ("raster.measure", "chaos_measure"), "invariant_measure": ("raster.measure", "invariant_measure"),
+    "cylinder_measure": ("raster.measure", "cylinder_measure"),
     "dimension": ("scoring.dimension", None), "fit_measure": ("fitting.measure_fit", "fit_measure"),
+    "fit_measure_from_support": ("fitting.measure_fit", "fit_measure_from_support"),
     "compression": ("compression", None), "sweep": ("studies.sweep", None),
     # the teaching modules load matplotlib
     "exercises": ("teaching.exercises", None), "figures": ("teaching.figures", None),
