@@ -166,7 +166,7 @@ def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, Pro
     k, coarse = len(candidate.rules), frame.sizes[0]
     t0 = time.perf_counter()
     result = frame.run(candidate, min(frame.steps, AUTO_PROBE_STEPS),
-                       options.replace(lr=options.lr * frame.target.size / coarse), target=frame.levels[coarse],
+                       options.replace(stage_lr=options.lr * frame.target.size / coarse), target=frame.levels[coarse],
                        desc=f"{k} maps, depth {candidate.depth} · {coarse}²")
     return result, Probe(k, candidate.depth, result.best_loss, result.history.cost, time.perf_counter() - t0)
 
