@@ -124,7 +124,7 @@ def _spent_text(history) -> str:
 def _fit_options(args: argparse.Namespace):
     """The run's settings from ``args``, checked (`RunOptions`: the loss's name among them) with the strategy's name;
     with ``--pattern auto`` and a ``--loss`` named, standard error says where the automatic path uses it."""
-    from .fitting.automatic import FRACTAL_LOSS, POLISH_LOSS
+    from .discovery.config import AUTO
     from .fitting.options import split_settings
     from .fitting.strategies import check_strategy
     from .scoring.losses import DEFAULT_LOSS
@@ -136,8 +136,8 @@ def _fit_options(args: argparse.Namespace):
     options, _ = split_settings(named, None, None)
     if args.pattern == "auto" and args.loss is not None:
         print(f"--loss {args.loss}: the automatic path probes and climbs a curve's or a shape's candidates with it; "
-              f"a fractal's maps are fitted with the {FRACTAL_LOSS} loss, and a shape's last stage with "
-              f"{POLISH_LOSS}", file=sys.stderr)
+              f"a fractal's maps are fitted with the {AUTO.fit.fractal_loss} loss, and a shape's last stage with "
+              f"{AUTO.fit.polish_loss}", file=sys.stderr)
     return options
 
 

@@ -149,7 +149,7 @@ def test_turns_keep_the_figure_mean_and_covariance_and_reorient_undoes_a_turned_
 @pytest.mark.slow
 def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_stays_a_shape():
     _, target = fractal_target(maps=2, seed=4, size=128)
-    assert auto.interior_share(target) < auto.POROUS_SHARE
+    assert auto.interior_share(target) < auto.FIGURE.porous_share
     plan = ifslib.initialize("auto", target, maps=2)  # the search, with its number of maps fixed
     start, pattern = plan.start, plan.pattern
     assert plan.kind == "fractal" and plan.candidates == (start,) and pattern == start.meta["pattern"]
@@ -166,10 +166,10 @@ def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_s
     assert fitted.history.auto["candidates"] == pattern["search"]
     assert [st.depth for st in fitted.history.stages] == ["attractor"] and fitted.history.cost <= 5
     # the single-scale pixel loss: the distance loss trades thin detail for the outline, the multiscale one blurs it
-    assert fitted.history.stages[0].loss == "pixel" == automatic.FRACTAL_LOSS
+    assert fitted.history.stages[0].loss == "pixel" == automatic.FIT.fractal_loss
     assert fitted.best.meta["pattern"]["rule"] == pattern["rule"]
     disk = np.hypot(*np.mgrid[-1:1:64j, -1:1:64j]) < 0.7
-    assert auto.interior_share(target_from_mask(disk)) > auto.POROUS_SHARE
+    assert auto.interior_share(target_from_mask(disk)) > auto.FIGURE.porous_share
 
 
 def test_fractal_search_refuses_bad_numbers_of_maps_and_figures_with_no_copy(monkeypatch):

@@ -3,7 +3,9 @@ attractor scores least (1 - IoU plus a cost a map) is kept, with the decision re
 import ifslib
 from ifslib.discovery import auto
 from ifslib.discovery.plan import Plan
-from ifslib.fitting.automatic import KIND_MAP_COST
+from ifslib.discovery.config import AUTO
+
+KIND_MAP_COST = AUTO.fit.kind_map_cost
 
 
 def _fractal_plan(ifs, iou=0.8):
