@@ -46,6 +46,11 @@ class Plan:
         Plans of another kind for the same image, when the image could not tell which kind it is
         (`ambiguous`): the ``auto`` strategy fits each and keeps the one whose attractor scores best
         for its number of maps. Empty when the kind is clear.
+    search : tuple of Row
+        A fractal plan's search rows (`ifslib.discovery.fractal.SearchResult.rows`), full precision: what
+        the automatic fit reports as its candidates. Empty for a curve or a shape.
+    why : str, optional
+        With ``rivals``: why the figure is fitted as both kinds (`ambiguous`).
     """
 
     start: IFS
@@ -53,6 +58,8 @@ class Plan:
     kind: str
     pattern: dict
     rivals: tuple[Plan, ...] = ()
+    search: tuple[fractal.Row, ...] = ()
+    why: str | None = None
 
     def with_start(self, start: IFS) -> Plan:
         """The plan with ``start`` (the same pattern, moved: a jittered start) in place of its start."""
@@ -66,7 +73,7 @@ class Plan:
 
 def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.start.default_depth, seed: int = 0,
                   progress: bool = True, *, config: fractal.SearchConfig = AUTO.search
-                  ) -> tuple[IFS | None, dict, fractal.Row]:
+                  ) -> tuple[IFS | None, dict, fractal.SearchResult]:
     """The maps of `ifslib.discovery.fractal.search` (with ``config``) as a start, or None when their attractor
     does not fit.
 
@@ -77,8 +84,8 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.sta
         `FIGURE.fractal_chamfer` pixels.
     dict
         What the search compared, for the file: ``search`` (one row per number of maps), ``rule``, ``verdict``.
-    Row
-        The chosen number of maps' scores at full precision (what a later decision reads).
+    SearchResult
+        What the search found, its rows at full precision (what a later decision reads).
     """
     found = fractal.search(target, maps, seed=seed, progress=progress, config=config)
     chamfer_px = found.choice.chamfer_px
@@ -86,11 +93,11 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.sta
     if chamfer_px > FIGURE.fractal_chamfer:
         record["verdict"] = (f"not a fractal of at most {max(r.maps for r in found.rows)} maps: the best attractor is "
                              f"{chamfer_px:.2f} px from the target (> {FIGURE.fractal_chamfer:g})")
-        return None, record, found.choice
+        return None, record, found
     record["verdict"] = f"a fractal: {len(found.maps)} maps whose attractor is {chamfer_px:.2f} px from the target"
     ifs = patterns.affine(found.maps, depth=depth, name="auto")
     ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(found.maps), "depth": depth, **record}
-    return ifs, record, found.choice
+    return ifs, record, found
 
 
 def _edge(target: Target, share: float, thin: float) -> float | None:
@@ -157,19 +164,20 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     wanted = choices(kind, maps, depth, detail=detail)  # checks maps and depth before any search
     if share is not None and _searchable(target, share, edge, maps):
         config = AUTO.ambiguous_search if share >= FIGURE.ambiguous_share else AUTO.search
-        start, searched, choice = fractal_start(target, maps, AUTO.start.default_depth if depth is None else depth, seed,
+        start, searched, found = fractal_start(target, maps, AUTO.start.default_depth if depth is None else depth, seed,
                                                 config=config)
         if edge is not None:  # why a figure with interior was searched, for the file
             searched["edge_dimension"] = round(edge, 3)
             if start is not None:
                 start.meta["pattern"]["edge_dimension"] = searched["edge_dimension"]
         if start is not None:
-            found = Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
-            why = ambiguous(share, choice.maps, choice.iou, edge)
+            fractal_plan = Plan(start, (start,), "fractal", dict(start.meta["pattern"]), search=found.rows)
+            why = ambiguous(share, found.choice.maps, found.choice.iou, edge)
             if why is None:
-                return found
+                return fractal_plan
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs))
-            return dataclasses.replace(found, pattern={**found.pattern, "ambiguous": why}, rivals=(rival,))
+            return dataclasses.replace(fractal_plan, pattern={**fractal_plan.pattern, "ambiguous": why},
+                                       rivals=(rival,), why=why)
     options = candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs)
     record = {}  # for the file: what the search found, or why a porous figure was not searched
     if searched is not None:

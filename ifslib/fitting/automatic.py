@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from dataclasses import dataclass
 
 from ..errors import IFSError
 from ..discovery.config import AUTO
 from ..discovery.plan import Plan
 from ..geometry.attractor import ATTRACTOR
 from ..scoring.metrics import evaluate
+from .choice import AutoRun, Candidate, Kind
 from .options import RunOptions
 from .frame import Frame
 from .pyramid import FIT_MAX_LEAVES, PYRAMID_STAGE_STEPS, attractor_stage, climb, with_early_stop
@@ -30,45 +30,9 @@ from .result import FitResult, Stage
 FIT = AUTO.fit
 
 
-@dataclass(frozen=True)
-class Kind:
-    """One kind's fit of an ambiguous figure, as `choose_kind` compares them: its number of maps, its attractor's
-    IoU at the target's size (full precision) and the steps it spent."""
-
-    kind: str
-    maps: int
-    attractor_iou: float
-    steps: int
-
-    @property
-    def score(self) -> float:
-        """1 - attractor IoU plus `FIT.kind_map_cost` a map: the least is kept."""
-        return 1 - self.attractor_iou + FIT.kind_map_cost * self.maps
-
-    def written(self) -> dict:
-        """The row for the history and the file, rounded to 4 digits."""
-        return {"kind": self.kind, "maps": self.maps, "attractor_iou": round(self.attractor_iou, 4),
-                "score": round(self.score, 4), "steps": self.steps}
-
-
-@dataclass(frozen=True)
-class Probe:
-    """A curve's or a shape's candidate after `FIT.probe_steps` steps at the coarsest size: the lowest ``loss``
-    goes on (fewer maps on a tie)."""
-
-    maps: int
-    depth: int
-    loss: float
-    steps: int
-    seconds: float
-
-    def written(self) -> dict:
-        """The row for ``history.auto["candidates"]``."""
-        return dataclasses.asdict(self)
-
-
 def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor: bool = True) -> FitResult:
-    """Fit ``plan`` (see the module docstring); ``history.auto`` lists the candidates and the one chosen.
+    """Fit ``plan`` (see the module docstring); ``history.auto`` (an `ifslib.fitting.choice.AutoRun`) holds the
+    candidates compared and the one chosen.
 
     The fitted IFSs' ``meta["pattern"]`` is the chosen candidate's description with ``chosen``; for a
     plan with rivals also ``decision``, which kind was kept and why.
@@ -79,7 +43,7 @@ def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor:
     options = with_early_stop(options.replace(depth=None))
     if plan.rivals:
         results, ious = zip(*(_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)))
-        return choose_kind(list(results), frame, why=plan.pattern.get("ambiguous"), ious=list(ious))
+        return choose_kind(list(results), frame, why=plan.why, ious=list(ious))
     return _fit_one(plan, frame, options, end_on_attractor)[0]
 
 
@@ -87,13 +51,13 @@ def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = Non
                 ious: list[float | None] | None = None) -> FitResult:
     """Of the fits of one figure as different kinds, the one whose attractor scores least: 1 - attractor IoU
     at the target's size plus `FIT.kind_map_cost` a map. Its history counts every fit's steps, and says in
-    ``auto["kinds"]`` and ``auto["decision"]`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared,
+    ``auto.kinds`` and ``auto.decision`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared,
     after ``why`` (why both kinds were fitted) when given. ``ious`` are the fits' attractor IoUs at the target's
     size where already measured (None where not): each is measured once."""
     kinds = []
     for result, known in zip(results, ious or [None] * len(results)):
         iou = evaluate(result.best, frame.target, depth=ATTRACTOR)["iou"] if known is None else known
-        kinds.append(Kind(result.history.kind, len(result.best.rules), iou, result.history.cost))
+        kinds.append(Kind(result.history.auto.kind, len(result.best.rules), iou, result.history.cost))
     best = min(range(len(kinds)), key=lambda i: (kinds[i].score, kinds[i].maps))  # full precision decides
     rows = [k.written() for k in kinds]  # what the file and the history say
     decision = (f"{rows[best]['kind']} kept: " + "; ".join(
@@ -102,10 +66,10 @@ def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = Non
     if why:
         decision = f"{why}; {decision}"
     result = results[best]
-    result.history.cost = sum(r["steps"] for r in rows)
-    result.history.auto = {**result.history.auto, "kinds": rows, "decision": decision}
+    result.history.cost = sum(k.steps for k in kinds)
+    result.history.auto = dataclasses.replace(result.history.auto, kinds=tuple(kinds), decision=decision)
     for ifs in (result.best, result.final):
-        ifs.meta["pattern"] = {**ifs.meta["pattern"], "decision": decision}
+        ifs.meta["pattern"] = result.history.auto.described()
     return result
 
 
@@ -116,7 +80,7 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
         return _fit_fractal(plan, frame, options, end_on_attractor)
     tried = [_probe(frame, candidate, options) for candidate in plan.candidates]
     # the lowest loss after the same number of steps; fewer maps win a tie
-    winner, chosen = min(tried, key=lambda rc: (rc[1].loss, rc[1].maps))
+    winner, chosen = min(tried, key=lambda rc: (rc[1].value, rc[1].maps))
     label = f"{chosen.maps} maps"
     options = options.replace(depth=chosen.depth)
     result, stages = climb(frame, winner.best, options, label)
@@ -133,20 +97,21 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
         result, stage = attractor_stage(frame, result.best, options.replace(loss=FIT.polish_loss) if shape else options,
                                         label, max_leaves=FIT.shape_max_leaves if shape else FIT_MAX_LEAVES)
         stages.append(stage)
-    # the chosen candidate's own description, for the file (it decides nothing here)
-    choice = {**winner.best.meta["pattern"], "candidates": [c.written() for _, c in tried], "chosen": chosen.maps}
+    # the chosen candidate's own description is the file's (it decides nothing here)
+    run = AutoRun(plan.kind, chosen.maps, tuple(c for _, c in tried), dict(winner.best.meta["pattern"]))
     cost = sum(c.steps for _, c in tried) + sum(s.steps for s in stages)
-    return _finish(result, plan.kind, choice, stages, cost), None
+    return _finish(result, run, stages, cost), None
 
 
-def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, Probe]:
+def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, Candidate]:
     """A candidate fitted at the coarsest size for `FIT.probe_steps` steps, and its row in ``history.auto``."""
     k, coarse = len(candidate.rules), frame.sizes[0]
     t0 = time.perf_counter()
     result = frame.run(candidate, min(frame.steps, FIT.probe_steps),
                        options.replace(stage_lr=options.lr * frame.target.size / coarse), target=frame.levels[coarse],
                        desc=f"{k} maps, depth {candidate.depth} · {coarse}²")
-    return result, Probe(k, candidate.depth, result.best_loss, result.history.cost, time.perf_counter() - t0)
+    return result, Candidate(k, candidate.depth, "loss", result.best_loss, result.history.cost,
+                             time.perf_counter() - t0)
 
 
 def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
@@ -154,8 +119,8 @@ def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
     """A fractal's plan: its maps were found by the search, so only the attractor stage is left (at most
     `FIT.fractal_stage_steps` steps), or, without ``end_on_attractor``, a run of the drawing at its depth; with the
     attractor IoU of what is returned, when measured (`_no_worse_than_start`)."""
-    pattern, start = plan.pattern, plan.start
-    label = f"{pattern['maps']} maps"
+    start = plan.start
+    label = f"{len(start.rules)} maps"
     budget = min(frame.steps, FIT.fractal_stage_steps)
     iou = None
     if end_on_attractor:
@@ -165,9 +130,9 @@ def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
         result = frame.run(start, budget, options.replace(depth=start.depth), desc=f"{label} · {frame.target.size}²")
         stage = Stage(size=frame.target.size, steps=result.history.cost, stopped=result.history.stopped,
                       best_loss=result.best_loss)
-    choice = {**{k: v for k, v in pattern.items() if k != "search"}, "candidates": pattern.get("search", []),
-              "chosen": pattern["maps"]}
-    return _finish(result, plan.kind, choice, [stage], stage.steps), iou
+    searched = tuple(Candidate(row.maps, start.depth, "score", row.score, 0, row.seconds) for row in plan.search)
+    run = AutoRun(plan.kind, len(start.rules), searched, dict(plan.pattern))
+    return _finish(result, run, [stage], stage.steps), iou
 
 
 def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -> tuple[FitResult, float]:
@@ -190,12 +155,12 @@ def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -
                      best_loss=loss[0] if loss else result.best_loss, best_step=0), before  # the loss before step 0
 
 
-def _finish(result: FitResult, kind: str, choice: dict, stages: list[Stage], cost: int) -> FitResult:
-    """The history's account of the choice, and the fitted IFSs' description for the file."""
+def _finish(result: FitResult, run: AutoRun, stages: list[Stage], cost: int) -> FitResult:
+    """The history's account of the choice (``run``), and the fitted IFSs' description for the file, written from it."""
     for stage in stages:
-        stage.maps = choice["chosen"]
+        stage.maps = run.chosen
     h = result.history
-    h.cost, h.stages, h.kind, h.auto = cost, stages, kind, choice
+    h.cost, h.stages, h.kind, h.auto = cost, stages, run.kind, run
     for ifs in (result.best, result.final):
-        ifs.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
+        ifs.meta["pattern"] = run.described()
     return result

@@ -100,21 +100,22 @@ def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records
     plan = ifslib.initialize("auto", target, depth=2)
     start = plan.start
     result = ifslib.fit(plan, target, steps=40, loss="multiscale_distance", progress=False)
-    tried = result.history.auto["candidates"]
-    assert [c["maps"] for c in tried] == list(auto.START.shape_maps) and all(c["depth"] == 2 for c in tried)
-    assert all(c["steps"] <= 40 for c in tried)
-    best = min(tried, key=lambda c: (c["loss"], c["maps"]))
-    assert result.history.auto["chosen"] == best["maps"] == result.best.meta["pattern"]["maps"]
-    assert len(result.best.rules) == best["maps"]
+    tried = result.history.auto.candidates
+    assert [c.maps for c in tried] == list(auto.START.shape_maps) and all(c.depth == 2 and c.by == "loss" for c in tried)
+    assert all(c.steps <= 40 for c in tried)
+    best = min(tried, key=lambda c: (c.value, c.maps))
+    assert result.history.auto.chosen == best.maps == result.best.meta["pattern"]["maps"]
+    assert len(result.best.rules) == best.maps
+    assert result.history.to_dict()["auto"]["candidates"] == [c.written() for c in tried]
     assert result.history.strategy == "auto" and result.history.kind == plan.kind == result.best.meta["pattern"]["kind"]
-    assert result.history.cost == sum(c["steps"] for c in tried) + sum(s.steps for s in result.history.stages)
+    assert result.history.cost == sum(c.steps for c in tried) + sum(s.steps for s in result.history.stages)
     last = result.history.stages[-1]
     assert last.loss == "multiscale_pixel" and last.depth == "attractor"  # a shape ends on its attractor, pixel loss
     assert ifslib.evaluate(result.best, target)["iou"] > ifslib.evaluate(start, target)["iou"]
     saved = ifslib.load_ifs(ifslib.save_ifs(result.best, tmp_path / "fit.json"))
-    assert saved.meta["pattern"]["chosen"] == best["maps"]
+    assert saved.meta["pattern"]["chosen"] == best.maps
     fixed = ifslib.fit(ifslib.initialize("auto", target, maps=3, depth=2), target, steps=10, progress=False)
-    assert [c["maps"] for c in fixed.history.auto["candidates"]] == [3]  # a number of maps given: no comparison
+    assert [c.maps for c in fixed.history.auto.candidates] == [3]  # a number of maps given: no comparison
     with pytest.raises(ValueError, match="strategy 'auto' fits an automatic start"):
         ifslib.fit(ifslib.patterns.koch(), target, strategy="auto", steps=2, progress=False)
     with pytest.raises(ValueError, match="fix the depth with ifslib.initialize"):

@@ -162,8 +162,9 @@ def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_s
     # the auto strategy sends it straight to the attractor stage and records the search's table
     fitted = ifslib.fit(plan, target, steps=5, progress=False)
     assert fitted.history.strategy == "auto"
-    assert fitted.history.kind == fitted.history.auto["kind"] == "fractal" and fitted.history.auto["chosen"] == 2
-    assert fitted.history.auto["candidates"] == pattern["search"]
+    assert fitted.history.kind == fitted.history.auto.kind == "fractal" and fitted.history.auto.chosen == 2
+    assert [(c.maps, c.by, round(c.value, 4)) for c in fitted.history.auto.candidates] == [
+        (r["maps"], "score", r["score"]) for r in pattern["search"]]  # the search's rows, in the candidates' layout
     assert [st.depth for st in fitted.history.stages] == ["attractor"] and fitted.history.cost <= 5
     # the single-scale pixel loss: the distance loss trades thin detail for the outline, the multiscale one blurs it
     assert fitted.history.stages[0].loss == "pixel" == automatic.FIT.fractal_loss
