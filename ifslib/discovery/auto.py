@@ -38,6 +38,8 @@ loss each reaches in the same number of steps. A start records what was chosen i
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import torch
 
@@ -45,8 +47,8 @@ from ..errors import IFSError, check_int
 from ..geometry import patterns
 from ..geometry.ifs import IFS, check_depth
 from ..raster.nearest import pixel_centres
-from . import fractal
 from .config import AUTO
+from .moments import sqrtm_psd
 from ..targets.target import Target, foreground_points, resize_target
 
 #: The primitives a shape's start may draw (names, not tuned numbers).
@@ -159,32 +161,67 @@ def limbed(share: float, thin: float, size: int) -> bool:
     return detailed(share, size) and thin > FIGURE.thin_parts
 
 
-def shape_detail(target: Target) -> tuple[bool, bool]:
-    """Whether a shape target is `detailed` and whether it is `limbed`, measured as
-    `ifslib.discovery.plan.discover` measures them (at `FIGURE.porous_size`): what to pass `choices` as ``detail`` and
-    `candidates` as ``limbs``."""
+@dataclass(frozen=True)
+class Measures:
+    """The measures that decide a shape's path, read once with the figure made `FIGURE.porous_size` wide (`measure`).
+
+    Attributes
+    ----------
+    share, thin : float
+        `interior_share` and `thin_share`.
+    edge : float or None
+        `edge_dimension` where it decides whether the figure is searched as a fractal: a porous figure of interior
+        share at least `FIGURE.ambiguous_share`, or a solid one without thin parts (``thin`` at most
+        `FIGURE.thin_parts`: a solid figure's limbs make its edge rough, not copies). None elsewhere: a lace is
+        searched whatever its edge, and a solid figure with limbs never is.
+    detailed, limbed : bool
+        `detailed` and `limbed` at the target's own size: what `choices` takes as ``detail`` and `candidates` as
+        ``limbs``.
+    """
+
+    share: float
+    thin: float
+    edge: float | None
+    detailed: bool
+    limbed: bool
+
+
+def measure(target: Target) -> Measures:
+    """The figure's `Measures`, the target resized once for all of them."""
     small = resize_target(target, FIGURE.porous_size)
-    share = interior_share(small)
-    return detailed(share, target.size), limbed(share, thin_share(small), target.size)
+    share, thin = interior_share(small), thin_share(small)
+    lace = share < FIGURE.ambiguous_share
+    edge = None if lace or (share >= FIGURE.porous_share and thin > FIGURE.thin_parts) else edge_dimension(small)
+    return Measures(share, thin, edge, detailed(share, target.size), limbed(share, thin, target.size))
 
 
-def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) -> np.ndarray:
+def shape_detail(target: Target) -> tuple[bool, bool]:
+    """Whether a shape target is `detailed` and whether it is `limbed` (`measure`, as
+    `ifslib.discovery.plan.discover` reads them): what to pass `choices` as ``detail`` and `candidates` as
+    ``limbs``."""
+    m = measure(target)
+    return m.detailed, m.limbed
+
+
+def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False,
+               thin: np.ndarray | None = None) -> np.ndarray:
     """``(k, 2, 3)`` affine maps, each taking the figure's mean and covariance onto one of its ``k`` k-means parts.
 
     With ``limbs`` (a `limbed` figure), `limb_maps` of the ``k`` parts are drawn among the pixels of its
     thin parts (`thin_parts`) and the rest among the body's, so that a limb is covered by copies squeezed across
     it rather than by parts of body and limb together. Each matrix's singular values are clipped into
-    `START.singular_range`, so every map contracts.
+    `START.singular_range`, so every map contracts. ``thin`` is the figure's `thin_parts`, computed (with
+    ``limbs``) unless the caller has it.
     """
     from scipy.cluster.vq import kmeans2
 
     fg = foreground_points(target)
     if len(fg) < 3 * k:
         raise IFSError(f"the target has {len(fg)} foreground pixels: too few for {k} maps")
-    mu, inv_root = fg.mean(0), np.linalg.inv(fractal.sqrtm_psd(np.cov(fg.T)))
+    mu, inv_root = fg.mean(0), np.linalg.inv(sqrtm_psd(np.cov(fg.T)))
     groups = [(fg, k)]
     if limbs:
-        thin = thin_parts(target)
+        thin = thin_parts(target) if thin is None else thin
         if n_thin := limb_maps(target, k, thin):
             on_thin = thin[target.mask]  # foreground_points' order
             groups = [(fg[~on_thin], k - n_thin), (fg[on_thin], n_thin)]
@@ -195,7 +232,7 @@ def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) ->
             part = points[label == i]
             if len(part) < 3:  # an empty or tiny cluster: a small copy at a random pixel of the group
                 part = points[np.random.default_rng(seed + i).choice(len(points), 3, replace=False)]
-            a = fractal.sqrtm_psd(np.cov(part.T)) @ inv_root
+            a = sqrtm_psd(np.cov(part.T)) @ inv_root
             u, s, vt = np.linalg.svd(a)
             a = u @ np.diag(np.clip(s, *START.singular_range)) @ vt
             maps.append(np.concatenate([a, (part.mean(0) - a @ mu)[:, None]], 1))
@@ -220,7 +257,8 @@ def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", 
     """
     if primitive not in PRIMITIVES:
         raise IFSError(f"unknown primitive {primitive!r} for an automatic start; known: {', '.join(PRIMITIVES)}")
-    frame = patterns.affine(shape_maps(target, k, seed, limbs=limbs), depth=depth)
+    thin = thin_parts(target) if limbs else None  # read once, for the maps and the pattern's count
+    frame = patterns.affine(shape_maps(target, k, seed, limbs=limbs, thin=thin), depth=depth)
     fg = foreground_points(target)
     pts = frame.points.detach().double()
     n = pts.shape[0]
@@ -232,7 +270,7 @@ def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", 
     points = torch.cat([pts, torch.as_tensor(extra, dtype=torch.float64)])
     pattern = {"name": "auto", "kind": "shape", "maps": k, "depth": depth, "primitive": primitive}
     if limbs:
-        pattern["limb_maps"] = limb_maps(target, k)
+        pattern["limb_maps"] = limb_maps(target, k, thin)
     return IFS(points, frame.rules, [prim], depth=depth, name="auto", fixed=frame.fixed, meta={"pattern": pattern})
 
 

@@ -17,9 +17,9 @@ import numpy as np
 from ..geometry import patterns
 from ..geometry.ifs import IFS
 from ..scoring.metrics import evaluate
-from ..targets.target import Target, resize_target
+from ..targets.target import Target
 from . import fractal
-from .auto import candidates, choices, classify, edge_dimension, detailed, interior_share, limbed, thin_share
+from .auto import candidates, choices, classify, measure
 from .config import AUTO
 
 #: The section of `ifslib.discovery.config.AUTO` this module reads (with ``AUTO.search``).
@@ -100,18 +100,8 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.sta
     return ifs, record, found
 
 
-def _edge(target: Target, share: float, thin: float) -> float | None:
-    """The figure's edge dimension (`ifslib.discovery.auto.edge_dimension`) where it decides whether the figure is
-    searched: a porous figure of interior share at least `FIGURE.ambiguous_share`, or a solid one without thin parts (its
-    `ifslib.discovery.auto.thin_share` ``thin`` at most `FIGURE.thin_parts`: a solid figure's limbs make its edge rough, not
-    copies). None elsewhere: a lace is searched whatever its edge, and a solid figure with limbs never is."""
-    if share < FIGURE.ambiguous_share or (share >= FIGURE.porous_share and thin > FIGURE.thin_parts):
-        return None
-    return edge_dimension(target)
-
-
 def _searchable(target: Target, share: float, edge: float | None, maps: int | None) -> bool:
-    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, `_edge`) is searched as a fractal
+    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, `ifslib.discovery.auto.Measures`) is searched as a fractal
     first, when it is large enough: a lace (interior share below `FIGURE.ambiguous_share`), or a figure of more interior
     whose edge is rough (at least `FIGURE.rough_edge`). A porous figure with a smooth edge is a shape with thin strokes (the
     thin letter Y of `ifslib.targets.silhouettes.thin_gallery`: 1.01), not a fractal's lace (those of the random
@@ -157,10 +147,8 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     share = edge = None
     detail = limbs = False
     if kind == "shape":  # a curve is never searched as a fractal
-        small = resize_target(target, FIGURE.porous_size)  # the three measures read the figure at one size: resized once
-        share, thin = interior_share(small), thin_share(small)
-        edge = _edge(small, share, thin)
-        detail, limbs = detailed(share, target.size), limbed(share, thin, target.size)
+        measures = measure(target)
+        share, edge, detail, limbs = measures.share, measures.edge, measures.detailed, measures.limbed
     wanted = choices(kind, maps, depth, detail=detail)  # checks maps and depth before any search
     if share is not None and _searchable(target, share, edge, maps):
         config = AUTO.ambiguous_search if share >= FIGURE.ambiguous_share else AUTO.search
