@@ -4,11 +4,13 @@ import numpy as np
 import pytest
 
 import ifslib
-from ifslib.discovery import auto, plan
+from ifslib.discovery import auto, fractal, plan
 from ifslib.discovery.config import AUTO
 from ifslib.geometry.samplers import literature_ifs
 from ifslib.targets import silhouettes
+from ifslib.fitting import automatic
 from ifslib.targets.target import target_from_mask
+from common_testing import fractal_target
 
 
 @pytest.fixture(scope="module")
@@ -206,3 +208,30 @@ def test_a_porous_figure_with_a_smooth_edge_is_not_searched(searches):
                                             points=200_000, seed=1).numpy(), 128)
     plan.discover(lace, maps=4, depth=2)
     assert [t for t, _ in searches] == [creature, lace]
+
+
+@pytest.mark.slow
+def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_stays_a_shape():
+    _, target = fractal_target(maps=2, seed=4, size=128)
+    assert auto.interior_share(target) < auto.FIGURE.porous_share
+    plan = ifslib.initialize("auto", target, maps=2)  # the search, with its number of maps fixed
+    start, pattern = plan.start, plan.pattern
+    assert plan.kind == "fractal" and plan.candidates == (start,) and pattern == start.meta["pattern"]
+    assert pattern["kind"] == "fractal" and len(start.rules) == 2
+    assert [row["maps"] for row in pattern["search"]] == [2] and "minimum description length" in pattern["rule"]
+    m = ifslib.evaluate(start, target, depth="attractor")
+    assert m["iou"] >= 0.85 and m["chamfer"] <= 1.0
+    row = pattern["search"][0]  # the rule's score: 1 - the attractor's IoU (chaos game) plus the cost of its maps
+    assert abs(row["iou"] - m["iou"]) < 0.03 and abs(row["score"] - (1 - row["iou"] + fractal.DEFAULT.map_cost * 2)) <= 1.0001e-4  # each rounded once
+    # the auto strategy sends it straight to the attractor stage and records the search's table
+    fitted = ifslib.fit(plan, target, steps=5, progress=False)
+    assert fitted.history.strategy == "auto"
+    assert fitted.history.kind == fitted.history.auto.kind == "fractal" and fitted.history.auto.chosen == 2
+    assert [(c.maps, c.by, round(c.value, 4)) for c in fitted.history.auto.candidates] == [
+        (r["maps"], "score", r["score"]) for r in pattern["search"]]  # the search's rows, in the candidates' layout
+    assert [st.depth for st in fitted.history.stages] == ["attractor"] and fitted.history.cost <= 5
+    # the single-scale pixel loss: the distance loss trades thin detail for the outline, the multiscale one blurs it
+    assert fitted.history.stages[0].loss == "pixel" == automatic.FIT.fractal_loss
+    assert fitted.best.meta["pattern"]["rule"] == pattern["rule"]
+    disk = np.hypot(*np.mgrid[-1:1:64j, -1:1:64j]) < 0.7
+    assert auto.interior_share(target_from_mask(disk)) > auto.FIGURE.porous_share
