@@ -20,6 +20,7 @@ from ..errors import LeafBudgetError
 from ..geometry.attractor import ATTRACTOR, is_attractor
 from ..geometry.crossings import crossing_pairs, is_curve, leaf_segments
 from ..geometry.ifs import IFS
+from ..raster.distance import Budget
 from ..raster.render import figure_mask
 from ..targets.target import Target
 
@@ -69,7 +70,7 @@ def attractor_mask(ifs: IFS, size: int, sigma: float | None = None, tolerance: f
     `EVAL_MAX_LEAVES` leaves, else by the chaos game (`EVAL_POINTS` points, seed 0).
     """
     try:
-        return figure_mask(ifs, size, ATTRACTOR, sigma, tolerance=tolerance, max_leaves=EVAL_MAX_LEAVES)
+        return figure_mask(ifs, size, ATTRACTOR, sigma, tolerance=tolerance, budget=Budget(leaves=EVAL_MAX_LEAVES))
     except LeafBudgetError:
         return figure_mask(ifs, size, ATTRACTOR, sigma, method="chaos", points=EVAL_POINTS)
 

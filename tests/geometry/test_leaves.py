@@ -9,6 +9,7 @@ from common_testing import point_segment as _point_segment, polygon_sdf as _poly
 import ifslib
 from ifslib.geometry.leaves import Leaves, invert_similarities, sdf_dense
 from ifslib.geometry.primitives import primitive_params
+from ifslib.raster.distance import Budget
 
 
 @pytest.mark.parametrize("seed", range(5))
@@ -43,4 +44,4 @@ def test_memory_budget_is_checked_before_allocating():
     with pytest.raises(ValueError, match=r"depth 12 with 9 rules makes 282,429,536,481 leaf maps.*over the memory budget"):
         ifslib.distance_field(ifs, 64, depth=12)
     with pytest.raises(ValueError, match="over the memory budget of 0.00 GiB"):
-        ifslib.distance_field(ifslib.patterns.koch(), 64, depth=2, memory_budget=1000)
+        ifslib.distance_field(ifslib.patterns.koch(), 64, depth=2, budget=Budget(memory=1000))
