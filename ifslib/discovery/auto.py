@@ -308,9 +308,10 @@ def skeleton_path(target: Target, skeleton: np.ndarray | None = None) -> np.ndar
     return np.stack([x.numpy()[flat], y.numpy()[flat]], 1)
 
 
-def curve_start(target: Target, k: int, depth: int = 3) -> IFS:
-    """A Koch-like start of ``k`` segment rules on ``k + 1`` points spaced evenly along the skeleton."""
-    path = skeleton_path(target)
+def curve_start(target: Target, k: int, depth: int = 3, *, path: np.ndarray | None = None) -> IFS:
+    """A Koch-like start of ``k`` segment rules on ``k + 1`` points spaced evenly along the skeleton (its
+    `skeleton_path` ``path``, computed unless given)."""
+    path = skeleton_path(target) if path is None else path
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
     at = np.linspace(0, arc[-1], k + 1)
     polyline = np.stack([np.interp(at, arc, path[:, 0]), np.interp(at, arc, path[:, 1])], 1)
@@ -346,5 +347,6 @@ def candidates(target: Target, options: list[tuple[int, int]], primitive: str = 
     or ``"shape"``) is `classify`'s answer, computed unless the caller has it; ``limbs``: a shape's maps are
     placed on its thin parts apart (`shape_maps`)."""
     kind = classify(target) if kind is None else kind
-    return [curve_start(target, k, d) if kind == "curve" else shape_start(target, k, d, primitive, seed, limbs=limbs)
-            for k, d in options]
+    path = skeleton_path(target) if kind == "curve" else None  # one walk of the skeleton for every curve start
+    return [curve_start(target, k, d, path=path) if kind == "curve"
+            else shape_start(target, k, d, primitive, seed, limbs=limbs) for k, d in options]
