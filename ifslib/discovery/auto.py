@@ -84,15 +84,22 @@ def thickness(target: Target, skeleton: np.ndarray | None = None) -> float:
 
 def classify(target: Target) -> str:
     """``"curve"`` for a thin figure (`thickness` below `FIGURE.curve_width`) whose skeleton is one path
-    (its longest path holds `FIGURE.curve_path_share` of it), else ``"shape"``."""
+    (its longest path holds `FIGURE.curve_path_share` of it), else ``"shape"`` (`curve_path`)."""
+    return "shape" if curve_path(target) is None else "curve"
+
+
+def curve_path(target: Target) -> np.ndarray | None:
+    """The skeleton's longest path ``(L, 2)`` (`skeleton_path`) when the figure is a curve (see `classify`), else
+    None: what `classify` decides on, kept for the curve's starts (`candidates` takes it as ``path``)."""
     pixels = int(target.mask.sum())
     if pixels < FIGURE.min_pixels:
         raise IFSError(f"the figure has {pixels} pixel(s): too few to read a curve or a shape from (at least "
                        f"{FIGURE.min_pixels})")
     skeleton = _skeleton(target)
     if thickness(target, skeleton) >= FIGURE.curve_width:
-        return "shape"
-    return "curve" if len(skeleton_path(target, skeleton)) >= FIGURE.curve_path_share * skeleton.sum() else "shape"
+        return None
+    path = skeleton_path(target, skeleton)
+    return path if len(path) >= FIGURE.curve_path_share * skeleton.sum() else None
 
 
 def interior_share(target: Target, size: int = FIGURE.porous_size) -> float:
@@ -342,11 +349,12 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None, *,
 
 
 def candidates(target: Target, options: list[tuple[int, int]], primitive: str = "box", seed: int = 0,
-               kind: str | None = None, *, limbs: bool = False) -> list[IFS]:
+               kind: str | None = None, *, limbs: bool = False, path: np.ndarray | None = None) -> list[IFS]:
     """One automatic start for each ``(maps, depth)`` of ``options`` (see `choices`). ``kind`` (``"curve"``
     or ``"shape"``) is `classify`'s answer, computed unless the caller has it; ``limbs``: a shape's maps are
-    placed on its thin parts apart (`shape_maps`)."""
+    placed on its thin parts apart (`shape_maps`); ``path``: a curve's `curve_path`, walked unless given."""
     kind = classify(target) if kind is None else kind
-    path = skeleton_path(target) if kind == "curve" else None  # one walk of the skeleton for every curve start
+    if kind == "curve" and path is None:
+        path = skeleton_path(target)  # one walk of the skeleton for every curve start
     return [curve_start(target, k, d, path=path) if kind == "curve"
             else shape_start(target, k, d, primitive, seed, limbs=limbs) for k, d in options]

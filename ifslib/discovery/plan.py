@@ -19,7 +19,7 @@ from ..geometry.ifs import IFS
 from ..scoring.metrics import evaluate
 from ..targets.target import Target
 from . import fractal
-from .auto import candidates, choices, classify, measure
+from .auto import candidates, choices, curve_path, measure
 from .config import AUTO
 
 #: The section of `ifslib.discovery.config.AUTO` this module reads (with ``AUTO.search``).
@@ -142,7 +142,8 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
     strategy compares the same candidates by fitting them instead.
     """
-    kind = classify(target)
+    path = curve_path(target)  # the skeleton walked once: to classify, and for a curve's starts
+    kind = "shape" if path is None else "curve"
     searched = None
     share = edge = None
     detail = limbs = False
@@ -166,7 +167,7 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs))
             return dataclasses.replace(fractal_plan, pattern={**fractal_plan.pattern, "ambiguous": why},
                                        rivals=(rival,), why=why)
-    options = candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs)
+    options = candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs, path=path)
     record = {}  # for the file: what the search found, or why a porous figure was not searched
     if searched is not None:
         record["fractal_search"] = searched

@@ -226,3 +226,12 @@ def test_cli_refuses_what_no_automatic_start_can_fit(tmp_path, capsys, picture, 
                             str(tmp_path / "fit.json")] + argv)
     assert code == 2
     assert message in capsys.readouterr().err
+
+
+def test_the_curve_path_decides_the_kind_and_is_the_path_the_curve_starts_follow():
+    curve, blob = curve_target(), ellipse_target()
+    path = auto.curve_path(curve)
+    assert auto.curve_path(blob) is None and np.array_equal(path, auto.skeleton_path(curve))
+    handed = auto.candidates(curve, [(3, 2), (4, 2)], kind="curve", path=path)
+    walked = auto.candidates(curve, [(3, 2), (4, 2)], kind="curve")
+    assert all(a.points.equal(b.points) for a, b in zip(handed, walked))
