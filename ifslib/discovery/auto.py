@@ -333,8 +333,8 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None, *,
 
     Both given: that one. ``maps`` given: it, at ``depth`` or `START.default_depth`. ``depth`` given:
     `START.shape_maps` or `START.curve_maps` at that depth. Neither: `START.shape_choices` for a shape
-    (`START.shape_choices_detailed` with ``detail``, a `detailed` figure), `START.curve_maps` at `START.default_depth` for a
-    curve.
+    (`START.shape_choices_detailed` with ``detail``, a `detailed` figure), `START.curve_maps` at
+    `START.default_depth` for a curve.
     """
     if depth is not None:
         check_depth(depth)
@@ -345,7 +345,8 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None, *,
         return [(maps, START.default_depth if depth is None else depth)]
     if kind == "shape" and depth is None:
         return list(START.shape_choices_detailed if detail else START.shape_choices)
-    return [(k, START.default_depth if depth is None else depth) for k in (START.curve_maps if kind == "curve" else START.shape_maps)]
+    numbers = START.curve_maps if kind == "curve" else START.shape_maps
+    return [(k, START.default_depth if depth is None else depth) for k in numbers]
 
 
 def candidates(target: Target, options: list[tuple[int, int]], primitive: str = "box", seed: int = 0,

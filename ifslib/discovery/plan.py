@@ -101,11 +101,12 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.sta
 
 
 def _searchable(target: Target, share: float, edge: float | None, maps: int | None) -> bool:
-    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, `ifslib.discovery.auto.Measures`) is searched as a fractal
-    first, when it is large enough: a lace (interior share below `FIGURE.ambiguous_share`), or a figure of more interior
-    whose edge is rough (at least `FIGURE.rough_edge`). A porous figure with a smooth edge is a shape with thin strokes (the
-    thin letter Y of `ifslib.targets.silhouettes.thin_gallery`: 1.01), not a fractal's lace (those of the random
-    benchmark and the literature's classes with as much interior measure 1.17-1.24; docs/results/any-shape.md)."""
+    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, `ifslib.discovery.auto.Measures`) is
+    searched as a fractal first, when it is large enough: a lace (interior share below `FIGURE.ambiguous_share`), or
+    a figure of more interior whose edge is rough (at least `FIGURE.rough_edge`). A porous figure with a smooth edge
+    is a shape with thin strokes (the thin letter Y of `ifslib.targets.silhouettes.thin_gallery`: 1.01), not a
+    fractal's lace (those of the random benchmark and the literature's classes with as much interior measure
+    1.17-1.24; docs/results/any-shape.md)."""
     figure = share < FIGURE.ambiguous_share or (edge is not None and edge >= FIGURE.rough_edge)
     return (target.size >= FIGURE.fractal_min_size and target.mask.sum() >= FIGURE.fractal_min_pixels and figure
             and (maps is None or maps <= AUTO.search.max_maps))
