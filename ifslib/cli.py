@@ -96,22 +96,22 @@ def _stages_text(history) -> str:
     """One line on how a strategy spent its steps (the pyramid's starts and stages, the automatic pattern's choice,
     and for a figure fitted both as a fractal and as a shape, which kind was kept)."""
     text = _spent_text(history)
-    decision = (history.auto or {}).get("decision")
+    decision = None if history.auto is None else history.auto.decision
     return text if decision is None else f"{text}; fitted as a fractal and as a shape: {decision}"
 
 
 def _spent_text(history) -> str:
     stages, auto = history.stages, history.auto
-    if history.kind == "fractal":
-        tried = ", ".join(f"{c['maps']} maps IoU {c['iou']:.3f}" for c in auto["candidates"])
-        return (f"{history.cost} steps spent (auto: a fractal, {auto['chosen']} maps chosen by the search's rule, "
+    if auto is not None and auto.kind == "fractal":
+        tried = ", ".join(f"{c.maps} maps score {c.value:.3f}" for c in auto.candidates)
+        return (f"{history.cost} steps spent (auto: a fractal, {auto.chosen} maps chosen by the search's rule, "
                 f"1 - attractor IoU plus a cost per map ({tried}); then "
                 f"{', '.join(_stage_text(s) for s in stages)} steps)")
-    if history.kind is not None:
-        tried = ", ".join(f"{c['maps']} maps {c['loss']:.3g}" for c in auto["candidates"])
+    if auto is not None:
+        tried = ", ".join(f"{c.maps} maps {c.value:.3g}" for c in auto.candidates)
         runs = ", ".join(_stage_text(s) for s in stages)
-        return (f"{history.cost} steps spent (auto: a {history.kind}, {auto['chosen']} maps chosen by the loss "
-                f"after {auto['candidates'][0]['steps']} steps at {stages[0].size}² ({tried}); then {runs} steps)")
+        return (f"{history.cost} steps spent (auto: a {auto.kind}, {auto.chosen} maps chosen by the loss "
+                f"after {auto.candidates[0].steps} steps at {stages[0].size}² ({tried}); then {runs} steps)")
     if not stages:
         return f"{history.cost} steps spent ({history.strategy or 'plain'})"
     last = max(s.start for s in stages)
@@ -124,7 +124,7 @@ def _spent_text(history) -> str:
 def _fit_options(args: argparse.Namespace):
     """The run's settings from ``args``, checked (`RunOptions`: the loss's name among them) with the strategy's name;
     with ``--pattern auto`` and a ``--loss`` named, standard error says where the automatic path uses it."""
-    from .fitting.automatic import FRACTAL_LOSS, POLISH_LOSS
+    from .discovery.config import AUTO
     from .fitting.options import split_settings
     from .fitting.strategies import check_strategy
     from .scoring.losses import DEFAULT_LOSS
@@ -136,8 +136,8 @@ def _fit_options(args: argparse.Namespace):
     options, _ = split_settings(named, None, None)
     if args.pattern == "auto" and args.loss is not None:
         print(f"--loss {args.loss}: the automatic path probes and climbs a curve's or a shape's candidates with it; "
-              f"a fractal's maps are fitted with the {FRACTAL_LOSS} loss, and a shape's last stage with "
-              f"{POLISH_LOSS}", file=sys.stderr)
+              f"a fractal's maps are fitted with the {AUTO.fit.fractal_loss} loss, and a shape's last stage with "
+              f"{AUTO.fit.polish_loss}", file=sys.stderr)
     return options
 
 

@@ -25,3 +25,14 @@ def load_module(name, path):
         sys.modules[name] = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(sys.modules[name])
     return sys.modules[name]
+
+
+def fractal_target(maps=2, seed=4, size=64):
+    """A random fractal (`ifslib.patterns.random_ifs`) drawn by the float64 chaos game at 256², as the benchmark
+    draws them, then made ``size`` pixels wide as a fit does (`resize_target`)."""
+    import ifslib
+    from ifslib.targets.target import resize_target, target_from_mask
+
+    truth = ifslib.patterns.random_ifs(maps, seed)
+    mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=seed).numpy() >= 0.5
+    return truth, resize_target(target_from_mask(mask, f"random{maps}_{seed}"), size)

@@ -1,5 +1,8 @@
 """An automatic start for any image: curve or shape, how many maps, and where they go.
 
+The thresholds and the starts offered are `ifslib.discovery.config.AUTO`'s ``figure`` and ``start`` sections
+(`FIGURE`, `START` here).
+
 The collage theorem (Barnsley) says that an IFS's attractor is near a target when the union of the
 maps' images of the target is near the target. So a start for any image is a set of maps whose
 copies of the target cover the target:
@@ -9,7 +12,7 @@ copies of the target cover the target:
   part ``i``'s (``A_i = C_i^{1/2} C^{-1/2}``, ``t_i = mu_i - A_i mu``): each copy of the figure is
   stretched and turned to lie over its part. The maps are ``affine`` rules
   (`ifslib.patterns.affine`) and the leaves draw the primitive given by ``primitive``. A `detailed`
-  figure (much edge for its area) is offered more maps (`SHAPE_CHOICES_DETAILED`), and a `limbed`
+  figure (much edge for its area) is offered more maps (`START.shape_choices_detailed`), and a `limbed`
   one has some of them placed by k-means on its thin parts apart from its body (`limb_maps`).
 * **Curves** (a thin figure, about as long as its area in pixels): the figure's skeleton
   (`skimage.morphology.skeletonize`) is walked from end to end along its longest path
@@ -17,14 +20,14 @@ copies of the target cover the target:
   Koch-like pattern on that polyline (`ifslib.patterns.koch_like`): ``k`` segment rules, each mapping
   the chord onto one piece.
 
-* **Fractals** (a target of at least `FRACTAL_MIN_SIZE` pixels whose figure is a lace: fewer than 0.6 of its pixels
+* **Fractals** (a target of at least `FIGURE.fractal_min_size` pixels whose figure is a lace: fewer than 0.6 of its pixels
   have all eight neighbours on it at 128², where a silhouette has over 0.88; or one with more interior whose edge
-  is rough, `edge_dimension` at least `ROUGH_EDGE`, as a fractal's lace and overlapping copies draw, and, when
+  is rough, `edge_dimension` at least `FIGURE.rough_edge`, as a fractal's lace and overlapping copies draw, and, when
   solid, not made rough by thin limbs, `thin_share`; `ifslib.discovery.plan` decides): the figure is
   searched for copies of itself
   (`ifslib.discovery.fractal.search`: template matching, covers, the collage refined, 2 to 8 maps
   compared by minimum description length). When the maps found draw an attractor within
-  `ifslib.discovery.plan.FRACTAL_CHAMFER` pixels of the target, the start is those maps (``kind="fractal"``, an
+  `FIGURE.fractal_chamfer` pixels of the target, the start is those maps (``kind="fractal"``, an
   `ifslib.patterns.affine` IFS); else the figure is fitted as a shape, and ``meta["pattern"]``
   says why.
 
@@ -35,6 +38,8 @@ loss each reaches in the same number of steps. A start records what was chosen i
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import torch
 
@@ -42,87 +47,18 @@ from ..errors import IFSError, check_int
 from ..geometry import patterns
 from ..geometry.ifs import IFS, check_depth
 from ..raster.nearest import pixel_centres
-from . import fractal
+from .config import AUTO
+from .moments import sqrtm_psd
 from ..targets.target import Target, foreground_points, resize_target
 
-#: A figure whose area is below this many pixels per skeleton pixel is thin (a line 1-3 px wide) ...
-CURVE_WIDTH = 4.0
-#: ... and it is a curve when its skeleton's longest path holds at least this share of the skeleton
-#: (the Sierpinski carpet is thin too, but its skeleton is a network, not a path).
-CURVE_PATH_SHARE = 0.8
-#: The (maps, depth) pairs tried for a shape when neither is given: more, smaller copies at a lower
-#: depth fit thin parts far apart (the MPEG-7 flower at 128²: IoU 0.83 with 8 maps at depth 3, 0.90
-#: with 16 at depth 2, 0.94 with 24 at depth 2), at 256 to 576 leaves each.
-SHAPE_CHOICES = ((8, 3), (16, 2), (24, 2))
-#: ... and for a detailed figure (`detailed`: much edge for its area, as limbs, thin strokes and petals make): a copy
-#: of the whole squeezed into a thin part carries the figure's other thin parts as spikes that its attractor
-#: repeats at every scale, and more, smaller copies keep them short (docs/results/any-shape.md).
-SHAPE_CHOICES_DETAILED = ((40, 2), (48, 2), (56, 2))
-#: A limbed figure's thin parts get this many times their share of the maps (at most half of them), each
-#: placed by k-means among the thin pixels apart from the body's: its copy is squeezed across the limb.
-LIMB_MAPS = 2.0
-#: Numbers of maps tried at a given depth, for a shape and for a curve.
-SHAPE_MAPS = (4, 6, 8)
-CURVE_MAPS = (2, 3, 4)
-#: The depth of a curve's start, and of a shape's when its number of maps is given.
-DEFAULT_DEPTH = 3
-#: Every map's singular values are clipped into this range at the start (contracting, not flat).
-SINGULAR_RANGE = (0.05, 0.85)
+#: The primitives a shape's start may draw (names, not tuned numbers).
 PRIMITIVES = ("box", "disk")
-
-
-#: An automatic start has at most this many maps (each brings three control points and a copy of the figure).
-MAX_START_MAPS = 64
-#: A figure of fewer pixels than this is too small to read a curve or a shape from.
-MIN_PIXELS = 4
-
-#: A figure is porous, and searched as a fractal, when fewer than this share of its pixels are interior
-#: (all eight neighbours on the figure) at `POROUS_SIZE`: it separates the benchmark's fractals (at most 0.76) from
-#: solid silhouettes (0.88 and more; docs/results/fractals.md); the thin-petalled flower (0.71-0.74) falls below it
-#: and pays for a search before it is fitted as a shape, and the paper's carpet has 0.33-0.71 from 256² to 64².
-#: From 0.6 (`ifslib.discovery.plan.AMBIGUOUS_SHARE`) a porous figure is searched only when its edge is rough
-#: (`ROUGH_EDGE`): a thin letter's smooth edge measures 1.01, the fractals' 1.17 and more.
-POROUS_SHARE = 0.8
-#: ... measured with the target made this many pixels wide (the share of a solid figure's edge falls
-#: with its size; a fractal's does not).
-POROUS_SIZE = 128
-#: A solid figure (not porous) is searched as a fractal too when its edge is rough: the box-counting dimension of its
-#: edge pixels at `POROUS_SIZE` (`edge_dimension`) at least this. The overlap class of
-#: `ifslib.geometry.samplers.literature_ifs` (copies that overlap into a solid figure with a fractal edge) measures
-#: 1.05-1.14 on its development seeds; drawn silhouettes and the paper's apple 0.97-1.03, a silhouette whose thin
-#: limbs are all edge 1.10-1.16 (docs/results/literature.md) ...
-ROUGH_EDGE = 1.04
-#: The box sides, in pixels at `POROUS_SIZE`, of `edge_dimension`'s count.
-EDGE_BOXES = (1, 2, 4, 8)
-#: ... unless more than this share of it lies in thin parts (`thin_share`): limbs are all edge, and the creatures
-#: of `ifslib.targets.silhouettes.limbed` have 0.14-0.22 of their pixels in them (the overlap class 0.02-0.08, the
-#: drawn silhouettes and the apple at most 0.02), so a rough edge made of limbs costs no search.
-THIN_PARTS = 0.1
-#: Parts narrower than a disk of this radius (pixels at `POROUS_SIZE`) are thin: 7 px, a limb of 4-6 px at 128².
-THIN_RADIUS = 3
-#: A shape is detailed (`detailed`) when its interior share (`interior_share`) is at least this, a figure and not a
-#: lace (the carpet: 0.33-0.46) ...
-DETAILED_FROM = 0.6
-#: ... and below this: the creatures of `ifslib.targets.silhouettes.limbed`, the thin letters Y, K and B and the
-#: paper's flower measure 0.71-0.84, the nine drawn silhouettes and the apple 0.88-0.95.
-DETAILED_BELOW = 0.85
-#: ... in a target of at least this many pixels a side: a smaller one has few pixels for 40 copies, and its interior
-#: share is read from an enlarged drawing, where a stroke of one pixel is two (the paper's carpet at 64²
-#: measures 0.71).
-DETAILED_MIN_SIZE = 128
-#: A figure of fewer pixels is too small to read a fractal from (it is fitted as a shape) ...
-FRACTAL_MIN_PIXELS = 100
-#: ... and so is a target smaller than this: at 64² a random fractal's own true maps draw an attractor
-#: of IoU 0.77 against the target made from its 256² image, and a fine shape fit scores better.
-#: (`ifslib.discovery.fractal.search` itself takes any size.)
-FRACTAL_MIN_SIZE = 128
-
-#: At most this many one-pixel dilations join a dotted figure before its skeleton is taken.
-MAX_JOIN = 4
+#: The sections of `ifslib.discovery.config.AUTO` this module reads.
+FIGURE, START = AUTO.figure, AUTO.start
 
 
 def _skeleton(target: Target) -> np.ndarray:
-    """The skeleton of the figure, grown first by the fewest one-pixel dilations (up to `MAX_JOIN`) that
+    """The skeleton of the figure, grown first by the fewest one-pixel dilations (up to `FIGURE.max_join`) that
     leave it in as few pieces as it gets: a thin anti-aliased line thresholded at mid-range breaks into
     dots (the paper's koch.png at 256² is 115 pieces, one piece after three dilations)."""
     from scipy import ndimage
@@ -130,7 +66,7 @@ def _skeleton(target: Target) -> np.ndarray:
 
     grown = np.asarray(target.mask, dtype=bool)
     best, pieces = grown, ndimage.label(grown, np.ones((3, 3)))[1]
-    for _ in range(MAX_JOIN):
+    for _ in range(FIGURE.max_join):
         if pieces == 1:
             break
         grown = ndimage.binary_dilation(grown)
@@ -147,19 +83,26 @@ def thickness(target: Target, skeleton: np.ndarray | None = None) -> float:
 
 
 def classify(target: Target) -> str:
-    """``"curve"`` for a thin figure (`thickness` below `CURVE_WIDTH`) whose skeleton is one path
-    (its longest path holds `CURVE_PATH_SHARE` of it), else ``"shape"``."""
+    """``"curve"`` for a thin figure (`thickness` below `FIGURE.curve_width`) whose skeleton is one path
+    (its longest path holds `FIGURE.curve_path_share` of it), else ``"shape"`` (`curve_path`)."""
+    return "shape" if curve_path(target) is None else "curve"
+
+
+def curve_path(target: Target) -> np.ndarray | None:
+    """The skeleton's longest path ``(L, 2)`` (`skeleton_path`) when the figure is a curve (see `classify`), else
+    None: what `classify` decides on, kept for the curve's starts (`candidates` takes it as ``path``)."""
     pixels = int(target.mask.sum())
-    if pixels < MIN_PIXELS:
+    if pixels < FIGURE.min_pixels:
         raise IFSError(f"the figure has {pixels} pixel(s): too few to read a curve or a shape from (at least "
-                       f"{MIN_PIXELS})")
+                       f"{FIGURE.min_pixels})")
     skeleton = _skeleton(target)
-    if thickness(target, skeleton) >= CURVE_WIDTH:
-        return "shape"
-    return "curve" if len(skeleton_path(target, skeleton)) >= CURVE_PATH_SHARE * skeleton.sum() else "shape"
+    if thickness(target, skeleton) >= FIGURE.curve_width:
+        return None
+    path = skeleton_path(target, skeleton)
+    return path if len(path) >= FIGURE.curve_path_share * skeleton.sum() else None
 
 
-def interior_share(target: Target, size: int = POROUS_SIZE) -> float:
+def interior_share(target: Target, size: int = FIGURE.porous_size) -> float:
     """The share of the figure's pixels whose eight neighbours are all on the figure, with the target made
     ``size`` pixels wide (`resize_target`): near 1 for a silhouette, low for a fractal's lace."""
     mask = resize_target(target, size).mask
@@ -173,10 +116,10 @@ def _interior(mask: np.ndarray) -> np.ndarray:
     return ndimage.binary_erosion(mask, np.ones((3, 3)), border_value=0)
 
 
-def edge_dimension(target: Target, size: int = POROUS_SIZE) -> float:
+def edge_dimension(target: Target, size: int = FIGURE.porous_size) -> float:
     """The box-counting dimension of the figure's edge: its pixels with a neighbour off the figure (those
     `interior_share` does not count), with the target made ``size`` pixels wide, counted in boxes of
-    `EDGE_BOXES` pixels; the slope of log(boxes) against log(1 / side), by least squares.
+    `FIGURE.edge_boxes` pixels; the slope of log(boxes) against log(1 / side), by least squares.
 
     A straight or smooth edge measures about 1 (a square's and a disk's 0.99-1.00 at 128²); a fractal edge more
     (the Koch snowflake's is log 4 / log 3 = 1.26; its filled figure measures 1.22 at 128²).
@@ -184,73 +127,108 @@ def edge_dimension(target: Target, size: int = POROUS_SIZE) -> float:
     mask = resize_target(target, size).mask
     edge = mask & ~_interior(mask)
     counts = []
-    for side in EDGE_BOXES:
+    for side in FIGURE.edge_boxes:
         n = size // side
         counts.append(max(int(edge[:n * side, :n * side].reshape(n, side, n, side).any((1, 3)).sum()), 1))
-    return float(-np.polyfit(np.log(EDGE_BOXES), np.log(counts), 1)[0])
+    return float(-np.polyfit(np.log(FIGURE.edge_boxes), np.log(counts), 1)[0])
 
 
-def thin_share(target: Target, size: int = POROUS_SIZE) -> float:
-    """The share of the figure's pixels in parts thinner than a disk of radius `THIN_RADIUS` (with the target made
+def thin_share(target: Target, size: int = FIGURE.porous_size) -> float:
+    """The share of the figure's pixels in parts thinner than a disk of radius `FIGURE.thin_radius` (with the target made
     ``size`` pixels wide): those that a morphological opening by that disk removes."""
     from scipy import ndimage
     from skimage.morphology import disk
 
     mask = resize_target(target, size).mask
-    opened = ndimage.binary_opening(mask, disk(THIN_RADIUS))
+    opened = ndimage.binary_opening(mask, disk(FIGURE.thin_radius))
     return 1.0 - float(opened.sum()) / max(int(mask.sum()), 1)
 
 
 def thin_parts(target: Target) -> np.ndarray:
     """``(size, size)`` bool: the figure's pixels in parts thinner than `thin_share`'s disk, at the target's own
-    size (the disk's radius scaled from `POROUS_SIZE`, at least one pixel)."""
+    size (the disk's radius scaled from `FIGURE.porous_size`, at least one pixel)."""
     from scipy import ndimage
     from skimage.morphology import disk
 
-    radius = max(1, round(THIN_RADIUS * target.size / POROUS_SIZE))
+    radius = max(1, round(FIGURE.thin_radius * target.size / FIGURE.porous_size))
     return target.mask & ~ndimage.binary_opening(target.mask, disk(radius))
 
 
 def detailed(share: float, size: int) -> bool:
     """Whether a shape of interior share ``share`` (`interior_share`) in a target ``size`` pixels wide is detailed:
-    `DETAILED_FROM` to `DETAILED_BELOW`, at `DETAILED_MIN_SIZE` or more, so that it is offered
-    `SHAPE_CHOICES_DETAILED`."""
-    return DETAILED_FROM <= share < DETAILED_BELOW and size >= DETAILED_MIN_SIZE
+    `FIGURE.detailed_from` to `FIGURE.detailed_below`, at `FIGURE.detailed_min_size` or more, so that it is offered
+    `START.shape_choices_detailed`."""
+    return FIGURE.detailed_from <= share < FIGURE.detailed_below and size >= FIGURE.detailed_min_size
 
 
 def limbed(share: float, thin: float, size: int) -> bool:
     """Whether a shape of interior share ``share`` and thin share ``thin`` (`thin_share`) in a target ``size``
-    pixels wide has limbs: it is `detailed` and more than `THIN_PARTS` of it lies in thin parts (the creatures:
+    pixels wide has limbs: it is `detailed` and more than `FIGURE.thin_parts` of it lies in thin parts (the creatures:
     0.14-0.22; the thin letters and the flower at most 0.05), so `shape_maps` places some maps on them apart."""
-    return detailed(share, size) and thin > THIN_PARTS
+    return detailed(share, size) and thin > FIGURE.thin_parts
+
+
+@dataclass(frozen=True)
+class Measures:
+    """The measures that decide a shape's path, read once with the figure made `FIGURE.porous_size` wide (`measure`).
+
+    Attributes
+    ----------
+    share, thin : float
+        `interior_share` and `thin_share`.
+    edge : float or None
+        `edge_dimension` where it decides whether the figure is searched as a fractal: a porous figure of interior
+        share at least `FIGURE.ambiguous_share`, or a solid one without thin parts (``thin`` at most
+        `FIGURE.thin_parts`: a solid figure's limbs make its edge rough, not copies). None elsewhere: a lace is
+        searched whatever its edge, and a solid figure with limbs never is.
+    detailed, limbed : bool
+        `detailed` and `limbed` at the target's own size: what `choices` takes as ``detail`` and `candidates` as
+        ``limbs``.
+    """
+
+    share: float
+    thin: float
+    edge: float | None
+    detailed: bool
+    limbed: bool
+
+
+def measure(target: Target) -> Measures:
+    """The figure's `Measures`, the target resized once for all of them."""
+    small = resize_target(target, FIGURE.porous_size)
+    share, thin = interior_share(small), thin_share(small)
+    lace = share < FIGURE.ambiguous_share
+    edge = None if lace or (share >= FIGURE.porous_share and thin > FIGURE.thin_parts) else edge_dimension(small)
+    return Measures(share, thin, edge, detailed(share, target.size), limbed(share, thin, target.size))
 
 
 def shape_detail(target: Target) -> tuple[bool, bool]:
-    """Whether a shape target is `detailed` and whether it is `limbed`, measured as
-    `ifslib.discovery.plan.discover` measures them (at `POROUS_SIZE`): what to pass `choices` as ``detail`` and
-    `candidates` as ``limbs``."""
-    small = resize_target(target, POROUS_SIZE)
-    share = interior_share(small)
-    return detailed(share, target.size), limbed(share, thin_share(small), target.size)
+    """Whether a shape target is `detailed` and whether it is `limbed` (`measure`, as
+    `ifslib.discovery.plan.discover` reads them): what to pass `choices` as ``detail`` and `candidates` as
+    ``limbs``."""
+    m = measure(target)
+    return m.detailed, m.limbed
 
 
-def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) -> np.ndarray:
+def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False,
+               thin: np.ndarray | None = None) -> np.ndarray:
     """``(k, 2, 3)`` affine maps, each taking the figure's mean and covariance onto one of its ``k`` k-means parts.
 
     With ``limbs`` (a `limbed` figure), `limb_maps` of the ``k`` parts are drawn among the pixels of its
     thin parts (`thin_parts`) and the rest among the body's, so that a limb is covered by copies squeezed across
     it rather than by parts of body and limb together. Each matrix's singular values are clipped into
-    `SINGULAR_RANGE`, so every map contracts.
+    `START.singular_range`, so every map contracts. ``thin`` is the figure's `thin_parts`, computed (with
+    ``limbs``) unless the caller has it.
     """
     from scipy.cluster.vq import kmeans2
 
     fg = foreground_points(target)
     if len(fg) < 3 * k:
         raise IFSError(f"the target has {len(fg)} foreground pixels: too few for {k} maps")
-    mu, inv_root = fg.mean(0), np.linalg.inv(fractal.sqrtm_psd(np.cov(fg.T)))
+    mu, inv_root = fg.mean(0), np.linalg.inv(sqrtm_psd(np.cov(fg.T)))
     groups = [(fg, k)]
     if limbs:
-        thin = thin_parts(target)
+        thin = thin_parts(target) if thin is None else thin
         if n_thin := limb_maps(target, k, thin):
             on_thin = thin[target.mask]  # foreground_points' order
             groups = [(fg[~on_thin], k - n_thin), (fg[on_thin], n_thin)]
@@ -261,19 +239,19 @@ def shape_maps(target: Target, k: int, seed: int = 0, *, limbs: bool = False) ->
             part = points[label == i]
             if len(part) < 3:  # an empty or tiny cluster: a small copy at a random pixel of the group
                 part = points[np.random.default_rng(seed + i).choice(len(points), 3, replace=False)]
-            a = fractal.sqrtm_psd(np.cov(part.T)) @ inv_root
+            a = sqrtm_psd(np.cov(part.T)) @ inv_root
             u, s, vt = np.linalg.svd(a)
-            a = u @ np.diag(np.clip(s, *SINGULAR_RANGE)) @ vt
+            a = u @ np.diag(np.clip(s, *START.singular_range)) @ vt
             maps.append(np.concatenate([a, (part.mean(0) - a @ mu)[:, None]], 1))
     return np.array(maps)
 
 
 def limb_maps(target: Target, k: int, thin: np.ndarray | None = None) -> int:
-    """How many of ``k`` maps `shape_maps` places on the thin parts of a limbed figure: `LIMB_MAPS` times their
+    """How many of ``k`` maps `shape_maps` places on the thin parts of a limbed figure: `START.limb_maps` times their
     share of its pixels, rounded, at most half of ``k``, and none where fewer than 3 pixels a map are thin.
     ``thin`` is the figure's `thin_parts`, computed unless the caller has it."""
     pixels = int((thin_parts(target) if thin is None else thin).sum())
-    n = min(k // 2, round(LIMB_MAPS * k * pixels / int(target.mask.sum())))
+    n = min(k // 2, round(START.limb_maps * k * pixels / int(target.mask.sum())))
     return n if pixels >= 3 * n else 0
 
 
@@ -286,7 +264,8 @@ def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", 
     """
     if primitive not in PRIMITIVES:
         raise IFSError(f"unknown primitive {primitive!r} for an automatic start; known: {', '.join(PRIMITIVES)}")
-    frame = patterns.affine(shape_maps(target, k, seed, limbs=limbs), depth=depth)
+    thin = thin_parts(target) if limbs else None  # read once, for the maps and the pattern's count
+    frame = patterns.affine(shape_maps(target, k, seed, limbs=limbs, thin=thin), depth=depth)
     fg = foreground_points(target)
     pts = frame.points.detach().double()
     n = pts.shape[0]
@@ -298,7 +277,7 @@ def shape_start(target: Target, k: int, depth: int = 3, primitive: str = "box", 
     points = torch.cat([pts, torch.as_tensor(extra, dtype=torch.float64)])
     pattern = {"name": "auto", "kind": "shape", "maps": k, "depth": depth, "primitive": primitive}
     if limbs:
-        pattern["limb_maps"] = limb_maps(target, k)
+        pattern["limb_maps"] = limb_maps(target, k, thin)
     return IFS(points, frame.rules, [prim], depth=depth, name="auto", fixed=frame.fixed, meta={"pattern": pattern})
 
 
@@ -336,9 +315,10 @@ def skeleton_path(target: Target, skeleton: np.ndarray | None = None) -> np.ndar
     return np.stack([x.numpy()[flat], y.numpy()[flat]], 1)
 
 
-def curve_start(target: Target, k: int, depth: int = 3) -> IFS:
-    """A Koch-like start of ``k`` segment rules on ``k + 1`` points spaced evenly along the skeleton."""
-    path = skeleton_path(target)
+def curve_start(target: Target, k: int, depth: int = 3, *, path: np.ndarray | None = None) -> IFS:
+    """A Koch-like start of ``k`` segment rules on ``k + 1`` points spaced evenly along the skeleton (its
+    `skeleton_path` ``path``, computed unless given)."""
+    path = skeleton_path(target) if path is None else path
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
     at = np.linspace(0, arc[-1], k + 1)
     polyline = np.stack([np.interp(at, arc, path[:, 0]), np.interp(at, arc, path[:, 1])], 1)
@@ -351,28 +331,31 @@ def choices(kind: str, maps: int | None = None, depth: int | None = None, *,
             detail: bool = False) -> list[tuple[int, int]]:
     """The (maps, depth) pairs an automatic start is chosen among.
 
-    Both given: that one. ``maps`` given: it, at ``depth`` or `DEFAULT_DEPTH`. ``depth`` given:
-    `SHAPE_MAPS` or `CURVE_MAPS` at that depth. Neither: `SHAPE_CHOICES` for a shape
-    (`SHAPE_CHOICES_DETAILED` with ``detail``, a `detailed` figure), `CURVE_MAPS` at `DEFAULT_DEPTH` for a
-    curve.
+    Both given: that one. ``maps`` given: it, at ``depth`` or `START.default_depth`. ``depth`` given:
+    `START.shape_maps` or `START.curve_maps` at that depth. Neither: `START.shape_choices` for a shape
+    (`START.shape_choices_detailed` with ``detail``, a `detailed` figure), `START.curve_maps` at
+    `START.default_depth` for a curve.
     """
     if depth is not None:
         check_depth(depth)
     if maps is not None:
         check_int(maps, "number of maps", 1 if kind == "shape" else 2)
-        if maps > MAX_START_MAPS:
-            raise IFSError(f"number of maps must be at most {MAX_START_MAPS}, got {maps}")
-        return [(maps, DEFAULT_DEPTH if depth is None else depth)]
+        if maps > START.max_start_maps:
+            raise IFSError(f"number of maps must be at most {START.max_start_maps}, got {maps}")
+        return [(maps, START.default_depth if depth is None else depth)]
     if kind == "shape" and depth is None:
-        return list(SHAPE_CHOICES_DETAILED if detail else SHAPE_CHOICES)
-    return [(k, DEFAULT_DEPTH if depth is None else depth) for k in (CURVE_MAPS if kind == "curve" else SHAPE_MAPS)]
+        return list(START.shape_choices_detailed if detail else START.shape_choices)
+    numbers = START.curve_maps if kind == "curve" else START.shape_maps
+    return [(k, START.default_depth if depth is None else depth) for k in numbers]
 
 
 def candidates(target: Target, options: list[tuple[int, int]], primitive: str = "box", seed: int = 0,
-               kind: str | None = None, *, limbs: bool = False) -> list[IFS]:
+               kind: str | None = None, *, limbs: bool = False, path: np.ndarray | None = None) -> list[IFS]:
     """One automatic start for each ``(maps, depth)`` of ``options`` (see `choices`). ``kind`` (``"curve"``
     or ``"shape"``) is `classify`'s answer, computed unless the caller has it; ``limbs``: a shape's maps are
-    placed on its thin parts apart (`shape_maps`)."""
+    placed on its thin parts apart (`shape_maps`); ``path``: a curve's `curve_path`, walked unless given."""
     kind = classify(target) if kind is None else kind
-    return [curve_start(target, k, d) if kind == "curve" else shape_start(target, k, d, primitive, seed, limbs=limbs)
-            for k, d in options]
+    if kind == "curve" and path is None:
+        path = skeleton_path(target)  # one walk of the skeleton for every curve start
+    return [curve_start(target, k, d, path=path) if kind == "curve"
+            else shape_start(target, k, d, primitive, seed, limbs=limbs) for k, d in options]

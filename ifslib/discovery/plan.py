@@ -17,27 +17,13 @@ import numpy as np
 from ..geometry import patterns
 from ..geometry.ifs import IFS
 from ..scoring.metrics import evaluate
-from ..targets.target import Target, resize_target
+from ..targets.target import Target
 from . import fractal
-from .auto import (DEFAULT_DEPTH, FRACTAL_MIN_PIXELS, FRACTAL_MIN_SIZE, POROUS_SHARE, POROUS_SIZE, ROUGH_EDGE,
-                   THIN_PARTS, candidates, choices, classify, edge_dimension, detailed, interior_share,
-                   limbed, thin_share)
+from .auto import candidates, choices, curve_path, measure
+from .config import AUTO
 
-#: A porous figure with at least this interior share (`ifslib.discovery.auto.interior_share`) may be a solid
-#: shape with thin parts (limbs, tails, thin letters: 0.78-0.80) as well as a fractal (the random benchmark's
-#: are 0.06-0.76, two of the 50 above 0.6) ...
-AMBIGUOUS_SHARE = 0.6
-#: ... and it is fitted both ways unless the fractal search's chosen attractor already has this IoU (at the
-#: search's judging size): a fractal that draws the figure this well needs no rival (the silhouettes' level).
-CLEAR_FRACTAL_IOU = 0.93
-#: Such a figure is searched once, not again from the next seed when no attractor reaches IoU 0.85: it has a shape
-#: fit to fall back on, and a second search doubles the wait of a shape the search cannot place (creature 2 of
-#: `ifslib.targets.silhouettes.thin_gallery`; the fractals of interior share 0.6 or more end their first search
-#: above 0.85 and never search again; docs/results/any-shape.md).
-AMBIGUOUS_SEARCH = dataclasses.replace(fractal.DEFAULT, again=0)
-#: The fractal search's maps are the start when their attractor's symmetric Chamfer distance to the
-#: target (pixels, at the search's refining size) is at most this.
-FRACTAL_CHAMFER = 1.0
+#: The section of `ifslib.discovery.config.AUTO` this module reads (with ``AUTO.search``).
+FIGURE = AUTO.figure
 
 
 @dataclass(frozen=True)
@@ -60,6 +46,11 @@ class Plan:
         Plans of another kind for the same image, when the image could not tell which kind it is
         (`ambiguous`): the ``auto`` strategy fits each and keeps the one whose attractor scores best
         for its number of maps. Empty when the kind is clear.
+    search : tuple of Row
+        A fractal plan's search rows (`ifslib.discovery.fractal.SearchResult.rows`), full precision: what
+        the automatic fit reports as its candidates. Empty for a curve or a shape.
+    why : str, optional
+        With ``rivals``: why the figure is fitted as both kinds (`ambiguous`).
     """
 
     start: IFS
@@ -67,6 +58,8 @@ class Plan:
     kind: str
     pattern: dict
     rivals: tuple[Plan, ...] = ()
+    search: tuple[fractal.Row, ...] = ()
+    why: str | None = None
 
     def with_start(self, start: IFS) -> Plan:
         """The plan with ``start`` (the same pattern, moved: a jittered start) in place of its start."""
@@ -78,9 +71,9 @@ class Plan:
         return self.start.depth
 
 
-def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_DEPTH, seed: int = 0,
-                  progress: bool = True, *, config: fractal.SearchConfig = fractal.DEFAULT
-                  ) -> tuple[IFS | None, dict, fractal.Row]:
+def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.start.default_depth, seed: int = 0,
+                  progress: bool = True, *, config: fractal.SearchConfig = AUTO.search
+                  ) -> tuple[IFS | None, dict, fractal.SearchResult]:
     """The maps of `ifslib.discovery.fractal.search` (with ``config``) as a start, or None when their attractor
     does not fit.
 
@@ -88,60 +81,51 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = DEFAULT_
     -------
     IFS or None
         ``kind="fractal"`` affine maps, when the chosen attractor's Chamfer distance is at most
-        `FRACTAL_CHAMFER` pixels.
+        `FIGURE.fractal_chamfer` pixels.
     dict
         What the search compared, for the file: ``search`` (one row per number of maps), ``rule``, ``verdict``.
-    Row
-        The chosen number of maps' scores at full precision (what a later decision reads).
+    SearchResult
+        What the search found, its rows at full precision (what a later decision reads).
     """
     found = fractal.search(target, maps, seed=seed, progress=progress, config=config)
     chamfer_px = found.choice.chamfer_px
     record = {"search": found.table, "rule": found.rule}
-    if chamfer_px > FRACTAL_CHAMFER:
+    if chamfer_px > FIGURE.fractal_chamfer:
         record["verdict"] = (f"not a fractal of at most {max(r.maps for r in found.rows)} maps: the best attractor is "
-                             f"{chamfer_px:.2f} px from the target (> {FRACTAL_CHAMFER:g})")
-        return None, record, found.choice
+                             f"{chamfer_px:.2f} px from the target (> {FIGURE.fractal_chamfer:g})")
+        return None, record, found
     record["verdict"] = f"a fractal: {len(found.maps)} maps whose attractor is {chamfer_px:.2f} px from the target"
     ifs = patterns.affine(found.maps, depth=depth, name="auto")
     ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(found.maps), "depth": depth, **record}
-    return ifs, record, found.choice
-
-
-def _edge(target: Target, share: float, thin: float) -> float | None:
-    """The figure's edge dimension (`ifslib.discovery.auto.edge_dimension`) where it decides whether the figure is
-    searched: a porous figure of interior share at least `AMBIGUOUS_SHARE`, or a solid one without thin parts (its
-    `ifslib.discovery.auto.thin_share` ``thin`` at most `THIN_PARTS`: a solid figure's limbs make its edge rough, not
-    copies). None elsewhere: a lace is searched whatever its edge, and a solid figure with limbs never is."""
-    if share < AMBIGUOUS_SHARE or (share >= POROUS_SHARE and thin > THIN_PARTS):
-        return None
-    return edge_dimension(target)
+    return ifs, record, found
 
 
 def _searchable(target: Target, share: float, edge: float | None, maps: int | None) -> bool:
-    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, `_edge`) is searched as a fractal
-    first, when it is large enough: a lace (interior share below `AMBIGUOUS_SHARE`), or a figure of more interior
-    whose edge is rough (at least `ROUGH_EDGE`). A porous figure with a smooth edge is a shape with thin strokes (the
-    thin letter Y of `ifslib.targets.silhouettes.thin_gallery`: 1.01), not a fractal's lace (those of the random
-    benchmark and the literature's classes with as much interior measure 1.17-1.24; docs/results/any-shape.md)."""
-    figure = share < AMBIGUOUS_SHARE or (edge is not None and edge >= ROUGH_EDGE)
-    return (target.size >= FRACTAL_MIN_SIZE and target.mask.sum() >= FRACTAL_MIN_PIXELS and figure
-            and (maps is None or maps <= fractal.DEFAULT.max_maps))
+    """Whether a shape of interior share ``share`` (and edge dimension ``edge``, `ifslib.discovery.auto.Measures`) is
+    searched as a fractal first, when it is large enough: a lace (interior share below `FIGURE.ambiguous_share`), or
+    a figure of more interior whose edge is rough (at least `FIGURE.rough_edge`). A porous figure with a smooth edge
+    is a shape with thin strokes (the thin letter Y of `ifslib.targets.silhouettes.thin_gallery`: 1.01), not a
+    fractal's lace (those of the random benchmark and the literature's classes with as much interior measure
+    1.17-1.24; docs/results/any-shape.md)."""
+    figure = share < FIGURE.ambiguous_share or (edge is not None and edge >= FIGURE.rough_edge)
+    return (target.size >= FIGURE.fractal_min_size and target.mask.sum() >= FIGURE.fractal_min_pixels and figure
+            and (maps is None or maps <= AUTO.search.max_maps))
 
 
 def ambiguous(share: float, maps: int, iou: float, edge: float | None = None) -> str | None:
     """Why a figure (of interior share ``share``, `ifslib.discovery.auto.interior_share`) whose search found a
     fractal of ``maps`` maps may be a shape as well, or None when it is clearly a fractal: its interior share is
-    at least `AMBIGUOUS_SHARE` and the search's chosen attractor's IoU ``iou`` (full precision,
-    `ifslib.discovery.fractal.SearchResult.choice`) is below `CLEAR_FRACTAL_IOU`. ``edge`` is the edge dimension
+    at least `FIGURE.ambiguous_share` and the search's chosen attractor's IoU ``iou`` (full precision,
+    `ifslib.discovery.fractal.SearchResult.choice`) is below `FIGURE.clear_fractal_iou`. ``edge`` is the edge dimension
     of a solid figure searched for its rough edge (`ifslib.discovery.auto.edge_dimension`)."""
-    if share < AMBIGUOUS_SHARE or iou >= CLEAR_FRACTAL_IOU:
+    if share < FIGURE.ambiguous_share or iou >= FIGURE.clear_fractal_iou:
         return None
     figure = (f"the figure is solid (interior share {share:.2f}) with a rough edge (dimension {edge:.2f} >= "
-              f"{ROUGH_EDGE:g}: overlapping copies draw one, and so may a shape's)"
-              if share >= POROUS_SHARE and edge is not None else
-              f"the figure's interior share {share:.2f} is at least {AMBIGUOUS_SHARE:g} (a solid shape with thin "
+              f"{FIGURE.rough_edge:g}: overlapping copies draw one, and so may a shape's)"
+              if share >= FIGURE.porous_share and edge is not None else
+              f"the figure's interior share {share:.2f} is at least {FIGURE.ambiguous_share:g} (a solid shape with thin "
               f"parts has as much)")
-    return (f"{figure} and the search's {maps} maps draw an attractor of IoU {iou:.3f} < {CLEAR_FRACTAL_IOU:g}: "
+    return (f"{figure} and the search's {maps} maps draw an attractor of IoU {iou:.3f} < {FIGURE.clear_fractal_iou:g}: "
             "fitted as a fractal and as a shape")
 
 
@@ -159,38 +143,38 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     size with the best IoU (shapes) or the smallest Chamfer distance (curves). The ``auto``
     strategy compares the same candidates by fitting them instead.
     """
-    kind = classify(target)
+    path = curve_path(target)  # the skeleton walked once: to classify, and for a curve's starts
+    kind = "shape" if path is None else "curve"
     searched = None
     share = edge = None
     detail = limbs = False
     if kind == "shape":  # a curve is never searched as a fractal
-        small = resize_target(target, POROUS_SIZE)  # the three measures read the figure at one size: resized once
-        share, thin = interior_share(small), thin_share(small)
-        edge = _edge(small, share, thin)
-        detail, limbs = detailed(share, target.size), limbed(share, thin, target.size)
+        measures = measure(target)
+        share, edge, detail, limbs = measures.share, measures.edge, measures.detailed, measures.limbed
     wanted = choices(kind, maps, depth, detail=detail)  # checks maps and depth before any search
     if share is not None and _searchable(target, share, edge, maps):
-        config = AMBIGUOUS_SEARCH if share >= AMBIGUOUS_SHARE else fractal.DEFAULT
-        start, searched, choice = fractal_start(target, maps, DEFAULT_DEPTH if depth is None else depth, seed,
+        config = AUTO.ambiguous_search if share >= FIGURE.ambiguous_share else AUTO.search
+        start, searched, found = fractal_start(target, maps, AUTO.start.default_depth if depth is None else depth, seed,
                                                 config=config)
         if edge is not None:  # why a figure with interior was searched, for the file
             searched["edge_dimension"] = round(edge, 3)
             if start is not None:
                 start.meta["pattern"]["edge_dimension"] = searched["edge_dimension"]
         if start is not None:
-            found = Plan(start, (start,), "fractal", dict(start.meta["pattern"]))
-            why = ambiguous(share, choice.maps, choice.iou, edge)
+            fractal_plan = Plan(start, (start,), "fractal", dict(start.meta["pattern"]), search=found.rows)
+            why = ambiguous(share, found.choice.maps, found.choice.iou, edge)
             if why is None:
-                return found
+                return fractal_plan
             rival = _nearest(target, kind, candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs))
-            return dataclasses.replace(found, pattern={**found.pattern, "ambiguous": why}, rivals=(rival,))
-    options = candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs)
+            return dataclasses.replace(fractal_plan, pattern={**fractal_plan.pattern, "ambiguous": why},
+                                       rivals=(rival,), why=why)
+    options = candidates(target, wanted, primitive, seed, kind=kind, limbs=limbs, path=path)
     record = {}  # for the file: what the search found, or why a porous figure was not searched
     if searched is not None:
         record["fractal_search"] = searched
-    elif edge is not None and edge < ROUGH_EDGE and share < POROUS_SHARE:
-        record["not_searched"] = (f"interior share {share:.2f} (porous, at least {AMBIGUOUS_SHARE:g}) with a smooth "
-                                  f"edge (dimension {edge:.2f} < {ROUGH_EDGE:g}): a shape with thin strokes, not a "
+    elif edge is not None and edge < FIGURE.rough_edge and share < FIGURE.porous_share:
+        record["not_searched"] = (f"interior share {share:.2f} (porous, at least {FIGURE.ambiguous_share:g}) with a smooth "
+                                  f"edge (dimension {edge:.2f} < {FIGURE.rough_edge:g}): a shape with thin strokes, not a "
                                   "fractal's lace")
     for o in options:
         o.meta["pattern"].update(record)

@@ -2,11 +2,11 @@
 comparing its candidates, coarse to fine (`ifslib.fitting.pyramid`).
 
 Each candidate start is fitted at the coarsest size of the pyramid for the same number of steps
-(`AUTO_PROBE_STEPS`), and the one with the lowest loss goes on through the pyramid's stages; a
-shape then gets a stage at full size with the pixel loss (`POLISH_LOSS`), which fills the slivers
+(`FIT.probe_steps`), and the one with the lowest loss goes on through the pyramid's stages; a
+shape then gets a stage at full size with the pixel loss (`FIT.polish_loss`), which fills the slivers
 between copies, or, ending on the attractor (the default), the attractor stage with that loss. A
 fractal's plan (its maps and their number chosen by the search) goes straight to the attractor
-stage (`FRACTAL_STAGE_STEPS`, `FRACTAL_LOSS`). A plan with rivals (a figure that may be a fractal
+stage (`FIT.fractal_stage_steps`, `FIT.fractal_loss`). A plan with rivals (a figure that may be a fractal
 or a shape) has each of its kinds fitted so, and the one whose attractor scores best for its number
 of maps is kept (`choose_kind`). The plan is taken as it is: nothing here calls discovery again.
 """
@@ -14,83 +14,25 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from dataclasses import dataclass
 
 from ..errors import IFSError
+from ..discovery.config import AUTO
 from ..discovery.plan import Plan
 from ..geometry.attractor import ATTRACTOR
 from ..scoring.metrics import evaluate
+from .choice import AutoRun, Candidate, Kind
 from .options import RunOptions
 from .frame import Frame
 from .pyramid import FIT_MAX_LEAVES, PYRAMID_STAGE_STEPS, attractor_stage, climb, with_early_stop
 from .result import FitResult, Stage
 
-#: Steps each candidate gets at the coarsest size before they are compared.
-AUTO_PROBE_STEPS = 150
-#: A shape's last stage: the pixel loss counts every uncovered pixel, where the distance loss hardly
-#: sees the slivers between copies (apple at 256²: IoU 0.89 -> 0.97, docs/results/any-shape.md).
-POLISH_LOSS = "multiscale_pixel"
-#: A shape's attractor stage draws the certified cut only up to this many leaves (a curve's and a fractal's up
-#: to `FIT_MAX_LEAVES`), else sampled leaves (32,768 at 128², 65,536 from 181²): a shape's copies overlap and
-#: thin ones need many leaves, at a cost a step that grows with them (the thin letter Y at 128²: 228,598
-#: leaves, 0.55 s a step against 0.12 s sampled, attractor IoU after 20 steps 0.886 against 0.877;
-#: docs/results/any-shape.md).
-SHAPE_MAX_LEAVES = 65_536
-#: A fractal's plan (maps placed by `ifslib.discovery.fractal.search` within a fraction of a pixel)
-#: gets one attractor stage of at most this many steps ...
-FRACTAL_STAGE_STEPS = 100
-#: ... with this loss: the single-scale pixel loss scores what the fit is judged by (the attractor's IoU) better
-#: than the multiscale pixel or a soft IoU loss, and quicker (docs/results/fractals.md).
-FRACTAL_LOSS = "pixel"
-
-
-#: Between kinds (the fractal and the shape fitted to one ambiguous figure) each fit scores 1 - its attractor's IoU
-#: plus this much a map, the least kept: a description-length rule whose price of a map is the search's
-#: (`ifslib.discovery.fractal.DEFAULT.map_cost`, 0.04) over 40, since the shape's 24 maps would otherwise cost
-#: 0.96 and no shape could ever beat a fractal: here a 5-map fractal is kept unless the 24-map shape draws
-#: the figure better by more than 0.019 IoU.
-KIND_MAP_COST = 0.001
-
-
-@dataclass(frozen=True)
-class Kind:
-    """One kind's fit of an ambiguous figure, as `choose_kind` compares them: its number of maps, its attractor's
-    IoU at the target's size (full precision) and the steps it spent."""
-
-    kind: str
-    maps: int
-    attractor_iou: float
-    steps: int
-
-    @property
-    def score(self) -> float:
-        """1 - attractor IoU plus `KIND_MAP_COST` a map: the least is kept."""
-        return 1 - self.attractor_iou + KIND_MAP_COST * self.maps
-
-    def written(self) -> dict:
-        """The row for the history and the file, rounded to 4 digits."""
-        return {"kind": self.kind, "maps": self.maps, "attractor_iou": round(self.attractor_iou, 4),
-                "score": round(self.score, 4), "steps": self.steps}
-
-
-@dataclass(frozen=True)
-class Probe:
-    """A curve's or a shape's candidate after `AUTO_PROBE_STEPS` steps at the coarsest size: the lowest ``loss``
-    goes on (fewer maps on a tie)."""
-
-    maps: int
-    depth: int
-    loss: float
-    steps: int
-    seconds: float
-
-    def written(self) -> dict:
-        """The row for ``history.auto["candidates"]``."""
-        return dataclasses.asdict(self)
+#: The section of `ifslib.discovery.config.AUTO` this module reads: its tuned numbers, each with what it trades.
+FIT = AUTO.fit
 
 
 def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor: bool = True) -> FitResult:
-    """Fit ``plan`` (see the module docstring); ``history.auto`` lists the candidates and the one chosen.
+    """Fit ``plan`` (see the module docstring); ``history.auto`` (an `ifslib.fitting.choice.AutoRun`) holds the
+    candidates compared and the one chosen.
 
     The fitted IFSs' ``meta["pattern"]`` is the chosen candidate's description with ``chosen``; for a
     plan with rivals also ``decision``, which kind was kept and why.
@@ -101,33 +43,33 @@ def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor:
     options = with_early_stop(options.replace(depth=None))
     if plan.rivals:
         results, ious = zip(*(_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)))
-        return choose_kind(list(results), frame, why=plan.pattern.get("ambiguous"), ious=list(ious))
+        return choose_kind(list(results), frame, why=plan.why, ious=list(ious))
     return _fit_one(plan, frame, options, end_on_attractor)[0]
 
 
 def choose_kind(results: list[FitResult], frame: Frame, *, why: str | None = None,
                 ious: list[float | None] | None = None) -> FitResult:
     """Of the fits of one figure as different kinds, the one whose attractor scores least: 1 - attractor IoU
-    at the target's size plus `KIND_MAP_COST` a map. Its history counts every fit's steps, and says in
-    ``auto["kinds"]`` and ``auto["decision"]`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared,
+    at the target's size plus `FIT.kind_map_cost` a map. Its history counts every fit's steps, and says in
+    ``auto.kinds`` and ``auto.decision`` (and its IFSs' ``meta["pattern"]["decision"]``) what was compared,
     after ``why`` (why both kinds were fitted) when given. ``ious`` are the fits' attractor IoUs at the target's
     size where already measured (None where not): each is measured once."""
     kinds = []
     for result, known in zip(results, ious or [None] * len(results)):
         iou = evaluate(result.best, frame.target, depth=ATTRACTOR)["iou"] if known is None else known
-        kinds.append(Kind(result.history.kind, len(result.best.rules), iou, result.history.cost))
+        kinds.append(Kind(result.history.auto.kind, len(result.best.rules), iou, result.history.cost))
     best = min(range(len(kinds)), key=lambda i: (kinds[i].score, kinds[i].maps))  # full precision decides
     rows = [k.written() for k in kinds]  # what the file and the history say
     decision = (f"{rows[best]['kind']} kept: " + "; ".join(
         f"{r['kind']} of {r['maps']} maps, attractor IoU {r['attractor_iou']:.3f}, score {r['score']:.3f}" for r in rows)
-        + f" (1 - attractor IoU at {frame.target.size}² plus {KIND_MAP_COST:g} a map, the least kept)")
+        + f" (1 - attractor IoU at {frame.target.size}² plus {FIT.kind_map_cost:g} a map, the least kept)")
     if why:
         decision = f"{why}; {decision}"
     result = results[best]
-    result.history.cost = sum(r["steps"] for r in rows)
-    result.history.auto = {**result.history.auto, "kinds": rows, "decision": decision}
+    result.history.cost = sum(k.steps for k in kinds)
+    result.history.auto = dataclasses.replace(result.history.auto, kinds=tuple(kinds), decision=decision)
     for ifs in (result.best, result.final):
-        ifs.meta["pattern"] = {**ifs.meta["pattern"], "decision": decision}
+        ifs.meta["pattern"] = result.history.auto.described()
     return result
 
 
@@ -138,58 +80,59 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
         return _fit_fractal(plan, frame, options, end_on_attractor)
     tried = [_probe(frame, candidate, options) for candidate in plan.candidates]
     # the lowest loss after the same number of steps; fewer maps win a tie
-    winner, chosen = min(tried, key=lambda rc: (rc[1].loss, rc[1].maps))
+    winner, chosen = min(tried, key=lambda rc: (rc[1].value, rc[1].maps))
     label = f"{chosen.maps} maps"
     options = options.replace(depth=chosen.depth)
     result, stages = climb(frame, winner.best, options, label)
     shape = plan.kind == "shape"
-    if shape and options.loss != POLISH_LOSS and not end_on_attractor:
+    if shape and options.loss != FIT.polish_loss and not end_on_attractor:
         # The distance loss brings the copies over the figure from afar, but it hardly sees the
         # one-pixel slivers left between them; the pixel loss counts each uncovered pixel fully.
         target = frame.target
-        result = frame.run(result.best, min(frame.steps, PYRAMID_STAGE_STEPS), options.replace(loss=POLISH_LOSS),
-                           desc=f"{label} · {target.size}² · {POLISH_LOSS}")
-        stages.append(Stage(size=target.size, loss=POLISH_LOSS, steps=result.history.cost,
+        result = frame.run(result.best, min(frame.steps, PYRAMID_STAGE_STEPS), options.replace(loss=FIT.polish_loss),
+                           desc=f"{label} · {target.size}² · {FIT.polish_loss}")
+        stages.append(Stage(size=target.size, loss=FIT.polish_loss, steps=result.history.cost,
                             stopped=result.history.stopped, best_loss=result.best_loss))
     if end_on_attractor:
-        result, stage = attractor_stage(frame, result.best, options.replace(loss=POLISH_LOSS) if shape else options,
-                                        label, max_leaves=SHAPE_MAX_LEAVES if shape else FIT_MAX_LEAVES)
+        result, stage = attractor_stage(frame, result.best, options.replace(loss=FIT.polish_loss) if shape else options,
+                                        label, max_leaves=FIT.shape_max_leaves if shape else FIT_MAX_LEAVES)
         stages.append(stage)
-    # the chosen candidate's own description, for the file (it decides nothing here)
-    choice = {**winner.best.meta["pattern"], "candidates": [c.written() for _, c in tried], "chosen": chosen.maps}
+    # the chosen candidate's own description is the file's (it decides nothing here)
+    run = AutoRun(plan.kind, chosen.maps, tuple(c for _, c in tried), dict(winner.best.meta["pattern"]))
     cost = sum(c.steps for _, c in tried) + sum(s.steps for s in stages)
-    return _finish(result, plan.kind, choice, stages, cost), None
+    return _finish(result, run, stages, cost), None
 
 
-def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, Probe]:
-    """A candidate fitted at the coarsest size for `AUTO_PROBE_STEPS` steps, and its row in ``history.auto``."""
+def _probe(frame: Frame, candidate, options: RunOptions) -> tuple[FitResult, Candidate]:
+    """A candidate fitted at the coarsest size for `FIT.probe_steps` steps, and its row in ``history.auto``."""
     k, coarse = len(candidate.rules), frame.sizes[0]
     t0 = time.perf_counter()
-    result = frame.run(candidate, min(frame.steps, AUTO_PROBE_STEPS),
-                       options.replace(lr=options.lr * frame.target.size / coarse), target=frame.levels[coarse],
+    result = frame.run(candidate, min(frame.steps, FIT.probe_steps),
+                       options.replace(stage_lr=options.lr * frame.target.size / coarse), target=frame.levels[coarse],
                        desc=f"{k} maps, depth {candidate.depth} · {coarse}²")
-    return result, Probe(k, candidate.depth, result.best_loss, result.history.cost, time.perf_counter() - t0)
+    return result, Candidate(k, candidate.depth, "loss", result.best_loss, result.history.cost,
+                             time.perf_counter() - t0)
 
 
 def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
                  end_on_attractor: bool) -> tuple[FitResult, float | None]:
     """A fractal's plan: its maps were found by the search, so only the attractor stage is left (at most
-    `FRACTAL_STAGE_STEPS` steps), or, without ``end_on_attractor``, a run of the drawing at its depth; with the
+    `FIT.fractal_stage_steps` steps), or, without ``end_on_attractor``, a run of the drawing at its depth; with the
     attractor IoU of what is returned, when measured (`_no_worse_than_start`)."""
-    pattern, start = plan.pattern, plan.start
-    label = f"{pattern['maps']} maps"
-    budget = min(frame.steps, FRACTAL_STAGE_STEPS)
+    start = plan.start
+    label = f"{len(start.rules)} maps"
+    budget = min(frame.steps, FIT.fractal_stage_steps)
     iou = None
     if end_on_attractor:
-        result, stage = attractor_stage(frame, start, options.replace(loss=FRACTAL_LOSS), label, steps=budget)
+        result, stage = attractor_stage(frame, start, options.replace(loss=FIT.fractal_loss), label, steps=budget)
         result, iou = _no_worse_than_start(start, result, frame, stage)
     else:
         result = frame.run(start, budget, options.replace(depth=start.depth), desc=f"{label} · {frame.target.size}²")
         stage = Stage(size=frame.target.size, steps=result.history.cost, stopped=result.history.stopped,
                       best_loss=result.best_loss)
-    choice = {**{k: v for k, v in pattern.items() if k != "search"}, "candidates": pattern.get("search", []),
-              "chosen": pattern["maps"]}
-    return _finish(result, plan.kind, choice, [stage], stage.steps), iou
+    searched = tuple(Candidate(row.maps, start.depth, "score", row.score, 0, row.seconds) for row in plan.search)
+    run = AutoRun(plan.kind, len(start.rules), searched, dict(plan.pattern))
+    return _finish(result, run, [stage], stage.steps), iou
 
 
 def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -> tuple[FitResult, float]:
@@ -212,12 +155,12 @@ def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -
                      best_loss=loss[0] if loss else result.best_loss, best_step=0), before  # the loss before step 0
 
 
-def _finish(result: FitResult, kind: str, choice: dict, stages: list[Stage], cost: int) -> FitResult:
-    """The history's account of the choice, and the fitted IFSs' description for the file."""
+def _finish(result: FitResult, run: AutoRun, stages: list[Stage], cost: int) -> FitResult:
+    """The history's account of the choice (``run``), and the fitted IFSs' description for the file, written from it."""
     for stage in stages:
-        stage.maps = choice["chosen"]
+        stage.maps = run.chosen
     h = result.history
-    h.cost, h.stages, h.kind, h.auto = cost, stages, kind, choice
+    h.cost, h.stages, h.kind, h.auto = cost, stages, run.kind, run
     for ifs in (result.best, result.final):
-        ifs.meta["pattern"] = {k: v for k, v in choice.items() if k != "candidates"}
+        ifs.meta["pattern"] = run.described()
     return result

@@ -31,7 +31,7 @@ from .options import RunOptions, split_settings
 from .result import FitResult, History
 from ..geometry.ifs import IFS, check_depth
 from ..scoring.losses import loss as loss_fn
-from ..geometry.rules import MIN_LENGTH, MIN_SINGULAR, check_gradient_mode, rule_lengths, rule_maps, singular_values
+from ..geometry.rules import MIN_LENGTH, MIN_SINGULAR, rule_lengths, rule_maps, singular_values
 from ..targets.target import Target
 
 #: Adam's constants, those of `torch.optim.Adam`'s defaults (which `ifslib.fitting.run.run` uses).
@@ -117,8 +117,7 @@ def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, *,
     options, _ = split_settings(settings, options, None)
     _check_batchable(options)
     refresh_threads()  # in auto mode: the cores free now (see ifslib.threads)
-    check_gradient_mode(options.gradient)
-    lr, loss, sigma, levels, gradient = options.lr, options.loss, options.sigma, options.levels, options.gradient
+    lr, loss, sigma, levels, gradient = options.step_lr, options.loss, options.sigma, options.levels, options.gradient
     max_rollbacks = options.max_rollbacks
     starts = _starts(ifs, seeds, jitter)
     pattern = starts[0]

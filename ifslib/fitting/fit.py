@@ -12,7 +12,7 @@ from ..errors import MAX_SEED, IFSError, check_int
 from ..discovery.plan import Plan
 from ..geometry.ifs import IFS
 from ..targets.target import Target
-from .options import MAX_LR, Checkpoint, RunOptions, StrategyOptions, split_settings
+from .options import Checkpoint, RunOptions, StrategyOptions, split_settings
 from .result import FitResult
 from .run import run
 from .strategies import DEFAULT_STRATEGY, check_strategy, run_strategy
@@ -33,9 +33,6 @@ def _checkpoint(checkpoint, checkpoint_every: int | None, resume) -> Checkpoint 
 
 def _check(start, target, steps: int, seed: int, options: RunOptions) -> None:
     check_int(steps, "steps", 0)
-    if not options.lr <= MAX_LR:
-        raise IFSError(f"lr must be a finite number > 0 and at most {MAX_LR:g} (a step as wide as the frame), "
-                       f"got {options.lr!r}")
     check_int(seed, "seed", 0, maximum=MAX_SEED)
     if not isinstance(target, Target):
         raise IFSError(f"target must be a Target (see ifslib.load_target), got a {type(target).__name__}")

@@ -1,4 +1,4 @@
-"""The settings of a fit, as frozen dataclasses validated once: `RunOptions` (one Adam run),
+"""The settings of a fit, as frozen dataclasses validated once, where they are built: `RunOptions` (one Adam run),
 `StrategyOptions` (how a strategy spends its runs) and `Checkpoint` (a resumable run).
 
 `ifslib.fit` takes them as objects, or their fields by name (``fit(ifs, target, lr=0.01)``), and
@@ -46,8 +46,10 @@ class RunOptions:
     Attributes
     ----------
     lr : float
-        Learning rate at the target's size (the paper used 0.003); strategies scale it with the
-        pixel size of a coarser stage.
+        Learning rate at the target's size (the paper used 0.003), above 0 and at most `MAX_LR`.
+    stage_lr : float, optional
+        The learning rate of a coarser stage, set by the strategies (``lr`` scaled with the stage's
+        pixel size); None runs at ``lr``. Not a setting a fit takes by name.
     loss : str or callable
         One of `ifslib.scoring.losses.LOSSES` (`DEFAULT_LOSS` when not given) or ``f(distance, target)``.
     depth : int or "attractor", optional
@@ -81,10 +83,14 @@ class RunOptions:
     crossing_weight: float = 0.0
     tol: float | None = None
     patience: int | None = None
+    stage_lr: float | None = None
 
     def __post_init__(self) -> None:
-        if not _finite(self.lr):
-            raise IFSError(f"lr must be a finite number > 0, got {self.lr!r}")
+        if not (_finite(self.lr) and self.lr <= MAX_LR):
+            raise IFSError(f"lr must be a finite number > 0 and at most {MAX_LR:g} (a step as wide as the frame), "
+                           f"got {self.lr!r}")
+        if self.stage_lr is not None and not _finite(self.stage_lr):
+            raise IFSError(f"stage_lr must be None or a finite number > 0, got {self.stage_lr!r}")
         check_loss(self.loss)
         if self.method not in METHODS:
             raise IFSError(f"unknown method {self.method!r}; known methods: {', '.join(METHODS)}")
@@ -102,6 +108,11 @@ class RunOptions:
     def replace(self, **changes) -> RunOptions:
         """A copy with ``changes`` (validated again)."""
         return dataclasses.replace(self, **changes)
+
+    @property
+    def step_lr(self) -> float:
+        """The learning rate Adam starts from: ``stage_lr`` when a strategy set one, else ``lr``."""
+        return self.lr if self.stage_lr is None else self.stage_lr
 
 
 @dataclass(frozen=True)
@@ -167,16 +178,13 @@ class Checkpoint:
 
 
 #: The settings `ifslib.fit` takes by name, and the object each belongs to.
-FIELDS = {f.name: RunOptions for f in dataclasses.fields(RunOptions)} | \
+FIELDS = {f.name: RunOptions for f in dataclasses.fields(RunOptions) if f.name != "stage_lr"} | \
          {f.name: StrategyOptions for f in dataclasses.fields(StrategyOptions)}
 
 
 def split_settings(settings: dict, run: RunOptions | None, strategy: StrategyOptions | None
                    ) -> tuple[RunOptions, StrategyOptions]:
     """``settings`` given by name (fields of `RunOptions` or `StrategyOptions`) applied to the objects given."""
-    if "lr" in settings and not (_finite(settings["lr"]) and settings["lr"] <= MAX_LR):
-        raise IFSError(f"lr must be a finite number > 0 and at most {MAX_LR:g} (a step as wide as the frame), "
-                       f"got {settings['lr']!r}")
     unknown = sorted(set(settings) - set(FIELDS))
     if unknown:
         raise IFSError(f"unknown setting(s) {', '.join(unknown)}: a fit takes {', '.join(sorted(FIELDS))}")

@@ -41,7 +41,7 @@ def climb(frame: Frame, start: IFS, options: RunOptions, label: str, *, sizes: l
     """Fit ``start`` at each size of the pyramid (or of ``sizes``) in turn, each stage from the last one's best points."""
     stages, current, result = [], start, None
     for size in frame.sizes if sizes is None else sizes:
-        staged = options.replace(lr=options.lr * frame.target.size / size)
+        staged = options.replace(stage_lr=options.lr * frame.target.size / size)
         result = frame.run(current, min(frame.steps, PYRAMID_STAGE_STEPS), staged, target=frame.levels[size],
                            desc=f"{label} · {size}²")
         stages.append(Stage(size=size, steps=result.history.cost, stopped=result.history.stopped,

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..geometry.ifs import IFS
+from .choice import AutoRun
 
 
 @dataclass
@@ -67,9 +68,9 @@ class History:
         most ``success``, and what was judged (``"attractor"`` or ``"depth"``).
     kind : str, optional
         For a fit of a plan (the ``auto`` strategy): the kind fitted, ``"curve"``, ``"shape"`` or ``"fractal"``.
-    auto : dict, optional
-        The automatic pattern's choice as written for the file: what ``meta["pattern"]`` records, with
-        the ``candidates`` compared and the number of maps ``chosen``.
+    auto : AutoRun, optional
+        For a fit of a plan: what was compared and chosen, typed (`ifslib.fitting.choice.AutoRun`); the file
+        gets ``auto.written()``.
     snapshots, pattern : dict, optional
         With ``keep_every``: ``{"step": [...], "points": [...]}`` and the pattern as a dict, for `ifslib.animate`.
     """
@@ -87,7 +88,7 @@ class History:
     recovered: bool | None = None
     judged: str | None = None
     kind: str | None = None
-    auto: dict | None = None
+    auto: AutoRun | None = None
     snapshots: dict | None = None
     pattern: dict | None = None
 
@@ -99,6 +100,9 @@ class History:
             if f.name == "stages":
                 if value:
                     out["stages"] = [s.to_dict() for s in value]
+            elif f.name == "auto":
+                if value is not None:
+                    out["auto"] = copy.deepcopy(value.written())
             elif value is not None:
                 out[f.name] = copy.deepcopy(value)
         return out
@@ -107,7 +111,8 @@ class History:
     def from_dict(cls, saved: dict) -> History:
         """The history of a checkpoint (`to_dict`'s output, read back from JSON)."""
         names = {f.name for f in dataclasses.fields(cls)}
-        values = {k: copy.deepcopy(v) for k, v in saved.items() if k in names}
+        # a checkpoint is of one plain run, which has no automatic record to read back
+        values = {k: copy.deepcopy(v) for k, v in saved.items() if k in names and k != "auto"}
         values["stages"] = [Stage(**s) for s in saved.get("stages", [])]
         return cls(**values)
 

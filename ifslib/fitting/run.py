@@ -80,7 +80,7 @@ class _Run:
         self.target, self.options, self.depth = target, options, depth
         self.work = ifs.clone()
         self.fixed = list(self.work.fixed)
-        self.lr = options.lr
+        self.lr = options.step_lr
         self.opt = torch.optim.Adam([self.work.points], lr=self.lr)
         self.history = History()
         self.start, self.best_loss, self.best_step = 0, math.inf, -1

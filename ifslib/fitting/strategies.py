@@ -18,18 +18,19 @@ strategies compare per step spent:
 ``auto``
     For a plan (`ifslib.initialize("auto", target)`, `ifslib.discovery.plan.Plan`), in
     `ifslib.fitting.automatic`: each of its candidate starts is fitted at the coarsest size of the pyramid
-    for the same number of steps (`AUTO_PROBE_STEPS`), and the one with the lowest loss goes on
+    for the same number of steps (`AUTO.fit.probe_steps`), and the one with the lowest loss goes on
     through the pyramid's stages as in ``pyramid``; a shape then gets a stage at full size
-    with the pixel loss (`POLISH_LOSS`), which fills the slivers between copies. With
+    with the pixel loss (`AUTO.fit.polish_loss`), which fills the slivers between copies. With
     ``end_on_attractor`` (the default) that stage is the attractor stage (`attractor_stage`, with the
     pixel loss for a shape): it fills the slivers of the attractor itself.
-    ``history.auto`` lists the candidates (maps, loss, steps, seconds) and the one chosen, and
-    the fitted IFS's ``meta["pattern"]`` says so. A fractal's start (``kind="fractal"``: its maps
+    ``history.auto`` (`ifslib.fitting.choice.AutoRun`) holds the candidates (`Candidate`: maps, depth,
+    what they were compared by and its value, steps, seconds) and the one chosen, and the fitted
+    IFS's ``meta["pattern"]`` says so. A fractal's start (``kind="fractal"``: its maps
     and their number were chosen by `ifslib.discovery.fractal.search`) goes straight to the attractor
-    stage, of at most `FRACTAL_STAGE_STEPS` steps with the single-scale pixel loss (`FRACTAL_LOSS`: the
+    stage, of at most `AUTO.fit.fractal_stage_steps` steps with the single-scale pixel loss (`AUTO.fit.fractal_loss`: the
     distance loss trades the attractor's thin detail for its outline, and the pooled copies of the
-    multiscale pixel loss blur it); ``history.auto["candidates"]`` is then the
-    search's table (per number of maps: cover, collage and attractor Chamfer distances, score).
+    multiscale pixel loss blur it); ``history.auto.candidates`` are then the
+    search's rows, compared by its score (``meta["pattern"]["search"]`` keeps its whole table).
 ``plain``
     One run: the paper's procedure (every step spent unless ``tol`` is given).
 ``coarse_to_fine``

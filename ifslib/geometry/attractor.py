@@ -97,7 +97,7 @@ def check_tolerance(tolerance) -> float:
     return check_positive(tolerance, "tolerance", " of pixels")
 
 
-def _plane_tolerance(tolerance) -> float:
+def check_plane_tolerance(tolerance) -> float:
     """``tolerance`` (plane units) as a float, if it is a finite real number > 0; else `IFSError`."""
     return check_positive(tolerance, "tolerance", " (plane units)")
 
@@ -135,7 +135,7 @@ def _compose(nodes: torch.Tensor, maps: torch.Tensor) -> torch.Tensor:
     return (nodes[:, None] @ maps[None]).reshape(-1, 2, 3)
 
 
-def _apply(maps: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
+def apply_maps(maps: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
     """``(N, 2, 3)`` maps applied to one point ``(2,)``: ``(N, 2)``."""
     # a product and a sum over the last axis, not a matrix-vector product: the point's gradient is
     # then a reduction to two outputs, each in one thread, where mv's splits the N rows by thread count
@@ -155,7 +155,7 @@ def chaos_probabilities(maps: torch.Tensor) -> torch.Tensor:
     return weight / weight.sum(-1, keepdim=True)
 
 
-def _prepare(maps: torch.Tensor, rules=None) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, float]:
+def prepare_maps(maps: torch.Tensor, rules=None) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, float]:
     """What both cuts start from: the maps without autograd (checked to contract, naming ``rules``), their
     largest singular values ``(m,)``, and the ball of `attractor_ball` (its centre with autograd)."""
     with torch.no_grad():
@@ -190,13 +190,13 @@ def attractor_ball(maps: torch.Tensor) -> tuple[torch.Tensor, float]:
     words = torch.eye(3, dtype=maps.dtype, device=maps.device)[None, :2]
     for _ in range(k):
         words = _compose(words, maps)
-    pts = _apply(words, fixed)
+    pts = apply_maps(words, fixed)
     centre = (pts.min(0).values + pts.max(0).values) / 2
     with torch.no_grad():
         maps64, words64, c = maps.detach().double(), words.detach().double(), centre.detach().double()
         scales = singular_values(maps64)[1]
-        r0 = float(((_apply(maps64[:, :2], c) - c).norm(dim=1) / (1 - scales)).max())
-        tighter = float(((_apply(words64, c) - c).norm(dim=1) + singular_values(words64)[1] * r0).max())
+        r0 = float(((apply_maps(maps64[:, :2], c) - c).norm(dim=1) / (1 - scales)).max())
+        tighter = float(((apply_maps(words64, c) - c).norm(dim=1) + singular_values(words64)[1] * r0).max())
     return centre, min(r0, tighter)
 
 
@@ -276,13 +276,13 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     -------
     AttractorLeaves
     """
-    tolerance = _plane_tolerance(tolerance)
+    tolerance = check_plane_tolerance(tolerance)
     budget = DEFAULT_MAX_LEAVES if max_leaves is None else int(max_leaves)
     if budget < 1:
         raise IFSError(f"max_leaves must be >= 1, got {max_leaves!r}")
     if window is not None:
         window = check_window(window)
-    work, _, centre_grad, radius = _prepare(maps, rules)
+    work, _, centre_grad, radius = prepare_maps(maps, rules)
     m, dtype, device = work.shape[0], work.dtype, work.device
     with torch.no_grad():
         centre = centre_grad.detach()
@@ -306,7 +306,7 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
             children = _compose(nodes, work)
             parent, digit = parents.repeat_interleave(m), digits.repeat(nodes.shape[0])
             err = singular_values(children)[1] * radius
-            pts = _apply(children, centre)
+            pts = apply_maps(children, centre)
             if blocks is not None:
                 blocks.update(pts, err)
                 keep = blocks.keep(pts, err).nonzero().flatten()
@@ -329,7 +329,7 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     return AttractorLeaves(points, error, tree, maps, centre_grad, radius, float(tolerance))
 
 
-def _word_maps(maps: torch.Tensor, words: torch.Tensor) -> torch.Tensor:
+def word_maps(maps: torch.Tensor, words: torch.Tensor) -> torch.Tensor:
     """The maps ``T_w`` ``(N, 2, 3)`` of words ``(N, K)`` (padded with ``m``, the identity), from ``(m, 3, 3)`` maps."""
     eye = torch.eye(3, dtype=maps.dtype, device=maps.device)[None]
     table = torch.cat([maps, eye])  # word digit m is the identity (padding)
@@ -354,7 +354,7 @@ def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
     digits = leaves.tree.select(index)
     if digits.shape[1] == 0:
         return leaves.centre.expand(index.numel(), 2)
-    return _apply(_word_maps(leaves.maps, digits), leaves.centre)
+    return apply_maps(word_maps(leaves.maps, digits), leaves.centre)
 
 
 __all__ = ["ATTRACTOR", "AttractorLeaves", "CHAOS_FLOOR", "chaos_probabilities", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",

@@ -67,8 +67,9 @@ def _cross(p: torch.Tensor, q: torch.Tensor, r: torch.Tensor) -> torch.Tensor:
     return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
 
 
-def crossing_depths(segments: torch.Tensor, tol: float = 1e-9) -> torch.Tensor:
-    """Depth of every proper crossing between the segments (see the module docstring).
+def crossing_pairs(segments: torch.Tensor, tol: float = 1e-9
+                   ) -> tuple[torch.Tensor, torch.Tensor, tuple[torch.Tensor, ...]]:
+    """The pairs of segments that properly cross: each one's endpoints strictly on opposite sides of the other's line.
 
     Parameters
     ----------
@@ -76,12 +77,15 @@ def crossing_depths(segments: torch.Tensor, tol: float = 1e-9) -> torch.Tensor:
         ``(S, 2, 2)`` start and end points.
     tol : float
         Cross products within this (times the squared extent) count as collinear, so segments that
-        only touch, as consecutive pieces of a curve do, never count as crossing.
+        only touch, as consecutive pieces of a curve do, or overlap on one line never count as crossing.
 
     Returns
     -------
-    torch.Tensor
-        ``(k,)`` one depth per crossing pair ``i < j`` (plane units), differentiable.
+    i, j : torch.Tensor
+        ``(k,)`` the crossing pairs ``i < j``, in row-major order.
+    sides : tuple of torch.Tensor
+        ``(S, S)`` each: the cross products ``AB x AC``, ``AB x AD``, ``CD x CA``, ``CD x CB`` of segment
+        ``AB`` (row) and ``CD`` (column).
     """
     a, b = segments[:, None, 0], segments[:, None, 1]        # (S, 1, 2)
     c, d = segments[None, :, 0], segments[None, :, 1]        # (1, S, 2)
@@ -90,8 +94,26 @@ def crossing_depths(segments: torch.Tensor, tol: float = 1e-9) -> torch.Tensor:
     cda, cdb = _cross(c, d, a), _cross(c, d, b)               # sides of A and B along CD
     hits = (abc * abd < 0) & (cda * cdb < 0)
     hits &= (abc.abs() > tol) & (abd.abs() > tol) & (cda.abs() > tol) & (cdb.abs() > tol)
-    hits = torch.triu(hits, 1)
-    i, j = hits.nonzero(as_tuple=True)
+    i, j = torch.triu(hits, 1).nonzero(as_tuple=True)
+    return i, j, (abc, abd, cda, cdb)
+
+
+def crossing_depths(segments: torch.Tensor, tol: float = 1e-9) -> torch.Tensor:
+    """Depth of every proper crossing between the segments (`crossing_pairs`; see the module docstring).
+
+    Parameters
+    ----------
+    segments : torch.Tensor
+        ``(S, 2, 2)`` start and end points.
+    tol : float
+        As `crossing_pairs`'s.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(k,)`` one depth per crossing pair ``i < j`` (plane units), differentiable.
+    """
+    i, j, (abc, abd, cda, cdb) = crossing_pairs(segments, tol)
     ab = (segments[i, 1] - segments[i, 0]).norm(dim=-1)
     cd = (segments[j, 1] - segments[j, 0]).norm(dim=-1)
     along_ab = torch.minimum(abc[i, j].abs(), abd[i, j].abs()) / ab
@@ -117,4 +139,4 @@ def crossing_penalty(ifs: IFS, depth: int | None = None) -> torch.Tensor:
     return crossing_depths(leaf_segments(ifs, depth)).sum()
 
 
-__all__ = ["check_curve", "leaf_segments", "crossing_depths", "crossing_penalty"]
+__all__ = ["check_curve", "leaf_segments", "crossing_pairs", "crossing_depths", "crossing_penalty"]

@@ -143,7 +143,7 @@ def check_budget(ifs: IFS, depth: int, n_pixels: int, method: str, memory_budget
         raise IFSError(
             f"depth {depth} with {len(ifs.rules)} rules makes {words:,} leaf maps; with {n_pixels:,} pixels "
             f"this needs about {need / 2**30:.2f} GiB, over the memory budget of {budget / 2**30:.2f} GiB. "
-            f"Lower the depth or size, or raise memory_budget (or IFSLIB_MEMORY_BUDGET_GB).")
+            f"Lower the depth or size, or raise the memory budget (Budget(memory=...), or IFSLIB_MEMORY_BUDGET_GB).")
 
 
 def compose_words(maps: torch.Tensor, depth: int) -> torch.Tensor:

@@ -9,7 +9,7 @@ import math
 import torch
 
 from ..errors import IFSError
-from .attractor import (AttractorLeaves, _apply, _plane_tolerance, _prepare, _word_maps, attractor_leaves,
+from .attractor import (AttractorLeaves, apply_maps, check_plane_tolerance, prepare_maps, word_maps, attractor_leaves,
                         check_window, chaos_probabilities)
 from .rules import singular_values
 from .words import DenseWords
@@ -82,12 +82,12 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
     -------
     AttractorLeaves
     """
-    tolerance = _plane_tolerance(tolerance)
+    tolerance = check_plane_tolerance(tolerance)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")
     if window is not None:
         window = check_window(window)
-    work, largest, centre_grad, radius = _prepare(maps, rules)
+    work, largest, centre_grad, radius = prepare_maps(maps, rules)
     m, device = work.shape[0], work.device
     with torch.no_grad():
         centre = centre_grad.detach()
@@ -116,7 +116,7 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
         depth = int(length.max())
         steps = torch.arange(depth, device=device)
         words = torch.where(steps[None] < length[:, None], digits[:, :depth], m).to(prefix.dtype)
-        points = _apply(current, centre)
+        points = apply_maps(current, centre)
     return AttractorLeaves(points, error, DenseWords(_join(prefix, words, m)), maps, centre_grad, radius,
                            float(tolerance))
 
@@ -141,7 +141,7 @@ def _walker_starts(work: torch.Tensor, radius: float, n: int, window, tolerance:
     weight = probability[words.long()].prod(1)  # the padding digit m has probability 1
     cdf = (weight.cumsum(0) / weight.sum())[:-1].contiguous()
     pick = torch.searchsorted(cdf, uniform.contiguous()).to(device)
-    return _word_maps(work, words.index_select(0, pick)), roots.error[pick].clone(), words[pick]
+    return word_maps(work, words.index_select(0, pick)), roots.error[pick].clone(), words[pick]
 
 
 def _join(prefix: torch.Tensor, suffix: torch.Tensor, m: int) -> torch.Tensor:

@@ -22,6 +22,8 @@ inside.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import torch
 from torch.utils.checkpoint import checkpoint
 
@@ -45,6 +47,26 @@ FLOAT32_PIXEL = 1e-4
 
 #: Working memory of one brute-force chunk, in bytes.
 BRUTE_CHUNK_BYTES = 64 * 2**20
+
+
+@dataclass(frozen=True)
+class Budget:
+    """What one distance field may spend, each checked where it is used.
+
+    Attributes
+    ----------
+    memory : int, optional
+        Bytes for the depth-K leaves; the estimate is checked before anything is allocated.
+    leaves : int, optional
+        The attractor's leaf budget (`ifslib.geometry.attractor.DEFAULT_MAX_LEAVES` when None).
+    samples : int, optional
+        For ``method="sampled"``: how many leaves; two per pixel, between 16,384 and
+        `ifslib.geometry.attractor.DEFAULT_SAMPLES` (65,536), when None.
+    """
+
+    memory: int | None = None
+    leaves: int | None = None
+    samples: int | None = None
 
 
 def resolve_device(device: str | torch.device = "auto") -> torch.device:
@@ -134,9 +156,8 @@ def _attractor_field(ifs: IFS, size: int, method: str, window, tolerance: float,
 
 def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: str = "fast", *,
                    device: str | torch.device = "auto", dtype: torch.dtype | None = None,
-                   gradient: str = "exact", memory_budget: int | None = None,
-                   tolerance: float = DEFAULT_TOLERANCE, window=None, max_leaves: int | None = None,
-                   samples: int | None = None) -> torch.Tensor:
+                   gradient: str = "exact", tolerance: float = DEFAULT_TOLERANCE, window=None,
+                   budget: Budget | None = None) -> torch.Tensor:
     """Signed distance from every pixel centre to the union of the depth-K leaf shapes, or to the attractor.
 
     Parameters
@@ -162,8 +183,6 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
         float32 or float64; that of ``ifs.points`` when None (float32 by default).
     gradient : {"exact", "paper"}
         ``"paper"`` cuts the gradient through segment rules' rotations, as the paper's code did.
-    memory_budget : int, optional
-        Bytes; the estimate is checked before anything is allocated (depth K).
     tolerance : float
         For the attractor: the field is within this many pixels of the distance to it (0.5).
     window : (x0, y0, x1, y1), optional
@@ -172,11 +191,9 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
         the frame's pixels cannot, at a cost that follows its pixels, not the zoom (the whole
         window is certified within ``tolerance``; see `ifslib.geometry.attractor`, step 4).
         Pixels smaller than `FLOAT32_PIXEL` are computed in float64 whatever ``dtype``.
-    max_leaves : int, optional
-        For the attractor: the leaf budget (`ifslib.geometry.attractor.DEFAULT_MAX_LEAVES`).
-    samples : int, optional
-        For ``method="sampled"``: how many leaves; two per pixel, between 16,384 and
-        `ifslib.geometry.attractor.DEFAULT_SAMPLES` (65,536), when None.
+    budget : Budget, optional
+        What it may spend: bytes of memory for the depth-K leaves, the attractor's leaf budget, and the
+        sampled leaves of ``method="sampled"`` (`Budget`; each its default when None).
 
     Returns
     -------
@@ -193,6 +210,9 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
     if method not in METHODS:
         raise IFSError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}")
     check_size(size)
+    if budget is not None and not isinstance(budget, Budget):
+        raise IFSError(f"budget must be an ifslib.raster.distance.Budget, got a {type(budget).__name__}")
+    budget = Budget() if budget is None else budget
     if window is not None and depth is None:
         depth = "attractor"
     depth = ifs.depth if depth is None else check_depth_or_attractor(depth)
@@ -201,12 +221,12 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
         raise IFSError(f"dtype must be torch.float32 or torch.float64, got {dtype}")
     if is_attractor(depth):
         return _attractor_field(ifs, size, method, window, tolerance, resolve_device(device), dtype, gradient,
-                                max_leaves, samples).view(size, size)
+                                budget.leaves, budget.samples).view(size, size)
     if method == "sampled":
         raise IFSError(f"method 'sampled' draws the attractor: use depth='attractor' (not depth {depth})")
     if window is not None:
         raise IFSError(f"a window is drawn at full detail: use depth='attractor' (not depth {depth})")
-    check_budget(ifs, depth, size * size, method, memory_budget)
+    check_budget(ifs, depth, size * size, method, budget.memory)
     dev = resolve_device(device)
     leaves = expand(ifs, depth, device=dev, dtype=dtype, gradient=gradient)
     x, y = pixel_centres(size, dev, dtype)

@@ -18,8 +18,9 @@ from scipy import ndimage
 
 from ..errors import LeafBudgetError
 from ..geometry.attractor import ATTRACTOR, is_attractor
-from ..geometry.crossings import is_curve, leaf_segments
+from ..geometry.crossings import crossing_pairs, is_curve, leaf_segments
 from ..geometry.ifs import IFS
+from ..raster.distance import Budget
 from ..raster.render import figure_mask
 from ..targets.target import Target
 
@@ -69,7 +70,7 @@ def attractor_mask(ifs: IFS, size: int, sigma: float | None = None, tolerance: f
     `EVAL_MAX_LEAVES` leaves, else by the chaos game (`EVAL_POINTS` points, seed 0).
     """
     try:
-        return figure_mask(ifs, size, ATTRACTOR, sigma, tolerance=tolerance, max_leaves=EVAL_MAX_LEAVES)
+        return figure_mask(ifs, size, ATTRACTOR, sigma, tolerance=tolerance, budget=Budget(leaves=EVAL_MAX_LEAVES))
     except LeafBudgetError:
         return figure_mask(ifs, size, ATTRACTOR, sigma, method="chaos", points=EVAL_POINTS)
 
@@ -170,24 +171,13 @@ def crossing_points(ifs: IFS, depth: int | None = None) -> np.ndarray:
     depth : int, optional
         ``ifs.depth`` when None.
     """
-    seg = curve_segments(ifs, depth)
-    a, b = seg[:, None, 0], seg[:, None, 1]          # (S, 1, 2)
-    c, d = seg[None, :, 0], seg[None, :, 1]          # (1, S, 2)
-    # Orientation of r relative to p -> q; |cross product| below a tolerance counts as collinear, so
-    # rounding cannot turn segments that meet at a vertex or overlap on one line into a crossing.
-    tol = 1e-9 * max(1.0, float(np.abs(seg).max())) ** 2
-
-    def cross(p, q, r):
-        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
-
-    def side(p, q, r):
-        z = cross(p, q, r)
-        return np.where(np.abs(z) <= tol, 0.0, np.sign(z))
-
-    hits = np.triu((side(a, b, c) * side(a, b, d) < 0) & (side(c, d, a) * side(c, d, b) < 0), 1)
-    i, j = np.nonzero(hits)
-    # The crossing lies on segment i at the fraction |cross(c, d, a)| / (|cross(c, d, a)| + |cross(c, d, b)|).
-    za, zb = np.abs(cross(seg[j, 0], seg[j, 1], seg[i, 0])), np.abs(cross(seg[j, 0], seg[j, 1], seg[i, 1]))
+    with torch.no_grad():
+        segments = leaf_segments(ifs.to(torch.float64), depth)
+        i, j, (_, _, cda, cdb) = crossing_pairs(segments)  # the predicate the crossing penalty uses
+    i, j = i.numpy(), j.numpy()
+    seg = segments.numpy()
+    # The crossing lies on segment i at the fraction |cd x ca| / (|cd x ca| + |cd x cb|).
+    za, zb = np.abs(cda[i, j].numpy()), np.abs(cdb[i, j].numpy())
     t = (za / (za + zb))[:, None]
     return seg[i, 0] + t * (seg[i, 1] - seg[i, 0])
 

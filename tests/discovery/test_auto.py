@@ -36,7 +36,7 @@ def test_a_blob_is_a_shape_a_thin_curve_is_a_curve_and_a_network_is_a_shape():
     grid = np.zeros((64, 64))
     grid[8:56:12, 8:56] = 1
     grid[8:56, 8:56:12] = 1  # thin, but a network of lines, not one path
-    assert auto.thickness(ifslib.load_target(grid, 64)) < auto.CURVE_WIDTH
+    assert auto.thickness(ifslib.load_target(grid, 64)) < auto.FIGURE.curve_width
     assert auto.classify(ifslib.load_target(grid, 64)) == "shape"
 
 
@@ -46,7 +46,7 @@ def test_shape_start_maps_contract_and_their_copies_cover_the_figure():
         start = auto.shape_start(target, k, depth=2)
         assert len(start.rules) == k and all(r.kind == "affine" for r in start.rules)
         smallest, largest = singular_values(start.maps().detach())
-        assert (largest <= auto.SINGULAR_RANGE[1] + 1e-6).all() and (smallest >= auto.SINGULAR_RANGE[0] - 1e-6).all()
+        assert (largest <= auto.START.singular_range[1] + 1e-6).all() and (smallest >= auto.START.singular_range[0] - 1e-6).all()
         assert start.meta["pattern"] == {"name": "auto", "kind": "shape", "maps": k, "depth": 2, "primitive": "box"}
         # the collage: the start's figure already overlaps the target well
         assert ifslib.evaluate(start, target)["iou"] > 0.6
@@ -75,12 +75,12 @@ def test_initialize_auto_and_its_errors():
     assert start.meta["pattern"]["maps"] == 4 and start.depth == 2 and plan.kind == "shape"
     assert plan.candidates == (start,) and plan.pattern == start.meta["pattern"]
     chosen = ifslib.initialize("auto", target)
-    assert (chosen.pattern["maps"], chosen.depth) in auto.SHAPE_CHOICES and chosen.start in chosen.candidates
-    assert [(len(c.rules), c.depth) for c in chosen.candidates] == list(auto.SHAPE_CHOICES)
+    assert (chosen.pattern["maps"], chosen.depth) in auto.START.shape_choices and chosen.start in chosen.candidates
+    assert [(len(c.rules), c.depth) for c in chosen.candidates] == list(auto.START.shape_choices)
     at_depth = ifslib.initialize("auto", target, depth=2).start
-    assert at_depth.depth == 2 and at_depth.meta["pattern"]["maps"] in auto.SHAPE_MAPS
-    assert auto.choices("curve") == [(k, auto.DEFAULT_DEPTH) for k in auto.CURVE_MAPS]
-    assert auto.choices("shape", maps=5) == [(5, auto.DEFAULT_DEPTH)]
+    assert at_depth.depth == 2 and at_depth.meta["pattern"]["maps"] in auto.START.shape_maps
+    assert auto.choices("curve") == [(k, auto.START.default_depth) for k in auto.START.curve_maps]
+    assert auto.choices("shape", maps=5) == [(5, auto.START.default_depth)]
     jittered = ifslib.initialize("auto", target, maps=4, depth=2, jitter=0.01, seed=1).start
     assert torch.equal(jittered.points[:4], start.points[:4])  # the fixed frame stays
     assert not torch.equal(jittered.points[4:], start.points[4:])
@@ -100,21 +100,22 @@ def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records
     plan = ifslib.initialize("auto", target, depth=2)
     start = plan.start
     result = ifslib.fit(plan, target, steps=40, loss="multiscale_distance", progress=False)
-    tried = result.history.auto["candidates"]
-    assert [c["maps"] for c in tried] == list(auto.SHAPE_MAPS) and all(c["depth"] == 2 for c in tried)
-    assert all(c["steps"] <= 40 for c in tried)
-    best = min(tried, key=lambda c: (c["loss"], c["maps"]))
-    assert result.history.auto["chosen"] == best["maps"] == result.best.meta["pattern"]["maps"]
-    assert len(result.best.rules) == best["maps"]
+    tried = result.history.auto.candidates
+    assert [c.maps for c in tried] == list(auto.START.shape_maps) and all(c.depth == 2 and c.by == "loss" for c in tried)
+    assert all(c.steps <= 40 for c in tried)
+    best = min(tried, key=lambda c: (c.value, c.maps))
+    assert result.history.auto.chosen == best.maps == result.best.meta["pattern"]["maps"]
+    assert len(result.best.rules) == best.maps
+    assert result.history.to_dict()["auto"]["candidates"] == [c.written() for c in tried]
     assert result.history.strategy == "auto" and result.history.kind == plan.kind == result.best.meta["pattern"]["kind"]
-    assert result.history.cost == sum(c["steps"] for c in tried) + sum(s.steps for s in result.history.stages)
+    assert result.history.cost == sum(c.steps for c in tried) + sum(s.steps for s in result.history.stages)
     last = result.history.stages[-1]
     assert last.loss == "multiscale_pixel" and last.depth == "attractor"  # a shape ends on its attractor, pixel loss
     assert ifslib.evaluate(result.best, target)["iou"] > ifslib.evaluate(start, target)["iou"]
     saved = ifslib.load_ifs(ifslib.save_ifs(result.best, tmp_path / "fit.json"))
-    assert saved.meta["pattern"]["chosen"] == best["maps"]
+    assert saved.meta["pattern"]["chosen"] == best.maps
     fixed = ifslib.fit(ifslib.initialize("auto", target, maps=3, depth=2), target, steps=10, progress=False)
-    assert [c["maps"] for c in fixed.history.auto["candidates"]] == [3]  # a number of maps given: no comparison
+    assert [c.maps for c in fixed.history.auto.candidates] == [3]  # a number of maps given: no comparison
     with pytest.raises(ValueError, match="strategy 'auto' fits an automatic start"):
         ifslib.fit(ifslib.patterns.koch(), target, strategy="auto", steps=2, progress=False)
     with pytest.raises(ValueError, match="fix the depth with ifslib.initialize"):
@@ -225,3 +226,12 @@ def test_cli_refuses_what_no_automatic_start_can_fit(tmp_path, capsys, picture, 
                             str(tmp_path / "fit.json")] + argv)
     assert code == 2
     assert message in capsys.readouterr().err
+
+
+def test_the_curve_path_decides_the_kind_and_is_the_path_the_curve_starts_follow():
+    curve, blob = curve_target(), ellipse_target()
+    path = auto.curve_path(curve)
+    assert auto.curve_path(blob) is None and np.array_equal(path, auto.skeleton_path(curve))
+    handed = auto.candidates(curve, [(3, 2), (4, 2)], kind="curve", path=path)
+    walked = auto.candidates(curve, [(3, 2), (4, 2)], kind="curve")
+    assert all(a.points.equal(b.points) for a, b in zip(handed, walked))

@@ -4,10 +4,13 @@ import numpy as np
 import pytest
 
 import ifslib
-from ifslib.discovery import auto, plan
+from ifslib.discovery import auto, fractal, plan
+from ifslib.discovery.config import AUTO
 from ifslib.geometry.samplers import literature_ifs
 from ifslib.targets import silhouettes
+from ifslib.fitting import automatic
 from ifslib.targets.target import target_from_mask
+from common_testing import fractal_target
 
 
 @pytest.fixture(scope="module")
@@ -50,7 +53,7 @@ def test_a_thin_limbed_creature_looks_porous_but_a_blob_does_not():
     creature = ifslib.load_target(silhouettes.limbed(128, seed=2, width=0.03).astype(float), 128)
     blob = ifslib.load_target(silhouettes.blob(128, seed=2).astype(float), 128)
     assert auto.classify(creature) == "shape"
-    assert plan.AMBIGUOUS_SHARE <= auto.interior_share(creature) < auto.POROUS_SHARE <= auto.interior_share(blob)
+    assert plan.FIGURE.ambiguous_share <= auto.interior_share(creature) < auto.FIGURE.porous_share <= auto.interior_share(blob)
     assert len(silhouettes.thin_gallery(32)) == 6
 
 
@@ -58,12 +61,12 @@ def test_ambiguous_reads_the_chosen_iou_at_full_precision_and_the_figure_share()
     creature = ifslib.load_target(silhouettes.limbed(128, seed=2, width=0.03).astype(float), 128)
     why = plan.ambiguous(auto.interior_share(creature), 5, 0.85)
     assert why is not None and "IoU 0.850" in why and "5 maps" in why and "fitted as a fractal and as a shape" in why
-    assert plan.ambiguous(auto.interior_share(creature), 5, plan.CLEAR_FRACTAL_IOU) is None
+    assert plan.ambiguous(auto.interior_share(creature), 5, plan.FIGURE.clear_fractal_iou) is None
     # just below the bar is below it, though it would round up to the bar in the file
-    assert plan.ambiguous(auto.interior_share(creature), 5, plan.CLEAR_FRACTAL_IOU - 1e-6) is not None
+    assert plan.ambiguous(auto.interior_share(creature), 5, plan.FIGURE.clear_fractal_iou - 1e-6) is not None
     lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
-    assert auto.interior_share(lace) < plan.AMBIGUOUS_SHARE
+    assert auto.interior_share(lace) < plan.FIGURE.ambiguous_share
     # a lace is a fractal however poorly it was found
     assert plan.ambiguous(auto.interior_share(lace), 3, 0.5) is None
 
@@ -96,7 +99,7 @@ def test_a_figure_that_may_be_a_shape_is_searched_once(searches):
                                             points=200_000, seed=1).numpy(), 128)
     assert plan.discover(creature, maps=4, depth=2).kind == "shape"
     assert plan.discover(lace, maps=4, depth=2).kind == "shape"
-    assert [c for _, c in searches] == [plan.AMBIGUOUS_SEARCH, fractal.DEFAULT] and plan.AMBIGUOUS_SEARCH.again == 0
+    assert [c for _, c in searches] == [AUTO.ambiguous_search, fractal.DEFAULT] and AUTO.ambiguous_search.again == 0
 
 
 def test_the_edge_dimension_is_one_for_smooth_edges_and_more_for_fractal_ones(overlap):
@@ -108,9 +111,9 @@ def test_the_edge_dimension_is_one_for_smooth_edges_and_more_for_fractal_ones(ov
     snowflake = target_from_mask(_koch_snowflake(256))
     assert 1.1 < auto.edge_dimension(snowflake) < np.log(4) / np.log(3) + 0.02  # below the limit's, drawn in pixels
     drawn = silhouettes.gallery(128)
-    assert max(auto.edge_dimension(target_from_mask(m)) for m in drawn.values()) < auto.ROUGH_EDGE
-    assert auto.interior_share(overlap) >= auto.POROUS_SHARE and auto.edge_dimension(overlap) >= auto.ROUGH_EDGE
-    assert auto.thin_share(overlap) <= auto.THIN_PARTS  # rough at every scale, not for thin parts
+    assert max(auto.edge_dimension(target_from_mask(m)) for m in drawn.values()) < auto.FIGURE.rough_edge
+    assert auto.interior_share(overlap) >= auto.FIGURE.porous_share and auto.edge_dimension(overlap) >= auto.FIGURE.rough_edge
+    assert auto.thin_share(overlap) <= auto.FIGURE.thin_parts  # rough at every scale, not for thin parts
 
 
 def test_thin_parts_are_those_an_opening_removes():
@@ -122,18 +125,18 @@ def test_thin_parts_are_those_an_opening_removes():
     limbed[58:62, 60:100] = True  # and a 4 px wide limb of 160 pixels: thin, but for a few pixels at its root
     assert 150 <= auto.thin_share(target_from_mask(limbed)) * (1600 + 160) - corners <= 160
     creature = ifslib.load_target(silhouettes.limbed(128, seed=1).astype(float), 128)
-    assert auto.edge_dimension(creature) >= auto.ROUGH_EDGE and auto.thin_share(creature) > auto.THIN_PARTS
+    assert auto.edge_dimension(creature) >= auto.FIGURE.rough_edge and auto.thin_share(creature) > auto.FIGURE.thin_parts
 
 
 def test_a_solid_figure_is_searched_when_its_edge_is_rough(searches, overlap):
     blob = ifslib.load_target(silhouettes.blob(128, seed=2).astype(float), 128)
     assert plan.discover(blob, maps=4, depth=2).kind == "shape" and searches == []
     limbs = ifslib.load_target(silhouettes.thin_gallery(128)["creature 1"].astype(float), 128)  # rough for its limbs
-    assert auto.interior_share(limbs) >= auto.POROUS_SHARE and auto.edge_dimension(limbs) >= auto.ROUGH_EDGE
+    assert auto.interior_share(limbs) >= auto.FIGURE.porous_share and auto.edge_dimension(limbs) >= auto.FIGURE.rough_edge
     assert plan.discover(limbs, maps=4, depth=2).kind == "shape" and searches == []
     found = plan.discover(overlap, maps=4, depth=2)
     # searched once: a shape fit to fall back on
-    assert found.kind == "shape" and [c for _, c in searches] == [plan.AMBIGUOUS_SEARCH]
+    assert found.kind == "shape" and [c for _, c in searches] == [AUTO.ambiguous_search]
     assert found.pattern["fractal_search"]["edge_dimension"] == round(auto.edge_dimension(overlap), 3)
     why = plan.ambiguous(auto.interior_share(overlap), 3, 0.9, auto.edge_dimension(overlap))
     assert "solid (interior share" in why and "rough edge" in why and "fitted as a fractal and as a shape" in why
@@ -169,39 +172,66 @@ def test_a_figure_without_thin_parts_keeps_its_maps_and_a_detailed_one_is_offere
     assert np.array_equal(auto.shape_maps(blob, 24, limbs=True), auto.shape_maps(blob, 24))
     assert not auto.detailed(auto.interior_share(blob), 128)
     chosen = plan.discover(blob)
-    assert [len(c.rules) for c in chosen.candidates] == [k for k, _ in auto.SHAPE_CHOICES]
+    assert [len(c.rules) for c in chosen.candidates] == [k for k, _ in auto.START.shape_choices]
     assert "limb_maps" not in chosen.pattern
     creature = ifslib.load_target(silhouettes.thin_gallery(128)["creature 1"].astype(float), 128)
     chosen = plan.discover(creature)
-    assert [(len(c.rules), c.depth) for c in chosen.candidates] == list(auto.SHAPE_CHOICES_DETAILED)
+    assert [(len(c.rules), c.depth) for c in chosen.candidates] == list(auto.START.shape_choices_detailed)
     assert auto.shape_detail(creature) == (True, True) and auto.shape_detail(blob) == (False, False)
     assert [c.meta["pattern"]["limb_maps"] for c in chosen.candidates] == [
-        auto.limb_maps(creature, k) for k, _ in auto.SHAPE_CHOICES_DETAILED]
+        auto.limb_maps(creature, k) for k, _ in auto.START.shape_choices_detailed]
     # a number of maps given is kept; the paper's carpet, a lace of thin parts, is not a detailed shape at 128², and
     # at 64² (where its interior share, read from an enlarged drawing, is 0.71) too small to be one
-    assert auto.choices("shape", maps=5, detail=True) == [(5, auto.DEFAULT_DEPTH)]
+    assert auto.choices("shape", maps=5, detail=True) == [(5, auto.START.default_depth)]
     for size in (64, 128):
         carpet = ifslib.load_target("sierpinski", size)
-        assert auto.thin_share(carpet) > auto.THIN_PARTS and not auto.detailed(auto.interior_share(carpet), size)
+        assert auto.thin_share(carpet) > auto.FIGURE.thin_parts and not auto.detailed(auto.interior_share(carpet), size)
     small = ifslib.load_target(silhouettes.thin_gallery(64)["creature 1"].astype(float), 64)
-    assert [len(c.rules) for c in plan.discover(small).candidates] == [k for k, _ in auto.SHAPE_CHOICES]
+    assert [len(c.rules) for c in plan.discover(small).candidates] == [k for k, _ in auto.START.shape_choices]
 
 
 def test_a_porous_figure_with_a_smooth_edge_is_not_searched(searches):
     thin = silhouettes.thin_gallery(128)
     y = ifslib.load_target(thin["thin letter Y"].astype(float), 128)
     share = auto.interior_share(y)
-    assert plan.AMBIGUOUS_SHARE <= share < auto.POROUS_SHARE and auto.edge_dimension(y) < auto.ROUGH_EDGE
+    assert plan.FIGURE.ambiguous_share <= share < auto.FIGURE.porous_share and auto.edge_dimension(y) < auto.FIGURE.rough_edge
     chosen = plan.discover(y, maps=4, depth=2)
     assert chosen.kind == "shape" and searches == []
     assert "smooth edge (dimension 1.0" in chosen.pattern["not_searched"] and "fractal_search" not in chosen.pattern
     # a porous figure whose edge is rough (here for its limbs) is searched, and so is a lace whatever its edge
     creature = ifslib.load_target(thin["creature 2"].astype(float), 128)
-    assert plan.AMBIGUOUS_SHARE <= auto.interior_share(creature) < auto.POROUS_SHARE
-    assert auto.edge_dimension(creature) >= auto.ROUGH_EDGE
+    assert plan.FIGURE.ambiguous_share <= auto.interior_share(creature) < auto.FIGURE.porous_share
+    assert auto.edge_dimension(creature) >= auto.FIGURE.rough_edge
     assert "not_searched" not in plan.discover(creature, maps=4, depth=2).pattern
     assert [t for t, _ in searches] == [creature]
     lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
     plan.discover(lace, maps=4, depth=2)
     assert [t for t, _ in searches] == [creature, lace]
+
+
+@pytest.mark.slow
+def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_stays_a_shape():
+    _, target = fractal_target(maps=2, seed=4, size=128)
+    assert auto.interior_share(target) < auto.FIGURE.porous_share
+    plan = ifslib.initialize("auto", target, maps=2)  # the search, with its number of maps fixed
+    start, pattern = plan.start, plan.pattern
+    assert plan.kind == "fractal" and plan.candidates == (start,) and pattern == start.meta["pattern"]
+    assert pattern["kind"] == "fractal" and len(start.rules) == 2
+    assert [row["maps"] for row in pattern["search"]] == [2] and "minimum description length" in pattern["rule"]
+    m = ifslib.evaluate(start, target, depth="attractor")
+    assert m["iou"] >= 0.85 and m["chamfer"] <= 1.0
+    row = pattern["search"][0]  # the rule's score: 1 - the attractor's IoU (chaos game) plus the cost of its maps
+    assert abs(row["iou"] - m["iou"]) < 0.03 and abs(row["score"] - (1 - row["iou"] + fractal.DEFAULT.map_cost * 2)) <= 1.0001e-4  # each rounded once
+    # the auto strategy sends it straight to the attractor stage and records the search's table
+    fitted = ifslib.fit(plan, target, steps=5, progress=False)
+    assert fitted.history.strategy == "auto"
+    assert fitted.history.kind == fitted.history.auto.kind == "fractal" and fitted.history.auto.chosen == 2
+    assert [(c.maps, c.by, round(c.value, 4)) for c in fitted.history.auto.candidates] == [
+        (r["maps"], "score", r["score"]) for r in pattern["search"]]  # the search's rows, in the candidates' layout
+    assert [st.depth for st in fitted.history.stages] == ["attractor"] and fitted.history.cost <= 5
+    # the single-scale pixel loss: the distance loss trades thin detail for the outline, the multiscale one blurs it
+    assert fitted.history.stages[0].loss == "pixel" == automatic.FIT.fractal_loss
+    assert fitted.best.meta["pattern"]["rule"] == pattern["rule"]
+    disk = np.hypot(*np.mgrid[-1:1:64j, -1:1:64j]) < 0.7
+    assert auto.interior_share(target_from_mask(disk)) > auto.FIGURE.porous_share

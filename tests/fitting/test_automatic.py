@@ -3,13 +3,18 @@ attractor scores least (1 - IoU plus a cost a map) is kept, with the decision re
 import ifslib
 from ifslib.discovery import auto
 from ifslib.discovery.plan import Plan
-from ifslib.fitting.automatic import KIND_MAP_COST
+from ifslib.discovery.config import AUTO
+
+KIND_MAP_COST = AUTO.fit.kind_map_cost
 
 
 def _fractal_plan(ifs, iou=0.8):
+    from ifslib.discovery.fractal import Row
+
+    row = Row(len(ifs.rules), 1.0, 0.5, 0.5, iou, 1 - iou + AUTO.search.map_cost * len(ifs.rules))
     ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(ifs.rules), "depth": ifs.depth,
-                           "search": [{"maps": len(ifs.rules), "iou": iou}], "ambiguous": "the test's reason"}
-    return Plan(ifs, (ifs,), "fractal", dict(ifs.meta["pattern"]))
+                           "search": [row.written()], "ambiguous": "the test's reason"}
+    return Plan(ifs, (ifs,), "fractal", dict(ifs.meta["pattern"]), search=(row,), why="the test's reason")
 
 
 def _shape_plan(target, maps=4):
@@ -19,7 +24,8 @@ def _shape_plan(target, maps=4):
 
 def _fit_both(fractal, target):
     plan = _fractal_plan(fractal)
-    plan = Plan(plan.start, plan.candidates, plan.kind, plan.pattern, rivals=(_shape_plan(target),))
+    plan = Plan(plan.start, plan.candidates, plan.kind, plan.pattern, rivals=(_shape_plan(target),), search=plan.search,
+                why=plan.why)
     return ifslib.fit(plan, target, steps=20, progress=False)
 
 
@@ -27,14 +33,18 @@ def test_a_fractal_is_kept_over_a_shape_when_its_attractor_draws_the_figure():
     truth = ifslib.patterns.random_ifs(3, 1)
     target = ifslib.load_target(ifslib.render(truth, 64, method="chaos", points=200_000, seed=1).numpy(), 64)
     result = _fit_both(truth, target)
-    rows = result.history.auto["kinds"]
-    assert [r["kind"] for r in rows] == ["fractal", "shape"] and [r["maps"] for r in rows] == [3, 4]
-    assert result.history.auto["decision"].startswith("the test's reason; fractal kept")
+    rows = result.history.auto.kinds
+    assert [r.kind for r in rows] == ["fractal", "shape"] and [r.maps for r in rows] == [3, 4]
+    assert result.history.auto.decision.startswith("the test's reason; fractal kept")
     assert result.best.meta["pattern"]["kind"] == "fractal" and "decision" in result.best.meta["pattern"]
     iou = ifslib.evaluate(result.best, target, depth="attractor")["iou"]
-    assert abs(rows[0]["score"] - (1 - iou + KIND_MAP_COST * 3)) < 1e-3  # the score is of the kept fit's attractor
-    assert rows[0]["score"] < rows[1]["score"]
-    assert result.history.cost == rows[0]["steps"] + rows[1]["steps"]  # both fits' steps are counted
+    assert abs(rows[0].score - (1 - iou + KIND_MAP_COST * 3)) < 1e-6  # the score is of the kept fit's attractor
+    assert rows[0].score < rows[1].score
+    assert result.history.cost == rows[0].steps + rows[1].steps  # both fits' steps are counted
+    written = result.history.to_dict()["auto"]  # the file's copy, written from the record
+    assert written["kinds"] == [r.written() for r in rows] and written["decision"] == result.history.auto.decision
+    assert written["candidates"] == [{"maps": 3, "depth": truth.depth, "by": "score", "value": 1 - 0.8 + AUTO.search.map_cost * 3,
+                                      "steps": 0, "seconds": 0.0}]
 
 
 def test_a_shape_is_kept_when_the_fractal_draws_the_figure_worse():
@@ -43,10 +53,10 @@ def test_a_shape_is_kept_when_the_fractal_draws_the_figure_worse():
     target = ifslib.load_target(silhouettes.blob(64, seed=1).astype(float), 64)
     poor = ifslib.patterns.affine([[[0.3, 0, -0.2], [0, 0.3, 0]], [[0.3, 0, 0.2], [0, 0.3, 0]]], depth=3, name="auto")
     result = _fit_both(poor, target)
-    rows = result.history.auto["kinds"]
-    assert result.history.auto["decision"].startswith("the test's reason; shape kept")
+    rows = result.history.auto.kinds
+    assert result.history.auto.decision.startswith("the test's reason; shape kept")
     assert result.best.meta["pattern"]["kind"] == "shape" and len(result.best.rules) == 4
-    assert rows[1]["score"] < rows[0]["score"] and rows[1]["attractor_iou"] > rows[0]["attractor_iou"]
+    assert rows[1].score < rows[0].score and rows[1].attractor_iou > rows[0].attractor_iou
 
 
 def test_a_fractal_fit_never_returns_an_attractor_worse_than_its_start(monkeypatch):
@@ -76,7 +86,8 @@ def test_a_fractal_fit_never_returns_an_attractor_worse_than_its_start(monkeypat
 
 
 def test_the_kind_is_chosen_on_full_precision_scores_and_written_rounded():
-    from ifslib.fitting.automatic import Kind, choose_kind
+    from ifslib.fitting.automatic import choose_kind
+    from ifslib.fitting.choice import AutoRun, Kind
     from ifslib.fitting.frame import Frame
 
     target = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 32, method="chaos", points=50_000,
@@ -84,7 +95,7 @@ def test_the_kind_is_chosen_on_full_precision_scores_and_written_rounded():
     results = []
     for kind, maps in (("fractal", 3), ("shape", 4)):
         result = ifslib.fit(ifslib.patterns.random_ifs(maps, 2), target, steps=0, strategy="plain", progress=False)
-        result.history.kind, result.history.auto = kind, {"kind": kind}
+        result.history.kind, result.history.auto = kind, AutoRun(kind, maps, (), {"kind": kind})
         for ifs in (result.best, result.final):
             ifs.meta["pattern"] = {"kind": kind}
         results.append(result)
@@ -93,5 +104,7 @@ def test_the_kind_is_chosen_on_full_precision_scores_and_written_rounded():
     rows = (Kind("fractal", 3, fractal_iou, 0), Kind("shape", 4, shape_iou, 0))
     assert rows[1].score < rows[0].score and rows[0].written()["score"] == rows[1].written()["score"]
     kept = choose_kind(results, Frame(target, 0, 0, progress=False), ious=[fractal_iou, shape_iou])
-    assert kept.best.meta["pattern"]["kind"] == "shape" and "shape kept" in kept.history.auto["decision"]
-    assert [r["attractor_iou"] for r in kept.history.auto["kinds"]] == [round(fractal_iou, 4), round(shape_iou, 4)]
+    assert kept.best.meta["pattern"]["kind"] == "shape" and "shape kept" in kept.history.auto.decision
+    assert [r.attractor_iou for r in kept.history.auto.kinds] == [fractal_iou, shape_iou]  # full precision kept
+    assert [r["attractor_iou"] for r in kept.history.to_dict()["auto"]["kinds"]] == [round(fractal_iou, 4),
+                                                                                       round(shape_iou, 4)]

@@ -48,3 +48,21 @@ def test_named_settings_go_to_their_object_and_unknown_ones_are_refused():
     assert run.replace(loss=DEFAULT_LOSS) == RunOptions() and strategy == StrategyOptions(n_starts=3)
     with pytest.raises(ifslib.IFSError, match="unknown setting"):
         split_settings({"los": "pixel"}, None, None)
+
+
+@pytest.mark.parametrize("lr", [0, -1, float("nan"), float("inf"), 1.5, True, "0.1"])
+def test_a_bad_lr_is_refused_where_the_options_are_built(lr):
+    with pytest.raises(ifslib.IFSError, match="lr must be a finite number > 0 and at most 1"):
+        RunOptions(lr=lr)
+    with pytest.raises(ifslib.IFSError, match="lr must be a finite number > 0 and at most 1"):
+        split_settings({"lr": lr}, None, None)  # by name, through the same check
+
+
+def test_a_stage_scales_the_lr_without_the_cap_and_a_fit_cannot_set_it_by_name():
+    options = RunOptions(lr=0.5)
+    staged = options.replace(stage_lr=options.lr * 256 / 64)  # a coarse stage's step: 2 plane units at 64²
+    assert (options.step_lr, staged.step_lr, staged.lr) == (0.5, 2.0, 0.5)
+    with pytest.raises(ifslib.IFSError, match="stage_lr"):
+        RunOptions(stage_lr=float("nan"))
+    with pytest.raises(ifslib.IFSError, match="unknown setting"):
+        split_settings({"stage_lr": 0.1}, None, None)

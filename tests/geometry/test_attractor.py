@@ -13,7 +13,7 @@ import ifslib.cli
 from ifslib.geometry.attractor import attractor_ball, leaf_points
 from ifslib.geometry.expand import expand_attractor
 from ifslib.raster.chaos import chaos_field, chaos_game
-from ifslib.raster.distance import distance_field
+from ifslib.raster.distance import Budget, distance_field
 
 from conftest import PATTERNS, perturbed
 
@@ -163,7 +163,7 @@ def test_bad_inputs_are_clear_errors():
     with pytest.raises(ifslib.IFSError, match="is not contractive"):
         chaos_game(growing, 10)
     with pytest.raises(ifslib.IFSError, match="needs more than 100 leaves"):
-        distance_field(koch, 64, "attractor", max_leaves=100)
+        distance_field(koch, 64, "attractor", budget=Budget(leaves=100))
     with pytest.raises(ifslib.IFSError, match="zero or negative size"):
         ifslib.render(koch, 16, window=(0.1, 0.0, 0.1, 0.2))
     with pytest.raises(ifslib.IFSError, match="window must be four numbers"):

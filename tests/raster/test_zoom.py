@@ -12,7 +12,7 @@ from ifslib.geometry.attractor import attractor_leaves, leaf_points
 from ifslib.geometry.expand import expand_attractor
 from ifslib.geometry.rules import rule_maps
 from ifslib.raster.chaos import chaos_field, chaos_game, chaos_window, window_copies
-from ifslib.raster.distance import attractor_leaves_for, distance_field, pixel_size
+from ifslib.raster.distance import Budget, attractor_leaves_for, distance_field, pixel_size
 from ifslib.raster.nearest import pixel_centres
 from ifslib.raster.render import figure_mask
 
@@ -100,7 +100,8 @@ def test_sampled_leaves_confined_to_a_window_stand_for_its_attractor(seed):
     ifs = patterns.random_ifs(3, 0).to(torch.float64)
     window = _window(ifs, 1000, seed)
     px = pixel_size(SIZE, window)
-    sampled = distance_field(ifs, SIZE, window=window, method="sampled", samples=20_000, device="cpu").detach() / px
+    sampled = distance_field(ifs, SIZE, window=window, method="sampled", budget=Budget(samples=20_000),
+                             device="cpu").detach() / px
     leaves = attractor_leaves_for(ifs, SIZE, window, sampled=True, samples=20_000)
     assert (ifslib.geometry.reach.to_window(leaves.points, window) <= 0).double().mean() > 0.2
     assert (leaves.error <= leaves.tolerance).all()

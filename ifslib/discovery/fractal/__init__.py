@@ -68,7 +68,8 @@ from .board import Row
 from .driver import SearchResult, check_maps, search
 from .judge import as_ifs, attractor_chamfer, attractor_iou, occupancy_iou
 from .moves import region_grow, region_swap, reorient, swap, turns
-from .regions import rotation, sqrtm_psd
+from ..moments import sqrtm_psd
+from .regions import rotation
 
 __all__ = ["search", "SearchResult", "Row", "SearchConfig", "DEFAULT", "check_maps", "attractor_iou", "attractor_chamfer",
            "copy_candidates", "linear_grid", "footprints", "collage_sets", "beam_covers", "greedy_covers", "refine",

@@ -21,8 +21,8 @@ from .config import DEFAULT, SearchConfig
 from .regions import rotation
 
 
-def linear_grid(turns: int = 36, phases: int = 8, scales=(0.25, 0.35, 0.45, 0.55, 0.65, 0.75, 0.85),
-                ratios=(0.05, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0)) -> np.ndarray:
+def linear_grid(turns: int = DEFAULT.grid_turns, phases: int = DEFAULT.grid_phases, scales=DEFAULT.grid_scales,
+                ratios=DEFAULT.grid_ratios) -> np.ndarray:
     """Linear parts ``R(theta) diag(s, ±r s) R(phi)`` to try: ``(G, 2, 2)``.
 
     ``theta`` takes ``turns`` angles of the whole turn, ``phi`` ``phases`` angles of the half turn
@@ -137,13 +137,14 @@ def plane_maps(grid: np.ndarray, cands: np.ndarray, centroid: np.ndarray, n: int
     return np.concatenate([linear, t[:, :, None]], 2)
 
 
-def random_starts(count: int, k: int, target: Target, rng: np.random.Generator) -> np.ndarray:
-    """``(count, k, 2, 3)`` random maps: singular values in [0.25, 0.65], any rotation (reflected one time in three),
-    each taking the figure's centroid onto a random figure pixel."""
+def random_starts(count: int, k: int, target: Target, rng: np.random.Generator, *,
+                  config: SearchConfig = DEFAULT) -> np.ndarray:
+    """``(count, k, 2, 3)`` random maps: singular values in ``config.start_scales``, any rotation (a share
+    ``config.start_reflected`` of them reflected), each taking the figure's centroid onto a random figure pixel."""
     fg = foreground_points(target)
     angle = rng.uniform(-math.pi, math.pi, (count, k, 2))
-    scale = rng.uniform(0.25, 0.65, (count, k, 2))
-    scale[..., 1] *= np.where(rng.random((count, k)) < 1 / 3, -1.0, 1.0)
+    scale = rng.uniform(*config.start_scales, (count, k, 2))
+    scale[..., 1] *= np.where(rng.random((count, k)) < config.start_reflected, -1.0, 1.0)
     rot = rotation(angle)  # (count, k, 2, 2, 2): [..., which, i, j]
     linear = rot[..., 0, :, :] * scale[..., None, :] @ rot[..., 1, :, :]
     t = fg[rng.integers(0, len(fg), (count, k))] - linear @ fg.mean(0)
@@ -178,7 +179,7 @@ class Copies:
 
 def candidate_copies(coarse: Target, *, config: SearchConfig = DEFAULT) -> Copies:
     """The copies of ``coarse``'s figure that fit inside it (`copy_candidates` on `linear_grid`), as `Copies`."""
-    grid = linear_grid()
+    grid = linear_grid(config.grid_turns, config.grid_phases, config.grid_scales, config.grid_ratios)
     cands = copy_candidates(coarse.mask, grid, config=config)
     if len(cands) == 0:
         raise IFSError("no copy of the figure fits inside it: the figure is too small to search for a fractal")

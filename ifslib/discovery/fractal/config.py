@@ -103,6 +103,20 @@ class SearchConfig:
     compare_points: int = 200_000
     # rotations (each with and without a reflection) a region's copy tries (`regions.moment_maps`): finer, slower
     angles: int = 72
+    # angles of the whole turn the linear parts of the copies' grid take (`linear_grid`): finer turns, more FFTs
+    grid_turns: int = 36
+    # second angles (of the half turn) of a non-similar linear part: finer shears, more FFTs
+    grid_phases: int = 8
+    # larger singular values of the grid's linear parts: more sizes of copy, more FFTs
+    grid_scales: tuple[float, ...] = (0.25, 0.35, 0.45, 0.55, 0.65, 0.75, 0.85)
+    # ratios of the smaller singular value to the larger (1: a similarity): thinner copies, more FFTs
+    grid_ratios: tuple[float, ...] = (0.05, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0)
+    # singular values of a random start's maps are drawn in this range: wider tries more sizes, more starts wasted
+    start_scales: tuple[float, float] = (0.25, 0.65)
+    # share of a random start's maps that are reflected: a figure's mirrored copies, against turned ones
+    start_reflected: float = 1 / 3
+    # sweeps of the collage sets' local search (each map swapped for the best candidate): better sets, slower
+    collage_sweeps: int = 4
     # copies kept for each uncovered region, those overlapping it most: more offers, more trials to rank
     per_region: int = 3
     # largest connected parts of a region matched besides the whole: more offers, more trials to rank
@@ -135,6 +149,12 @@ class SearchConfig:
             check_int(k, "each of fractal_maps (at most max_maps)", 1, maximum=self.max_maps)
         if list(ks) != sorted(set(ks)):
             raise IFSError(f"fractal_maps must be increasing numbers of maps, each once, got {ks!r}")
+        for name in ("grid_scales", "grid_ratios", "start_scales"):
+            values = getattr(self, name)
+            if not isinstance(values, tuple) or not values or not all(0 < v <= 1 for v in values):
+                raise IFSError(f"{name} must be a non-empty tuple of numbers above 0 and at most 1, got {values!r}")
+        if not 0 <= self.start_reflected <= 1:
+            raise IFSError(f"start_reflected is a share: give a number from 0 to 1, got {self.start_reflected!r}")
         points = self.collage_points
         if not isinstance(points, tuple) or len(points) != 2:
             raise IFSError(f"collage_points must be a pair (at search_size, at refine_size), got {points!r}")

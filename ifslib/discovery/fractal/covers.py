@@ -68,7 +68,7 @@ def beam_covers(feet: torch.Tensor, most: int, *, config: SearchConfig = DEFAULT
     return out
 
 
-def collage_sets(maps: np.ndarray, target: Target, ks, sweeps: int = 4, seed: int = 0, *,
+def collage_sets(maps: np.ndarray, target: Target, ks, sweeps: int | None = None, seed: int = 0, *,
                  config: SearchConfig = DEFAULT) -> dict[int, list[list[int]]]:
     """Sets of ``k`` of the candidate copies ``maps`` ``(C, 2, 3)`` with the least collage distance: ``{k: sets}``.
 
@@ -78,7 +78,7 @@ def collage_sets(maps: np.ndarray, target: Target, ks, sweeps: int = 4, seed: in
     pixels at most), then from each of ``config.restarts`` first copies (the best single copies
     and random ones) the copy that lowers the collage most is added until there are ``k``
     (greedy), and each map in turn is swapped for the candidate that lowers it most, for up to
-    ``sweeps`` sweeps (local search). Distinct sets, best first.
+    ``sweeps`` sweeps (local search; ``config.collage_sweeps`` when None). Distinct sets, best first.
     """
     rng = np.random.default_rng(seed)
     fg = sample_foreground(target, config.collage_points[0], rng)
@@ -93,7 +93,7 @@ def collage_sets(maps: np.ndarray, target: Target, ks, sweeps: int = 4, seed: in
     found = {}
     for k in ks:
         chosen = _greedy(firsts, k, out, far)
-        chosen = _local_search(chosen, k, sweeps, out, far)
+        chosen = _local_search(chosen, k, config.collage_sweeps if sweeps is None else sweeps, out, far)
         found[k] = _distinct(chosen, far[chosen].min(1).values.mean(-1) + out[chosen].sum(1) / k)
     return found
 

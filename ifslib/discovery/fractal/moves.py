@@ -16,7 +16,8 @@ from ...targets.target import Target, foreground_points
 from .collage import refine
 from .config import DEFAULT, SearchConfig
 from .judge import attractor_chamfer, attractor_iou, best_trial, occupancy_iou
-from .regions import region_maps, rotation, sqrtm_psd, uncovered_maps
+from ..moments import sqrtm_psd
+from .regions import region_maps, rotation, uncovered_maps
 
 
 def turns(target: Target, *, config: SearchConfig = DEFAULT) -> np.ndarray:

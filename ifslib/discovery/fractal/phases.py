@@ -49,7 +49,7 @@ def _starts(board: Board, k: int) -> tuple[np.ndarray, float]:
     feet_total = float(context.coarse.mask.sum())
     covered = max(float(feet[c].amax(0).sum()) / feet_total for c in sets)
     batch = np.concatenate([starts[np.array(sets)], random_starts(config.random_starts, k, context.coarse,
-                                                                  context.rng)])
+                                                                  context.rng, config=config)])
     return batch, covered
 
 

@@ -24,13 +24,8 @@ from scipy import ndimage
 
 from ...errors import IFSError
 from ...raster.nearest import pixel_centres
+from ..moments import sqrtm_psd
 from .config import DEFAULT, SearchConfig
-
-
-def sqrtm_psd(c: np.ndarray) -> np.ndarray:
-    """The symmetric square root of a covariance matrix (eigenvalues floored at 1e-12)."""
-    w, v = np.linalg.eigh(c)
-    return v @ np.diag(np.sqrt(np.maximum(w, 1e-12))) @ v.T
 
 
 def rotation(angle) -> np.ndarray:
