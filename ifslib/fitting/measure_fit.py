@@ -21,7 +21,7 @@ import torch
 import torch.nn.functional as F
 from scipy import ndimage
 
-from ..discovery.auto import FRACTAL_MIN_SIZE
+from ..discovery.auto import FIGURE
 from ..discovery.initialization import initialize
 from ..errors import IFSError, check_int, check_positive
 from ..geometry.rules import singular_values
@@ -256,7 +256,7 @@ def fit_measure_from_support(image, maps: int | None = None, options: MeasureFit
     ----------
     image : array-like
         ``(S, S)`` gray levels >= 0 of the measure on the frame, row 0 at the top, with ``S`` at least
-        the fractal search's 128 (`ifslib.discovery.auto.FRACTAL_MIN_SIZE`).
+        the fractal search's 128 (`ifslib.discovery.config.AUTO.figure.fractal_min_size`).
     maps : int, optional
         The number of maps, when known (the search chooses otherwise).
     options : MeasureFitOptions
@@ -286,8 +286,8 @@ def fit_measure_from_support(image, maps: int | None = None, options: MeasureFit
         raise IFSError(f"options must be a MeasureFitOptions, got {type(options).__name__}")
     small = pool_measure(image, fit_size)
     size = check_measure_image(image).shape[0]
-    if size < FRACTAL_MIN_SIZE:
-        raise IFSError(f"the fractal search reads the support at {FRACTAL_MIN_SIZE} px a side or more, got "
+    if size < FIGURE.fractal_min_size:
+        raise IFSError(f"the fractal search reads the support at {FIGURE.fractal_min_size} px a side or more, got "
                        f"{size}: give the gray image at that size (the measure is fitted at fit_size)")
     target = support_target(image, threshold)
     plan = initialize("auto", target, maps=maps, seed=seed)
