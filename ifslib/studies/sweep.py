@@ -29,7 +29,7 @@ from ..geometry.rules import check_gradient_mode
 from ..threads import cores, fixed_threads
 from ..fitting.fit import fit
 from ..discovery.initialization import initialize
-from ..scoring.losses import DEFAULT_LOSS, LOSSES
+from ..scoring.losses import DEFAULT_LOSS, check_loss
 from ..scoring.metrics import evaluate, point_error, self_crossings
 from ..fitting.strategies import check_strategy
 from ..targets.target import load_target
@@ -124,8 +124,7 @@ def _check(cells: list[Cell], seeds: list[int]) -> None:
         check_gradient_mode(cell.gradient)
         if cell.init not in INITS:
             raise IFSError(f"unknown init {cell.init!r}; known: {', '.join(INITS)}")
-        if cell.loss not in LOSSES:
-            raise IFSError(f"unknown loss {cell.loss!r}; known losses: {', '.join(LOSSES)}")
+        check_loss(cell.loss)  # the same check as RunOptions', before any worker starts
 
 
 def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch: int = 2,

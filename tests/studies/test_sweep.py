@@ -48,5 +48,7 @@ def test_bad_cells_are_refused():
         sweep([Cell("magic")], [0], SETUP, scheduler="serial")
     with pytest.raises(IFSError, match="unknown init"):
         sweep([Cell(init="random")], [0], SETUP, scheduler="serial")
+    with pytest.raises(IFSError, match="unknown loss 'typo'; known losses: pixel"):
+        sweep([Cell(loss="typo")], [0], SETUP, scheduler="serial")
     with pytest.raises(IFSError, match="at least one"):
         sweep([], [0], SETUP, scheduler="serial")
