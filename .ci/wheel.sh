@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 PY=.venv/bin/python
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-[ -d build/student ] || "$PY" notebooks/student.py build/student
+[ -d build/student ] || { make setup-grading && "$PY" notebooks/student.py build/student; }  # nbgrader writes it
 "$PY" -m pip wheel --quiet --no-deps -w "$work/dist" .
 "$("$PY" -c 'import sys; print(sys._base_executable)')" -m venv "$work/venv"
 "$work/venv/bin/python" -m pip install --quiet -c constraints.txt "torch==2.13.0" "$work"/dist/ifslib-*.whl \
