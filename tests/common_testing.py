@@ -36,3 +36,26 @@ def fractal_target(maps=2, seed=4, size=64):
     truth = ifslib.patterns.random_ifs(maps, seed)
     mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=seed).numpy() >= 0.5
     return truth, resize_target(target_from_mask(mask, f"random{maps}_{seed}"), size)
+
+
+def random_affine(seed, reflect=False):
+    """A seeded random affine map of the plane, ``(a (2, 2), t (2,))`` in float64; ``reflect``: det a < 0."""
+    import torch
+
+    g = torch.Generator().manual_seed(seed)
+    a = (torch.rand(2, 2, generator=g, dtype=torch.float64) - 0.5) * 1.2
+    if reflect and torch.det(a) > 0:
+        a[1] = -a[1]
+    t = (torch.rand(2, generator=g, dtype=torch.float64) - 0.5) * 0.4
+    return a, t
+
+
+#: The small Koch fits of tests/fitting (run, fit): its size in pixels and its depth.
+KOCH_SIZE, KOCH_DEPTH = 48, 2
+
+
+def koch_start(target, seed=0):
+    """The Koch pattern at `KOCH_DEPTH` on ``target``'s best-fit line, jittered by 0.05 (seeded)."""
+    import ifslib
+
+    return ifslib.initialize(ifslib.patterns.koch(depth=KOCH_DEPTH), target, jitter=0.05, seed=seed)

@@ -6,16 +6,12 @@ import torch
 
 import ifslib
 
-SIZE, DEPTH = 48, 2
+from common_testing import KOCH_DEPTH as DEPTH, KOCH_SIZE as SIZE, koch_start as _start
 
 
 @pytest.fixture(scope="module")
 def koch_target():
     return ifslib.load_target(ifslib.patterns.koch(depth=DEPTH), SIZE)
-
-
-def _start(target, seed=0):
-    return ifslib.initialize(ifslib.patterns.koch(depth=DEPTH), target, jitter=0.05, seed=seed)
 
 
 @pytest.mark.parametrize("kind", ifslib.LOSSES)

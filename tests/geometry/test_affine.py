@@ -6,16 +6,8 @@ import torch
 import ifslib
 from ifslib.geometry.rules import singular_values
 
+from common_testing import random_affine as _random_affine
 from conftest import sheared, sheared_mixed
-
-
-def _random_affine(seed, reflect=False):
-    g = torch.Generator().manual_seed(seed)
-    a = (torch.rand(2, 2, generator=g, dtype=torch.float64) - 0.5) * 1.2
-    if reflect and torch.det(a) > 0:
-        a[1] = -a[1]
-    t = (torch.rand(2, generator=g, dtype=torch.float64) - 0.5) * 0.4
-    return a, t
 
 
 @pytest.mark.parametrize("seed", range(6))

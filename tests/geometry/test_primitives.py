@@ -9,16 +9,7 @@ import ifslib
 from ifslib.geometry.leaves import expand, sdf_dense
 from ifslib.raster.nearest import pixel_centres
 
-from common_testing import point_segment as _point_segment, polygon_sdf as _polygon_sdf
-
-
-def _random_affine(seed, reflect=False):
-    g = torch.Generator().manual_seed(seed)
-    a = (torch.rand(2, 2, generator=g, dtype=torch.float64) - 0.5) * 1.2
-    if reflect and torch.det(a) > 0:
-        a[1] = -a[1]
-    t = (torch.rand(2, generator=g, dtype=torch.float64) - 0.5) * 0.4
-    return a, t
+from common_testing import point_segment as _point_segment, polygon_sdf as _polygon_sdf, random_affine as _random_affine
 
 
 @pytest.mark.parametrize("seed", range(6))
