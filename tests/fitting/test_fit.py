@@ -1,5 +1,4 @@
 """`ifslib.fit`: each loss fits, and a fit is reproducible, resumable and NaN-safe; snapshots and animations."""
-
 import pytest
 import torch
 
