@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 from ..errors import IFSError
 
-#: the largest |s| the coder may choose: below 1 keeps each map's classic form s D + o a contraction; the
+#: the largest ``|s|`` the coder may choose: below 1 keeps each map's classic form s D + o a contraction; the
 #: centred form the file stores settles in a few passes anyway, and the bound keeps rounding from growing.
 S_MAX = 0.95
 #: bits of a block's contrast s: 32 levels S_MAX / 16 apart, from -S_MAX to 15/16 S_MAX (zero included);
@@ -38,7 +38,7 @@ class CodeOptions:
     s_bits, m_bits : int
         Bits of each block's contrast and of its mean gray level (2-8 and 4-10).
     s_max : float
-        The largest |s| (0 < s_max < 1 keeps the decoder a contraction).
+        The largest ``|s|`` (0 < s_max < 1 keeps the decoder a contraction).
     """
 
     min_block: int = MIN_BLOCK
@@ -108,5 +108,5 @@ class RefineOptions:
 PRUNE_ROUNDS = 40
 #: the decoder stops when no pixel changed by more than this (gray levels in [0, 1]) in one iteration.
 DECODE_TOL = 1e-4
-#: the decoder's cap on iterations: with |s| <= 0.95 and the means stored, 10-20 usually suffice.
+#: the decoder's cap on iterations: with ``|s| <= 0.95`` and the means stored, 10-20 usually suffice.
 DECODE_MAX_ITER = 100

@@ -110,7 +110,7 @@ def domain_means(p: Plan, image: torch.Tensor) -> torch.Tensor:
 def iterate_offset(p: Plan, image: torch.Tensor, s: torch.Tensor, o: torch.Tensor) -> torch.Tensor:
     """One application of the classic, uncentred form ``s D + o`` (Jacquin's): ``(H, W)`` -> ``(H, W)``.
 
-    It contracts the largest pixel difference by max |s|; the coder stores the centred form of
+    It contracts the largest pixel difference by ``max |s|``; the coder stores the centred form of
     `iterate`, whose means are fixed by the file. With ``o = m - s * domain_means(p, x)`` both forms
     agree at ``x``.
     """

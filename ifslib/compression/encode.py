@@ -2,7 +2,7 @@
 
 For a range r and a domain d (both n pixels, centred: r - mean r, d - mean d), the contrast that
 minimises ||r_c - s d_c||^2 is s = <r_c, d_c> / ||d_c||^2. Every domain and isometry is ranked at
-once by the error of that s clipped to |s| <= s_max (one matrix product per chunk of ranges); the
+once by the error of that s clipped to ``|s| <= s_max`` (one matrix product per chunk of ranges); the
 best one's s is then quantized, and its error ||r_c||^2 - 2 s <r_c, d_c> + s^2 ||d_c||^2 (plus the
 mean's rounding) is what the quadtree weighs.
 """

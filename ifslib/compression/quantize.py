@@ -12,7 +12,7 @@ def s_levels(options: CodeOptions) -> int:
 
 
 def quantize_s(s: torch.Tensor, options: CodeOptions) -> torch.Tensor:
-    """Contrast values ``(...)`` -> the nearest level's index ``(...)`` (int64), |s| clipped to s_max."""
+    """Contrast values ``(...)`` -> the nearest level's index ``(...)`` (int64), ``|s|`` clipped to s_max."""
     half = s_levels(options)
     return torch.clamp(torch.round(s / options.s_max * half) + half, 0, 2 * half - 1).long()
 
