@@ -24,7 +24,7 @@ import numpy as np
 import torch
 from PIL import Image, features
 from skimage import color, data, transform
-from skimage.metrics import structural_similarity
+from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
 from ifslib.compression import RefineOptions, compress, decode, refine, to_bytes
 from ifslib.compression.encode import pad
@@ -43,7 +43,7 @@ def photo(name: str, size: int) -> np.ndarray:
 
 
 def psnr(a, b) -> float:
-    return float(10 * np.log10(1 / np.mean((np.asarray(a, float) - np.asarray(b, float)) ** 2)))
+    return float(peak_signal_noise_ratio(np.asarray(b, float), np.asarray(a, float), data_range=1.0))
 
 
 def ssim(a, b) -> float:
