@@ -11,6 +11,7 @@ upscaling of the 1x decoding (both against the 2x original), and what a 512² im
 average is printed first: the cores are shared, so times are upper bounds.
 
     python benchmarks/compression.py [--size 256] [--bpp 0.15 0.25 0.5] [--images camera coins]
+                                      [--s-bits 5 --m-bits 7] [--rates-only]
 """
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ from PIL import Image, features
 from skimage import color, data, transform
 from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
-from ifslib.compression import RefineOptions, compress, decode, refine, to_bytes
+from ifslib.compression import CodeOptions, RefineOptions, compress, decode, refine, to_bytes
 from ifslib.compression.encode import pad
 from ifslib.compression.repartition import repartition
 
@@ -98,8 +99,8 @@ def timed(fn, repeat: int = 1):
     return out, statistics.median(times)
 
 
-def fractal(gray: np.ndarray, bpp: float, method: str) -> dict:
-    code, t_enc = timed(lambda: compress(gray, bpp=bpp, method=method))
+def fractal(gray: np.ndarray, bpp: float, method: str, options: CodeOptions = CodeOptions()) -> dict:
+    code, t_enc = timed(lambda: compress(gray, bpp=bpp, method=method, options=options))
     decoded, t_dec = timed(lambda: decode(code), 3)
     image = decoded.image.numpy()
     return {"code": code, "bytes": len(to_bytes(code)), "psnr": psnr(image, gray), "ssim": ssim(image, gray),
@@ -120,8 +121,9 @@ def cell(result) -> str:
     return "—" if result is None else f"{result[0]} B {psnr(result[1], result[2]):.2f} / {ssim(result[1], result[2]):.3f}"
 
 
-def rate_table(names, rates, size, codecs) -> list[tuple]:
-    print(f"\n## {size}² gray: PSNR (dB) / SSIM at no more bytes than attractor coding\n")
+def rate_table(names, rates, size, codecs, options: CodeOptions = CodeOptions()) -> list[tuple]:
+    print(f"\n## {size}² gray: PSNR (dB) / SSIM at no more bytes than attractor coding"
+          f" ({options.s_bits}-bit s, {options.m_bits}-bit m)\n")
     print("| image | bpp | collage | attractor | gain dB | gain, partition held | collage, RD partition | "
           + " | ".join(codecs) + " | encode s (collage / attractor) | decode s |")
     print("|" + "---|" * (9 + len(codecs)))
@@ -129,7 +131,7 @@ def rate_table(names, rates, size, codecs) -> list[tuple]:
     for name in names:
         gray = photo(name, size)
         for bpp in rates:
-            col, att = fractal(gray, bpp, "collage"), fractal(gray, bpp, "attractor")
+            col, att = fractal(gray, bpp, "collage", options), fractal(gray, bpp, "attractor", options)
             held, pruned = controls(gray, col["code"])
             others = []
             for c in codecs:
@@ -181,7 +183,7 @@ def zoom(names, size, bpp) -> None:
 
 def large(name: str, size: int, bpp: float) -> None:
     gray = photo(name, size)
-    col, att = fractal(gray, bpp, "collage"), fractal(gray, bpp, "attractor")
+    col, att = fractal(gray, bpp, "collage", options), fractal(gray, bpp, "attractor", options)
     print(f"\n## {name} at {size}², {bpp} bpp\n\ncollage: {col['psnr']:.2f} dB, encoded in {col['enc']:.1f} s; "
           f"attractor: {att['psnr']:.2f} dB, encoded in {att['enc']:.1f} s (collage search included); "
           f"decoded in {att['dec']:.3f} s")
@@ -193,11 +195,17 @@ def main() -> None:
     parser.add_argument("--bpp", type=float, nargs="+", default=[0.15, 0.25, 0.5])
     parser.add_argument("--images", nargs="+", default=list(IMAGES))
     parser.add_argument("--large", type=int, default=512, help="side of the one large image timed (0: none)")
+    parser.add_argument("--s-bits", type=int, default=CodeOptions().s_bits, help="bits of s, both coders (rate table)")
+    parser.add_argument("--m-bits", type=int, default=CodeOptions().m_bits, help="bits of m, both coders (rate table)")
+    parser.add_argument("--rates-only", action="store_true", help="the rate table alone")
     args = parser.parse_args()
+    options = CodeOptions(s_bits=args.s_bits, m_bits=args.m_bits)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; torch threads {torch.get_num_threads()}; "
           f"Pillow JPEG 2000: {features.check('jpg_2000')}, WebP: {features.check('webp')}")
     codecs = ["JPEG", "WebP"] + (["JPEG2000"] if features.check("jpg_2000") else [])
-    rate_table(args.images, args.bpp, args.size, codecs)
+    rate_table(args.images, args.bpp, args.size, codecs, options)
+    if args.rates_only:
+        return
     jpeg_floor(args.images, args.size)
     zoom(args.images, args.size, 0.25)
     if args.large:
