@@ -109,6 +109,8 @@ def store(path: Path, dest: Path, figures: Path, timeout: int = 1800) -> None:
     NotebookClient(book, timeout=timeout, kernel_name="python3", record_timing=False,  # no timestamps to churn
                    resources={"metadata": {"path": str(path.parent)}}).execute(env=env)
     drop_progress_bars(book)
+    for cell in book.cells:  # a timestamp left by an editor or an older run would describe another run
+        cell.metadata.pop("execution", None)
     meta = book.metadata.setdefault("ifslib", {})
     meta.pop("threads", None)  # recorded in "stored" now
     threads = env.get("IFSLIB_THREADS", "auto")

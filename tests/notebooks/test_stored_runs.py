@@ -56,3 +56,11 @@ def test_no_stored_picture_below_128_px_without_a_reason(path):
         assert isinstance(reason, str) and len(reason) > 20, (
             f"{path.name}: its pictures are stored at {size}² (under {MIN_SIZE}): raise its teaching size, or say "
             "why in metadata['ifslib']['size_reason']")
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_no_cell_keeps_the_timestamps_of_another_run(path):
+    # store.py executes without timing; a timestamp left by an editor or an older run would date
+    # cells of the stored run wrongly (and a reader would add them up to the notebook's run time)
+    stamped = [k for k, c in enumerate(load(path)["cells"]) if "execution" in c.get("metadata", {})]
+    assert not stamped, f"{path.name}: cells {stamped} keep metadata['execution'] timestamps; {again(path)}"
