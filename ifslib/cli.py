@@ -221,7 +221,7 @@ def _print_measure(ifs) -> None:
         return
     if similar:
         print(f"similarity dimension (Moran's equation): {dimension:.4f} (the attractor's dimension when "
-              "the copies do not overlap; less when they do)")
+              "the copies do not overlap; at most that when they do)")
     else:
         print(f"similarity dimension: not defined, the maps are not similarities; Moran's equation with "
               f"their largest singular values gives {dimension:.4f}, an upper bound of the box dimension "

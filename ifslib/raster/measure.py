@@ -6,7 +6,8 @@ is the mass of its cell; an image of the measure sums to 1.
 
 - `chaos_measure`: the chaos game's histogram (float64 points, binned, never stored).
 - `cylinder_measure`: deterministic and exact up to a stated share of the mass, not differentiable. The
-  cylinder ``T_w(A)`` of a word ``w`` holds mass ``p_w`` (the product of its maps' probabilities);
+  cylinder ``T_w(A)`` of a word ``w`` carries mass ``p_w`` (the product of its maps' probabilities:
+  ``mu = sum_{|w|=k} p_w mu o T_w^-1``; ``T_w(A)`` holds more where other copies overlap it);
   one whose bounding ellipse lies in a pixel gives that pixel all of it, the others are split into
   their children, and only those still crossing a pixel's edge when smaller than
   `CylinderOptions.smallest` pixels are placed at their centre of mass (their share is returned).
