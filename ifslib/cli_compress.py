@@ -21,16 +21,26 @@ from .progress import draw_bars, note
 
 
 def read_gray(path: str) -> np.ndarray:
-    """An image file as ``(h, w)`` gray levels in [0, 1] (colour converted by Pillow's luma)."""
-    from PIL import Image, UnidentifiedImageError
+    """An image file as ``(h, w)`` float32 gray levels in [0, 1], a 16-bit one unclipped.
 
-    if not Path(path).is_file():
-        raise IFSError(f"no image file at {path!r}")
-    try:
-        with Image.open(path) as im:
-            return np.asarray(im.convert("L"), dtype=np.float32) / 255
-    except (UnidentifiedImageError, OSError) as exc:
-        raise IFSError(f"{path!r} is not an image Pillow can read (PNG, JPEG, ...): {exc}") from None
+    The library's reader, `targets.image.gray_levels`: Pillow's 8-bit conversion would clip 16 bits at 255.
+    """
+    from .targets.image import gray_levels  # imports torch (the thread count): after the arguments are checked
+
+    return gray_levels(Path(path)).astype(np.float32)
+
+
+#: The extensions `decompress` writes, each a lossless format of 8-bit gray (Pillow picks it by the extension).
+OUTPUT_FORMATS = {".png": "PNG", ".tif": "TIFF", ".tiff": "TIFF", ".bmp": "BMP", ".pgm": "PPM"}
+
+
+def check_output(path: str) -> str:
+    """``path`` if its extension names a format in `OUTPUT_FORMATS`, else `IFSError` listing them."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in OUTPUT_FORMATS:
+        raise IFSError(f"the output {path!r} must end in one of {', '.join(OUTPUT_FORMATS)} (a lossless image "
+                       f"format, picked by the extension), got {suffix or 'no extension'!r}")
+    return path
 
 
 def cmd_compress(args: argparse.Namespace) -> None:
@@ -53,11 +63,12 @@ def cmd_decompress(args: argparse.Namespace) -> None:
     from .compression.config import DECODE_TOL
     from PIL import Image
 
+    check_output(args.output)
     code = read(args.file)
     result = decode(code, args.scale)
     Path(args.output).parent.mkdir(parents=True, exist_ok=True)
     pixels = (result.image.numpy() * 255).round().astype(np.uint8)
-    Image.fromarray(pixels, mode="L").save(args.output)
+    Image.fromarray(pixels, mode="L").save(args.output, OUTPUT_FORMATS[Path(args.output).suffix.lower()])
     print(f"wrote {args.output}: {pixels.shape[1]} x {pixels.shape[0]} px (scale {args.scale:g}), "
           f"{result.iterations} iterations")
     if result.change > DECODE_TOL:
@@ -91,10 +102,13 @@ def add_parsers(sub) -> None:
     c.add_argument("--quiet", action="store_true", help="no progress bars")
     c.add_argument("-o", "--output", required=True, help="compressed file to write (.ifsc)")
     c.set_defaults(run=cmd_compress)
-    d = sub.add_parser("decompress", help="decode a compressed file to a PNG, at any scale",
+    d = sub.add_parser("decompress", help="decode a compressed file to an image, at any multiple of 0.5 of its size",
                        description="Decode a file written by `compress` by iterating its maps from a gray image.")
     d.add_argument("file", help="a file written by `ifslib compress`")
     d.add_argument("--scale", type=_rate, default=1.0,
-                   help="output pixels per image pixel (default 1; 2 doubles each side; a multiple of 0.5)")
-    d.add_argument("-o", "--output", required=True, help="PNG file to write")
+                   help="output pixels per image pixel (default 1; 2 doubles each side): a multiple of 2 / the "
+                        "smallest block, 0.5 for the default 4 px blocks")
+    d.add_argument("-o", "--output", required=True,
+                   help="image file to write, its format picked by the extension: .png, .tif, .tiff, .bmp or .pgm "
+                        "(all lossless)")
     d.set_defaults(run=cmd_decompress)

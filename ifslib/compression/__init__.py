@@ -4,13 +4,13 @@ The pipeline, one module a stage::
 
     config     CodeOptions (the file's layout), RefineOptions, the tuned numbers
     partition  the quadtree of range blocks: grown where a split buys the most error per bit, or pruned
-               to the least error within a budget (rate-distortion)
+               at a price per bit bisected to fit a budget (rate-distortion)
     domains    the domain pool (blocks twice as large, averaged down) and the 8 isometries
     quantize   contrast s and mean m to the integers the file stores
     encode     the collage coder: least squares for every domain at once -> Code
     code       Code: the blocks and their quantized maps
     fileformat the compact binary file (header, quadtree flags, maps)
-    decode     iterate the maps from any start, at any scale -> the attractor
+    decode     iterate the maps from any start, at any multiple of 0.5 -> the attractor
     repartition the quadtree and flat blocks chosen again for the decoded image, in no more bits
     refine     attractor coding: the code refined through the decoder's fixed point
     method     compress(image, bpp, method="collage" | "attractor")

@@ -1,4 +1,5 @@
-"""The decoder: iterate the code's operator from any start until the image stops changing, at any scale.
+"""The decoder: iterate the code's operator from any start until the image stops changing, at any scale
+that is a multiple of 2 / min_block (0.5, 1, 1.5, 2, ... for 4 px blocks: `check_scale`).
 
 One iteration averages the image down by 2 x 2 and, for every range block, takes its domain's pixels
 (under its isometry), centres them and sets ``s (D - mean D) + m``: a gather per block size, so an

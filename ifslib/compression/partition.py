@@ -193,8 +193,12 @@ def prune(options: CodeOptions, choices: dict[int, LeafChoice], lam: float) -> P
 def prune_to_budget(options: CodeOptions, choices: dict[int, LeafChoice], budget_bits: float) -> Pruned:
     """The `prune` of the smallest multiplier (bisected) whose tree fits in ``budget_bits``.
 
-    A tree of fewer bits than the coarsest one (every top block flat) does not exist: that one is
-    returned, over the budget, if the budget is below it.
+    Each `prune` is exact for its price of a bit, so the tree returned has the least error of any tree
+    of at most its own bits. It is close to, but not always, the tree of least error within
+    ``budget_bits``: a price reaches only the trees on the lower convex hull of (bits, error), and a
+    tree off the hull may spend the few bits this one leaves unspent (a flat block given a domain,
+    say) for less error. A tree of fewer bits than the coarsest one (every top block flat) does not
+    exist: that one is returned, over the budget, if the budget is below it.
     """
     lo, hi = 0.0, 1e-3
     for _ in range(60):

@@ -5,9 +5,12 @@ is fitted again with its domain pool cut from the *decoded* image x* of the curr
 map applied to x* is what the decoder will draw there, so its error against the original estimates
 the block's share of the decoded error (exact but for the change it makes to other blocks' domains).
 Each block may also be stored flat (its mean alone, 13 bits fewer for a 4 px block of a 256² image).
-The tree and the flat blocks of least error at no more bits than a given budget are then chosen
-exactly by `partition.prune_to_budget`; the caller decodes the result and keeps it only if it decodes
-closer.
+`partition.prune_to_budget` then chooses the tree and the flat blocks: the tree of least
+``err + lam * bits``, exact for that price ``lam`` of a bit, at the smallest price (bisected) whose tree
+fits in the budget. That tree has the least error of any tree of at most its own bits; it is close to,
+but not always, the least error within the budget, since a price reaches only the trees on the lower
+convex hull of (bits, error) and a few bits may go unspent. The caller decodes the result and keeps it
+only if it decodes closer.
 """
 from __future__ import annotations
 
@@ -70,7 +73,8 @@ def repartition(code: Code, target: torch.Tensor, decoded: torch.Tensor, budget_
     Returns
     -------
     Code
-        ``bits() <= budget_bits``.
+        ``bits() <= budget_bits``: the least estimated error of any code of at most its own bits,
+        not always the least within ``budget_bits`` (`partition.prune_to_budget`).
     """
     o = code.options
     H, W = target.shape

@@ -33,6 +33,7 @@ average those pixels anyway.
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -54,21 +55,6 @@ READ_SIDE = 2048
 _TARGET_BYTES_PER_PIXEL = 64
 
 # 16-bit modes, whose values Pillow's conversion to 8 bits would clip: read as 32-bit integers instead.
-_WIDE_MODES = ("I;16", "I;16L", "I;16B", "I;16N")
-
-
-#: Half-width of the band around an even split in which a border has no majority (`border_polarity`).
-SPLIT = 0.1
-
-
-#: The border band's width as a fraction of the image's smaller side (at least one pixel).
-BORDER_BAND = 1 / 32
-
-
-#: Pixels a side above which an image is reduced as it is read (never below twice the target's size).
-READ_SIDE = 2048
-
-
 _WIDE_MODES = ("I;16", "I;16L", "I;16B", "I;16N")
 
 
@@ -150,36 +136,71 @@ def _open(im: Image.Image, size: int) -> tuple[Image.Image, int]:
     return im, math.ceil(max(im.size) / side)
 
 
-def read_image(path: Path, size: int) -> tuple[np.ndarray, str]:
-    """An image file's gray levels (float64, any range) and what they are: ``"gray"``, or ``"alpha"`` (its alpha channel)."""
+def _luma(im: Image.Image) -> np.ndarray:
+    """An 8-bit image's gray levels from 0 to 255, ``(h, w)`` float64 (colour by Pillow's luma)."""
+    return np.asarray(im.convert("L") if im.mode != "L" else im, dtype=np.float64)
+
+
+@contextmanager
+def _image_file(path: Path):
+    """The image at ``path``, opened; a missing, unreadable or too large file is an `IFSError` saying which."""
     if not path.is_file():
         raise IFSError(f"no image file at {str(path)!r}")
     try:
         with Image.open(path) as opened:
-            im, factor = _open(opened, size)
-
-            def reduced(image: Image.Image) -> Image.Image:
-                return image.reduce(factor) if factor > 1 else image
-
-            if im.mode == "RGBA":
-                # one channel at a time: reducing RGBA itself makes a premultiplied copy of the whole image
-                alpha = np.asarray(reduced(im.getchannel("A")), dtype=np.float64) / 255
-                if alpha.min() == alpha.max():
-                    return np.asarray(reduced(im.convert("L")), dtype=np.float64) / 255, "gray"
-                if (alpha[border_band(alpha.shape)] >= 0.5).mean() <= 0.5 + SPLIT:
-                    return alpha, "alpha"
-                # opaque at the border: the transparency is a hole or a corner, not the background
-                im = reduced(im)
-                white = Image.new("RGBA", im.size, (255, 255, 255, 255))
-                return np.asarray(Image.alpha_composite(white, im).convert("L"), dtype=np.float64) / 255, "gray"
-            im = reduced(im)
-            if im.mode in ("I", "F"):
-                return np.asarray(im, dtype=np.float64), "gray"
-            return np.asarray(im.convert("L") if im.mode != "L" else im, dtype=np.float64) / 255, "gray"
+            yield opened
     except Image.DecompressionBombError as exc:
         raise IFSError(f"{str(path)!r} is too large to read safely ({exc}); shrink it first") from None
     except (UnidentifiedImageError, OSError, ValueError) as exc:
         raise IFSError(f"{str(path)!r} is not an image this library can read (PNG, GIF, JPEG): {exc}") from None
+
+
+def gray_levels(path: Path) -> np.ndarray:
+    """An image file's gray levels in ``[0, 1]``, ``(h, w)`` float64, at its full size and upright (EXIF).
+
+    8-bit images (colour by Pillow's luma, any alpha ignored) are divided by 255 and 16-bit ones by
+    65535: Pillow's conversion of a 16-bit image to 8 bits clips it at 255, almost all white. A 32-bit
+    integer image must hold values of at most 16 bits and a float image values in ``[0, 1]``.
+    """
+    path = Path(path)
+    with _image_file(path) as opened:
+        im = ImageOps.exif_transpose(opened)  # a phone's photo, as its viewer shows it
+        if im.mode in _WIDE_MODES:
+            im = im.convert("I")
+        if im.mode in ("I", "F"):
+            gray, top = np.asarray(im, dtype=np.float64), (65535.0 if im.mode == "I" else 1.0)
+        else:
+            gray, top = _luma(im), 255.0
+    # checked outside the file's context, whose ValueError handler would take an IFSError for a bad file
+    if not (np.isfinite(gray).all() and gray.min() >= 0 and gray.max() <= top):
+        raise IFSError(f"{str(path)!r} holds {im.mode!r} values from {gray.min():g} to {gray.max():g}, not gray "
+                       f"levels from 0 to {top:g}; save it with 8 or 16 bits a pixel")
+    return gray / top
+
+
+def read_image(path: Path, size: int) -> tuple[np.ndarray, str]:
+    """An image file's gray levels (float64, any range) and what they are: ``"gray"``, or ``"alpha"`` (its alpha channel)."""
+    with _image_file(path) as opened:
+        im, factor = _open(opened, size)
+
+        def reduced(image: Image.Image) -> Image.Image:
+            return image.reduce(factor) if factor > 1 else image
+
+        if im.mode == "RGBA":
+            # one channel at a time: reducing RGBA itself makes a premultiplied copy of the whole image
+            alpha = np.asarray(reduced(im.getchannel("A")), dtype=np.float64) / 255
+            if alpha.min() == alpha.max():
+                return np.asarray(reduced(im.convert("L")), dtype=np.float64) / 255, "gray"
+            if (alpha[border_band(alpha.shape)] >= 0.5).mean() <= 0.5 + SPLIT:
+                return alpha, "alpha"
+            # opaque at the border: the transparency is a hole or a corner, not the background
+            im = reduced(im)
+            white = Image.new("RGBA", im.size, (255, 255, 255, 255))
+            return np.asarray(Image.alpha_composite(white, im).convert("L"), dtype=np.float64) / 255, "gray"
+        im = reduced(im)
+        if im.mode in ("I", "F"):
+            return np.asarray(im, dtype=np.float64), "gray"
+        return _luma(im) / 255, "gray"
 
 
 def resample_gray(gray: np.ndarray, size: int, invert: bool = False) -> np.ndarray:

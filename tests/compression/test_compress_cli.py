@@ -4,6 +4,7 @@ import pytest
 from PIL import Image
 
 from ifslib.cli import main
+from ifslib.cli_compress import read_gray
 from compression_images import photo
 
 
@@ -24,6 +25,53 @@ def test_compress_then_decompress(tmp_path, png, capsys, method):
     assert Image.open(out).size == (96, 96)
     decoded = np.asarray(Image.open(out).resize((48, 48), Image.BOX), dtype=float) / 255
     assert np.abs(decoded - np.asarray(Image.open(png).convert("L"), dtype=float) / 255).mean() < 0.08
+
+
+@pytest.mark.parametrize("mode, top", [("L", 255), ("RGB", 255), ("I;16", 65535)])
+def test_an_image_file_is_read_as_gray_levels_in_0_1_unclipped(tmp_path, mode, top):
+    gray = photo(40).numpy().astype(float)
+    levels = (gray * top).round()
+    path = tmp_path / f"photo-{mode.replace(';', '')}.png"
+    if mode == "I;16":
+        Image.fromarray(levels.astype(np.uint16)).save(path)  # a 16-bit gray PNG
+    else:
+        Image.fromarray(levels.astype(np.uint8)).convert(mode).save(path)
+    assert Image.open(path).mode == mode
+    read = read_gray(str(path))
+    assert read.shape == (40, 40) and read.dtype == np.float32
+    # Pillow's luma of an RGB gray is the gray itself; a 16-bit file keeps its 65536 levels (not clipped at 255)
+    assert np.abs(read - levels / top).max() < 1e-6
+    assert (read == 1).mean() == (levels == top).mean()
+
+
+def test_a_16_bit_png_compresses_as_its_photograph(tmp_path, capsys):
+    path, packed, out = tmp_path / "photo16.png", tmp_path / "photo16.ifsc", tmp_path / "out.png"
+    gray = photo(48).numpy().astype(float)
+    Image.fromarray((gray * 65535).round().astype(np.uint16)).save(path)
+    assert main(["compress", str(path), "-o", str(packed), "--bpp", "1.0", "--method", "collage", "--quiet"]) == 0
+    assert main(["decompress", str(packed), "-o", str(out)]) == 0
+    decoded = np.asarray(Image.open(out), dtype=float) / 255
+    assert np.abs(decoded - gray).mean() < 0.08  # read as white, the decoding would be ~0.5 away
+
+
+def test_float_levels_outside_0_1_are_refused(tmp_path):
+    path = tmp_path / "wide.tif"
+    Image.fromarray(photo(16).numpy() * 300, mode="F").save(path)
+    with pytest.raises(ValueError, match="save it with 8 or 16 bits"):
+        read_gray(str(path))
+
+
+@pytest.mark.parametrize("name, ok", [("out.tif", True), ("out.pgm", True), ("out.jpg", False), ("out", False)])
+def test_decompress_writes_a_lossless_format_named_by_the_extension(tmp_path, png, capsys, name, ok):
+    packed = tmp_path / "photo.ifsc"
+    assert main(["compress", str(png), "-o", str(packed), "--bpp", "1.0", "--method", "collage", "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["decompress", str(packed), "-o", str(tmp_path / name)]) == (0 if ok else 2)
+    if ok:
+        assert Image.open(tmp_path / name).size == (48, 48)
+    else:
+        err = capsys.readouterr().err
+        assert "must end in one of .png" in err and not (tmp_path / name).exists()
 
 
 def test_quality_instead_of_a_rate(tmp_path, png):
@@ -58,3 +106,7 @@ def test_help_names_the_subcommands(capsys):
     with pytest.raises(SystemExit):
         main(["compress", "--help"])
     assert "--method {collage,attractor}" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        main(["decompress", "--help"])
+    said = " ".join(capsys.readouterr().out.split())
+    assert "0.5 for the default 4 px blocks" in said and "picked by the extension" in said
