@@ -287,3 +287,21 @@ def test_a_contraction_answer_that_checks_its_own_factor_passes():
             "assert s < 1, f'not a contraction: s = {s}'\nreturn s, np.linalg.solve(np.eye(2) - L, t)")
     run("00_tutorial-contraction", **mine("00_tutorial-contraction", body, "00_tutorial-contraction"))
 
+
+CHOOSE_MAPS = "08_real_fractals-choose-maps"
+
+
+@pytest.mark.parametrize("score", ['1 - r["iou"] + cost * r["maps"]', 'cost * r["maps"] + 1 - r["iou"]',
+                                   'cost * r["maps"] - r["iou"] + 1', '(1 - r["iou"]) + (cost * r["maps"])'])
+def test_choose_maps_passes_in_any_order_of_summing_the_score(score):
+    # the hidden tie must be exact in floating point whatever the order a correct answer adds its terms in
+    from types import SimpleNamespace
+
+    from ifslib.discovery import fractal
+
+    table = [{"maps": 2, "iou": 0.61}, {"maps": 3, "iou": 0.93}, {"maps": 4, "iou": 0.94}]
+    body = (f"best = min(table, key=lambda r: ({score}, r['maps']))\nreturn best['maps']")
+    names = {"found": SimpleNamespace(table=table), "fractal": fractal}
+    run(CHOOSE_MAPS, **mine(CHOOSE_MAPS, body, CHOOSE_MAPS), **names)
+    fails(CHOOSE_MAPS, "fewer maps", answer_source=mine(CHOOSE_MAPS, body.replace("r['maps']))", "-r['maps']))"),
+                                                         CHOOSE_MAPS)["answer_source"], **names)
