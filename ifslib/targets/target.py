@@ -218,11 +218,13 @@ def pyramid_sizes(size: int, coarsest: int = 64, factor: int = 2) -> list[int]:
 
 
 def resize_target(target: Target, size: int) -> Target:
-    """The same target at another size, as `load_target` would make it from the target's own gray levels.
+    """The same target at another size, made from the target's own gray levels.
 
-    The picture (`Target.picture`) is resampled with scikit-image (area-weighted: anti-aliased when
-    shrinking) and thresholded at half its largest value, so a thin curve stays connected at a
-    coarse size and a filled shape keeps its area.
+    The picture (`Target.picture`) is resampled with scikit-image's ``resize``: bilinear, after a
+    Gaussian blur against aliasing when shrinking (not an area mean), then thresholded at half its
+    largest value, so a thin curve stays connected at a coarse size and a filled shape keeps its
+    area. (`load_target` resamples an image file with Pillow's bilinear filter instead, so the two
+    need not give the same mask.)
 
     Parameters
     ----------

@@ -261,3 +261,47 @@ def test_copy_map_answer_passes_and_wrong_ones_get_their_hints(body, words):
     names = copy_map_names()
     run(COPY_MAP, **names)
     fails(COPY_MAP, *words, answer_source=blank(COPY_MAP) if body is None else body, **names)
+
+
+@pytest.mark.parametrize("seed, m, lo, hi, shear", [(1000, 4, 0.3, 0.8, 0.8), (7000, 3, 0.3, 0.6, 0.5),
+                                                    (2000, 3, 0.35, 0.55, 0.0), (5, 50, 0.3, 0.9, 2.0)])
+def test_random_maps_are_contractions_of_largest_singular_value_at_most_hi(seed, m, lo, hi, shear):
+    # the tests call them contractions: a shear must not stretch a map past hi (1000: once 1.004)
+    maps = ifslib.exercises.random_maps(np.random.default_rng(seed), m, lo, hi, shear=shear)
+    largest = np.linalg.svd(maps[:, :2, :2], compute_uv=False)[:, 0]
+    assert maps.shape == (m, 3, 3) and np.allclose(maps[:, 2], [0, 0, 1])
+    assert (largest <= hi + 1e-12).all(), largest
+    if shear == 0:   # unsheared: a rotation times the two scales drawn, never rescaled
+        assert (largest >= lo - 1e-12).all()
+
+
+@pytest.mark.parametrize("lo, hi", [(0.3, 1.0), (0.5, 0.4), (0.0, 0.5)])
+def test_random_maps_refuses_scales_that_make_no_contraction(lo, hi):
+    with pytest.raises(IFSError, match="0 < lo <= hi < 1"):
+        ifslib.exercises.random_maps(np.random.default_rng(0), 2, lo, hi)
+
+
+def test_a_contraction_answer_that_checks_its_own_factor_passes():
+    # a careful student asserts s < 1 on the maps the test calls contractions
+    body = ("L, t = M[:2, :2], M[:2, 2]\ns = np.linalg.svd(L, compute_uv=False)[0]\n"
+            "assert s < 1, f'not a contraction: s = {s}'\nreturn s, np.linalg.solve(np.eye(2) - L, t)")
+    run("00_tutorial-contraction", **mine("00_tutorial-contraction", body, "00_tutorial-contraction"))
+
+
+CHOOSE_MAPS = "08_real_fractals-choose-maps"
+
+
+@pytest.mark.parametrize("score", ['1 - r["iou"] + cost * r["maps"]', 'cost * r["maps"] + 1 - r["iou"]',
+                                   'cost * r["maps"] - r["iou"] + 1', '(1 - r["iou"]) + (cost * r["maps"])'])
+def test_choose_maps_passes_in_any_order_of_summing_the_score(score):
+    # the hidden tie must be exact in floating point whatever the order a correct answer adds its terms in
+    from types import SimpleNamespace
+
+    from ifslib.discovery import fractal
+
+    table = [{"maps": 2, "iou": 0.61}, {"maps": 3, "iou": 0.93}, {"maps": 4, "iou": 0.94}]
+    body = (f"best = min(table, key=lambda r: ({score}, r['maps']))\nreturn best['maps']")
+    names = {"found": SimpleNamespace(table=table), "fractal": fractal}
+    run(CHOOSE_MAPS, **mine(CHOOSE_MAPS, body, CHOOSE_MAPS), **names)
+    fails(CHOOSE_MAPS, "fewer maps", answer_source=mine(CHOOSE_MAPS, body.replace("r['maps']))", "-r['maps']))"),
+                                                         CHOOSE_MAPS)["answer_source"], **names)

@@ -12,6 +12,8 @@ from typing import Callable, Iterator
 import numpy as np
 import torch
 
+from ...errors import IFSError
+
 
 class WriteItYourself(RuntimeError):
     """Raised by a library function that a test has switched off: the exercise asks for your own."""
@@ -186,11 +188,34 @@ def as_number(answer, name: str) -> float:
 
 def random_maps(rng: np.random.Generator, m: int, lo: float = 0.3, hi: float = 0.55,
                 shear: float = 0.0) -> np.ndarray:
-    """``(m, 3, 3)`` contractions for a test's inputs: a rotation, scales in ``[lo, hi]``, a shear, a translation."""
+    """Random affine contractions for a test's inputs: a rotation, scales in ``[lo, hi]``, a shear, a translation.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    m : int
+        Number of maps.
+    lo, hi : float
+        Range of the two scales drawn; ``hi < 1``.
+    shear : float
+        Largest shear factor drawn (0: none).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(m, 3, 3)`` homogeneous matrices whose linear parts have largest singular value at most ``hi``:
+        a shear stretches some direction beyond the scales drawn, so a linear part stretched beyond ``hi``
+        is scaled down to it (``hi / sigma_max``), and every map is a contraction as the tests say.
+    """
+    if not 0 < lo <= hi < 1:
+        raise IFSError(f"random_maps needs 0 < lo <= hi < 1 for contractions, got lo={lo}, hi={hi}")
     out = np.zeros((m, 3, 3))
     for i in range(m):
         a = rng.uniform(-math.pi, math.pi)
         rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
         lin = rot @ np.diag(rng.uniform(lo, hi, 2)) @ np.array([[1.0, rng.uniform(-shear, shear)], [0.0, 1.0]])
+        largest = np.linalg.svd(lin, compute_uv=False)[0]
+        if largest > hi:
+            lin = lin * (hi / largest)
         out[i, :2, :2], out[i, :2, 2], out[i, 2, 2] = lin, rng.uniform(-0.3, 0.3, 2), 1.0
     return out
