@@ -38,6 +38,18 @@ def test_target_shows_loss_and_iou_that_respond_to_points(explorer):
     assert moved["loss"] != at_start["loss"]
 
 
+def test_a_curve_is_scored_by_chamfer_a_shape_by_iou(explorer):
+    # as ifslib.metrics.caption: the Koch curve's fair score is its Chamfer distance, IoU is harsh on it
+    explorer.target.value = "koch"
+    state = explorer.last
+    assert state["chamfer"] >= 0 and f"Chamfer {state['chamfer']:.2f} px" in explorer.info.value
+    shifted = explorer.set_point(2, 0.2, -0.3)
+    assert shifted["chamfer"] > state["chamfer"]
+    explorer.pattern.value = "carpet"  # a shape with area: IoU alone
+    assert "chamfer" not in explorer.last and "Chamfer" not in explorer.info.value
+    assert "IoU" in explorer.info.value
+
+
 def test_depth_and_sigma_change_the_render(explorer):
     ink = explorer.last["image"].sum()
     explorer.sigma.value = 4.0
