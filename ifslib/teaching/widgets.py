@@ -249,7 +249,7 @@ class Explorer:
         fig, ax = plt.subplots(figsize=(4, 4))
         if self.last.get("image") is not None:
             what = "the attractor" if self.last.get("attractor") else f"depth {ifs.depth}"
-            figures.show_image(ax, self.last["image"], f"{self.pattern.value}, {what}")
+            figures.show_image(ax, self.last["image"], f"{self.pattern.value}, {what}, {self.size}²")
             if self.last.get("window") is not None:
                 return fig  # a zoomed window: the outlines and points are of the whole frame
             if self.show_outlines.value and ifs.depth > 0:

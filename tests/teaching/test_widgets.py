@@ -87,6 +87,7 @@ def test_pattern_switch_and_json_file(explorer, tmp_path):
 def test_static_figure_of_the_state(explorer):
     fig = explorer.figure()
     assert len(fig.axes) == 1 and fig.axes[0].images
+    assert fig.axes[0].get_title() == "koch, depth 3, 48²"  # a caption states its size
 
 
 def test_affine_maps_in_the_explorer(explorer, tmp_path):
