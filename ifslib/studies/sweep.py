@@ -108,12 +108,28 @@ def _fit_cell(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
                      gradient=cell.gradient, strategy=cell.strategy, end_on_attractor=False, **stop)
         seconds = time.perf_counter() - t0
         m = evaluate(result.best, target, attractor=False)  # the study judges the depth-K drawing, as the paper
+        tried, kept = starts_used(result.history)
         rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
                      "chamfer": m["chamfer"], "iou": m["iou"], "crossings": self_crossings(result.best),
                      "point_error": point_error(result.best, patterns.koch()),
-                     "steps": result.history.cost, "seconds": seconds,
+                     "steps": result.history.cost, "seconds": seconds, "starts_tried": tried, "start": kept,
                      "points": result.best.points.detach().tolist()})
     return rows
+
+
+def starts_used(history) -> tuple[int, int]:
+    """(starts tried, the one whose fit is kept, counted from 1) of a fit's history; (1, 1) for a single run.
+
+    A seed's rate is only a trial of its own start when ``start`` is 1: ``pyramid`` goes on to further
+    starts (`ifslib.strategies.starts`), and its second, the target's best-fit line without jitter, is
+    the same for every seed, so the seeds it recovers are one fit repeated. The kept start is the one
+    whose last stage has the lowest Chamfer distance, the first of equals, as ``pyramid`` keeps it.
+    """
+    judged = [stage for stage in (history.stages or []) if stage.start is not None and stage.chamfer is not None]
+    if not judged:
+        return 1, 1
+    kept = min(judged, key=lambda stage: stage.chamfer).start + 1
+    return history.starts_tried or kept, kept
 
 
 def _check(cells: list[Cell], seeds: list[int]) -> None:

@@ -35,7 +35,8 @@ from ..raster.chaos import chaos_field
 from ..geometry.ifs import IFS
 from ..geometry.io import load_ifs
 from ..scoring.losses import loss as loss_fn
-from ..scoring.metrics import iou
+from ..scoring.metrics import chamfer, iou
+from ..geometry.crossings import is_curve
 from ..geometry.patterns import by_name
 from ..raster.render import shade
 from ..targets.target import Target, load_target
@@ -192,7 +193,10 @@ class Explorer:
         -------
         dict
             ``image`` ((size, size) array), ``scales``, ``seconds``, ``warning`` (None when valid) and,
-            with a target, ``loss`` and ``iou``. On an invalid state only ``warning``.
+            with a target, ``loss``, ``iou`` and, for a curve, ``chamfer`` (pixels), the score shown first:
+            as `ifslib.metrics.caption`, a thin curve is judged by its Chamfer distance, since IoU is
+            harsh on it (a one-pixel shift of a one-pixel line halves it). On an invalid state only
+            ``warning``.
         """
         if self._quiet:
             return self.last
@@ -221,7 +225,11 @@ class Explorer:
                 if target is not None:
                     state["loss"] = float(loss_fn(dist, target, "multiscale_distance"))
                     state["iou"] = iou(image >= 0.5, target.mask)
-                    text += f"<p>multiscale distance loss {state['loss']:.3e}, IoU {state['iou']:.3f}</p>"
+                    score = f"IoU {state['iou']:.3f}"
+                    if is_curve(ifs):  # the measure metrics.caption picks for a curve
+                        state["chamfer"] = chamfer(image >= 0.5, target.mask)
+                        score = f"Chamfer {state['chamfer']:.2f} px ({score}, harsh on a thin curve)"
+                    text += f"<p>multiscale distance loss {state['loss']:.3e}, {score}</p>"
         except IFSError as exc:
             self._warn(str(exc))
             return self.last
@@ -241,7 +249,7 @@ class Explorer:
         fig, ax = plt.subplots(figsize=(4, 4))
         if self.last.get("image") is not None:
             what = "the attractor" if self.last.get("attractor") else f"depth {ifs.depth}"
-            figures.show_image(ax, self.last["image"], f"{self.pattern.value}, {what}")
+            figures.show_image(ax, self.last["image"], f"{self.pattern.value}, {what}, {self.size}²")
             if self.last.get("window") is not None:
                 return fig  # a zoomed window: the outlines and points are of the whole frame
             if self.show_outlines.value and ifs.depth > 0:

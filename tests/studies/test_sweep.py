@@ -52,3 +52,16 @@ def test_bad_cells_are_refused():
         sweep([Cell(loss="typo")], [0], SETUP, scheduler="serial")
     with pytest.raises(IFSError, match="at least one"):
         sweep([], [0], SETUP, scheduler="serial")
+
+
+def test_rows_say_which_start_was_kept():
+    # plain is one run of its seed's start; pyramid tries starts until one recovers (up to
+    # StrategyOptions.n_starts) and the row names the one kept, so that a rate counts its trials honestly
+    rows = sweep([Cell("plain"), Cell("pyramid")], [0, 1], SETUP, scheduler="serial")
+    plain, pyramid = rows[:2], rows[2:]
+    assert all((r["starts_tried"], r["start"]) == (1, 1) for r in plain)
+    for r in pyramid:
+        assert 1 <= r["start"] <= r["starts_tried"] <= 8
+        if r["recovered"]:  # pyramid stops at the first start that passes the study's own test
+            assert r["start"] == r["starts_tried"]
+    assert any(r["starts_tried"] > 1 for r in pyramid), "4 steps a stage should not recover at once"

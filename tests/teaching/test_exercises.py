@@ -305,3 +305,36 @@ def test_choose_maps_passes_in_any_order_of_summing_the_score(score):
     run(CHOOSE_MAPS, **mine(CHOOSE_MAPS, body, CHOOSE_MAPS), **names)
     fails(CHOOSE_MAPS, "fewer maps", answer_source=mine(CHOOSE_MAPS, body.replace("r['maps']))", "-r['maps']))"),
                                                          CHOOSE_MAPS)["answer_source"], **names)
+
+
+def test_the_two_map_hidden_test_fails_a_fractal_that_matches_only_at_64():
+    # the truth's maps 4.5% larger: its attractor passes the visible test at 64² (IoU 0.81) but not
+    # the hidden one at 128² (IoU 0.64 against the true fractal's there, under 0.65)
+    truth = course_targets.two_map_truth()
+    maps = truth.maps().detach().double().numpy()[:, :2, :].copy()
+    maps[:, :, :2] *= 1.045
+    close = ifslib.patterns.affine(maps, depth=6)
+    picture = ifslib.exercises.two_map_target(64)
+    assert ifslib.evaluate(close, picture, depth="attractor")["iou"] >= 0.8  # the visible test's bar
+    fails("07_your_own_image-two-maps", "drawn at 128²", answer_source="my_two_maps = close",
+          close=close, two_maps=picture)
+
+
+FLOAT32_ROTATION = """
+def rotation(theta):
+    R = torch.zeros(2, 2)
+    R[0, 0], R[0, 1] = torch.cos(theta), -torch.sin(theta)
+    R[1, 0], R[1, 1] = torch.sin(theta), torch.cos(theta)
+    return R
+"""
+
+
+def test_the_rotation_answer_passes_and_a_float32_one_is_told_its_dtype():
+    run("06_convergence_study-rotation")  # the instructor's answer, hidden gradcheck included
+    run("06_convergence_study-rotation", FLOAT32_ROTATION.replace("torch.zeros(2, 2)",
+                                                                  "torch.zeros(2, 2, dtype=theta.dtype)"))
+    fails("06_convergence_study-rotation", "R is torch.float32 but theta is torch.float64",
+          answer_source=FLOAT32_ROTATION)
+    fails("06_convergence_study-rotation", "no gradient flows", answer_source=blank(
+        "06_convergence_study-rotation").replace("...  # YOUR CODE HERE", "return torch.tensor("
+        "[[torch.cos(theta), -torch.sin(theta)], [torch.sin(theta), torch.cos(theta)]])"))

@@ -38,6 +38,18 @@ def test_target_shows_loss_and_iou_that_respond_to_points(explorer):
     assert moved["loss"] != at_start["loss"]
 
 
+def test_a_curve_is_scored_by_chamfer_a_shape_by_iou(explorer):
+    # as ifslib.metrics.caption: the Koch curve's fair score is its Chamfer distance, IoU is harsh on it
+    explorer.target.value = "koch"
+    state = explorer.last
+    assert state["chamfer"] >= 0 and f"Chamfer {state['chamfer']:.2f} px" in explorer.info.value
+    shifted = explorer.set_point(2, 0.2, -0.3)
+    assert shifted["chamfer"] > state["chamfer"]
+    explorer.pattern.value = "carpet"  # a shape with area: IoU alone
+    assert "chamfer" not in explorer.last and "Chamfer" not in explorer.info.value
+    assert "IoU" in explorer.info.value
+
+
 def test_depth_and_sigma_change_the_render(explorer):
     ink = explorer.last["image"].sum()
     explorer.sigma.value = 4.0
@@ -75,6 +87,7 @@ def test_pattern_switch_and_json_file(explorer, tmp_path):
 def test_static_figure_of_the_state(explorer):
     fig = explorer.figure()
     assert len(fig.axes) == 1 and fig.axes[0].images
+    assert fig.axes[0].get_title() == "koch, depth 3, 48²"  # a caption states its size
 
 
 def test_affine_maps_in_the_explorer(explorer, tmp_path):
