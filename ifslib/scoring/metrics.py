@@ -108,7 +108,8 @@ def evaluate(ifs: IFS, target: Target, depth: int | str | None = None, sigma: fl
 def caption(ifs: IFS, target: Target) -> str:
     """The one number that judges a fit, as a caption: Chamfer (pixels) for a curve, IoU for a figure with area.
 
-    IoU is harsh on a thin curve: a one-pixel shift of a one-pixel line halves it, so a Koch fit
+    IoU is harsh on a thin curve: a one-pixel-wide line drawn one pixel off shares no pixel with it
+    (IoU 0; half a pixel off, the line's mask is two pixels wide and IoU is 1/2), so a Koch fit
     right to 0.7 px can score IoU 0.2. The symmetric Chamfer distance measures what the eye sees
     there. For shapes with area (the carpet, silhouettes) the overlap, IoU, is the natural measure.
     A curve is an IFS whose rules chain segments, as the Koch curve's do (`ifslib.geometry.crossings.is_curve`).

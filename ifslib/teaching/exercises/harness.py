@@ -39,6 +39,8 @@ LIBRARY = {
     "leaf map": [("ifslib", "expand"), ("ifslib.geometry.leaves", "expand")],
     "leaf count": [("ifslib", "expand"), ("ifslib.geometry.leaves", "expand")],
     "depth": [("ifslib.scoring.metrics", "depth_to_attractor")],
+    "iou": [("ifslib", "iou"), ("ifslib.scoring.metrics", "iou")],
+    "chamfer": [("ifslib", "chamfer"), ("ifslib.scoring.metrics", "chamfer")],
 }
 
 
