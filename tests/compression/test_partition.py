@@ -90,12 +90,17 @@ def test_pruning_finds_the_least_lagrangian_cost_of_every_tree_by_brute_force():
         assert bits == tree.bits
 
 
+def random_choices(options, side, seed):
+    """Random leaf choices for a ``side`` px square: a mapped leaf (25 bits) never worse than a flat one (12 bits)."""
+    rng = np.random.default_rng(seed)
+    return {size: LeafChoice(err=np.sort(rng.random((2, side // size, side // size)), 0) * size**3,
+                             bits=np.stack([np.full((side // size,) * 2, 25), np.full((side // size,) * 2, 12)]))
+            for size in options.sizes}
+
+
 def test_pruning_to_a_budget_keeps_it():
     small = CodeOptions(min_block=4, max_block=16)
-    rng = np.random.default_rng(3)
-    choices = {size: LeafChoice(err=np.sort(rng.random((2, 32 // size, 32 // size)), 0) * size**3,
-                                bits=np.stack([np.full((32 // size,) * 2, 25), np.full((32 // size,) * 2, 12)]))
-               for size in small.sizes}
+    choices = random_choices(small, 32, seed=3)
     spent = []
     for budget in (60, 300, 900):
         tree = prune_to_budget(small, choices, budget)
@@ -123,10 +128,7 @@ def every_tree(options, choices):
 
 def test_pruning_to_a_budget_is_best_for_its_own_bits_not_always_for_the_budget():
     small = CodeOptions(min_block=4, max_block=8)
-    rng = np.random.default_rng(4)
-    choices = {size: LeafChoice(err=np.sort(rng.random((2, 16 // size, 16 // size)), 0) * size**3,
-                                bits=np.stack([np.full((16 // size,) * 2, 25), np.full((16 // size,) * 2, 12)]))
-               for size in small.sizes}
+    choices = random_choices(small, 16, seed=4)
     bits, err = every_tree(small, choices)
     unspent = []
     for budget in range(int(bits.min()), int(bits.max()) + 1, 3):
