@@ -195,7 +195,7 @@ class Explorer:
             ``image`` ((size, size) array), ``scales``, ``seconds``, ``warning`` (None when valid) and,
             with a target, ``loss``, ``iou`` and, for a curve, ``chamfer`` (pixels), the score shown first:
             as `ifslib.metrics.caption`, a thin curve is judged by its Chamfer distance, since IoU is
-            harsh on it (a one-pixel shift of a one-pixel line halves it). On an invalid state only
+            harsh on it (a one-pixel-wide line drawn one pixel off scores IoU 0). On an invalid state only
             ``warning``.
         """
         if self._quiet:
