@@ -34,13 +34,13 @@ def read_gray(path: str) -> np.ndarray:
 OUTPUT_FORMATS = {".png": "PNG", ".tif": "TIFF", ".tiff": "TIFF", ".bmp": "BMP", ".pgm": "PPM"}
 
 
-def check_output(path: str) -> str:
-    """``path`` if its extension names a format in `OUTPUT_FORMATS`, else `IFSError` listing them."""
+def output_format(path: str) -> str:
+    """Pillow's name of the format ``path``'s extension names in `OUTPUT_FORMATS`, else `IFSError` listing them."""
     suffix = Path(path).suffix.lower()
     if suffix not in OUTPUT_FORMATS:
         raise IFSError(f"the output {path!r} must end in one of {', '.join(OUTPUT_FORMATS)} (a lossless image "
                        f"format, picked by the extension), got {suffix or 'no extension'!r}")
-    return path
+    return OUTPUT_FORMATS[suffix]
 
 
 def cmd_compress(args: argparse.Namespace) -> None:
@@ -53,9 +53,9 @@ def cmd_compress(args: argparse.Namespace) -> None:
     code = compress(image, bpp=args.bpp, quality=args.quality, method=args.method,
                     progress=not args.quiet and draw_bars())
     size = write(code, args.output)
-    decoded = decode(code).image.numpy()
+    psnr = peak_signal_noise_ratio(image, decode(code).image.numpy(), data_range=1.0)
     print(f"wrote {args.output}: {size:,} bytes ({8 * size / image.size:.3f} bpp), {len(code)} blocks, "
-          f"{args.method} coding; decoded PSNR {peak_signal_noise_ratio(image, decoded.astype(np.float32), data_range=1.0):.2f} dB; {time.perf_counter() - t0:.1f} s")
+          f"{args.method} coding; decoded PSNR {psnr:.2f} dB; {time.perf_counter() - t0:.1f} s")
 
 
 def cmd_decompress(args: argparse.Namespace) -> None:
@@ -63,12 +63,12 @@ def cmd_decompress(args: argparse.Namespace) -> None:
     from .compression.config import DECODE_TOL
     from PIL import Image
 
-    check_output(args.output)
+    fmt = output_format(args.output)  # before decoding: a wrong name costs nothing
     code = read(args.file)
     result = decode(code, args.scale)
     Path(args.output).parent.mkdir(parents=True, exist_ok=True)
     pixels = (result.image.numpy() * 255).round().astype(np.uint8)
-    Image.fromarray(pixels, mode="L").save(args.output, OUTPUT_FORMATS[Path(args.output).suffix.lower()])
+    Image.fromarray(pixels, mode="L").save(args.output, fmt)
     print(f"wrote {args.output}: {pixels.shape[1]} x {pixels.shape[0]} px (scale {args.scale:g}), "
           f"{result.iterations} iterations")
     if result.change > DECODE_TOL:
