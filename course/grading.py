@@ -5,8 +5,10 @@
                                                      # release, and fail unless they score full and 0
 
 The assignment ``ifs`` holds every notebook of ``notebooks/`` with nbgrader cells (every lesson
-but the explorer and the glossary); ``--quick`` injects each notebook's quick values (``metadata["ifslib"]["quick"]``) after its
-parameters cell, as CI runs them. ``--check`` submits two students: ``instructor`` (the source, solved)
+but the explorer and the glossary), each at its teaching values with a locked grading cell after its
+parameters cell (``grading_run.py``): while nbgrader executes it (autograde, Validate) the lesson runs
+at its grading sizes and skips the demonstrations no check needs. ``--quick`` also injects each
+notebook's quick values (``metadata["ifslib"]["quick"]``) after its parameters cell. ``--check`` submits two students: ``instructor`` (the source, solved)
 and ``blank`` (the release, unanswered), autogrades both with nbgrader itself and prints each one's
 auto-graded points and the cells left for manual grading (the written answers).
 """
@@ -17,12 +19,14 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import nbformat
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from grading_run import with_grading_cell  # noqa: E402
 from run_edition import with_quick_values  # noqa: E402  one way to inject the quick values, here and there
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,7 +51,8 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[
     for path in sorted(source.glob("*.ipynb")):
         book = nbformat.read(path, as_version=4)
         if is_graded(book):
-            nbformat.write(with_quick_values(book) if quick else book, folder / path.name)
+            book = with_grading_cell(with_quick_values(book) if quick else book, path.stem)
+            nbformat.write(book, folder / path.name)
             names.append(path.stem)
     if not names:
         raise SystemExit(f"no notebook in {source} has nbgrader cells")
@@ -91,7 +96,9 @@ def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
     for student, folder in submissions.items():
         target = course / "submitted" / student / ASSIGNMENT
         shutil.copytree(folder, target, dirs_exist_ok=True)
+        started = time.perf_counter()
         nbgrader(course, "autograde", ASSIGNMENT, "--student", student)
+        print(f"  autograded {student} in {time.perf_counter() - started:.0f} s", flush=True)
     from nbgrader.api import Gradebook
 
     scores = []

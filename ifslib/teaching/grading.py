@@ -1,0 +1,62 @@
+"""Grading runs: while nbgrader autogrades or validates a lesson, skip the demonstrations its checks do not need.
+
+nbgrader sets ``NBGRADER_EXECUTION`` (``"autograde"`` or ``"validate"``) in the kernel's environment
+while it executes a notebook. The course's release (``course/grading.py``) puts a locked cell after
+each lesson's parameters cell that, in such a run only, sets the lesson's grading sizes and calls
+`skip_cells` with the keys of the cells the exercises do not depend on (the lesson's long fits and
+sweeps): IPython then runs ``pass`` in their place. The student's own answers and the test cells
+always run, and a reader running the lesson sees every cell as written.
+
+A cell is named by `cell_key`, a hash of its source with each line's surrounding blanks and the empty
+lines dropped, so that a cell that a student edits is no longer skipped (it simply runs).
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+from typing import Iterable
+
+#: The environment variable nbgrader sets while it executes a notebook.
+GRADING_VARIABLE = "NBGRADER_EXECUTION"
+#: What a skipped cell runs instead: a statement, so that the cell's output is empty.
+SKIPPED = "pass  # a demonstration of the lesson: not needed by the checks, skipped while grading\n"
+
+
+def grading() -> bool:
+    """Whether nbgrader is executing this kernel's notebook (autograde or validate)."""
+    return bool(os.environ.get(GRADING_VARIABLE))
+
+
+def cell_key(source: str) -> str:
+    """A short hash naming a cell by its source: the stripped non-empty lines, joined."""
+    lines = [line.strip() for line in source.splitlines() if line.strip()]
+    return hashlib.sha256("\n".join(lines).encode()).hexdigest()[:16]
+
+
+def skip_cells(keys: Iterable[str]) -> int:
+    """Run ``pass`` instead of each later cell whose `cell_key` is one of ``keys``; returns how many keys.
+
+    Does nothing outside IPython. Registered once per kernel: a second call replaces the first's keys.
+
+    Parameters
+    ----------
+    keys : iterable of str
+        `cell_key` values of the cells to skip.
+    """
+    keys = frozenset(keys)
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return 0
+    shell = get_ipython()
+    if shell is None:
+        return 0
+    transformers = shell.input_transformers_cleanup
+    transformers[:] = [t for t in transformers if not getattr(t, "_ifslib_grading", False)]
+
+    def skip(lines: list[str]) -> list[str]:
+        return [SKIPPED] if cell_key("".join(lines)) in keys else lines
+
+    skip._ifslib_grading = True
+    transformers.insert(0, skip)
+    return len(keys)
