@@ -7,13 +7,14 @@
    reference, whose per-name pages autosummary generates there). In the book's copy of a notebook
    each exercise's solution (a ``### BEGIN SOLUTION`` block) is folded: the cell is split into the
    code around the block, shown, and the block, a cell of its own tagged ``hide-input``, which
-   MyST-NB shows behind a "Show the solution" toggle (`fold_solutions`).
+   MyST-NB shows behind a "Show the solution" toggle (`fold_solutions`); each figure gets its
+   caption as alt text (``docs/slides.py`` finds the caption, as the slides show it).
 2. Run ``sphinx-build -W --keep-going -n -E`` with ``docs/conf.py`` into ``build/book/html``
    (MyST-NB, stored outputs only, no execution, no network; autodoc imports ``ifslib``).
 3. Check the result: index.html shows the README's title; each notebook page exists and holds
-   at least one ``<img`` (its stored figure outputs) and its solutions only folded; each results page
-   (``docs/results/*.md``) exists and opens with a ``bash`` block, the command that regenerates it; every name of
-   ``ifslib.__all__`` has an entry in the API reference; and no page loads a script or a style
+   at least one ``<img`` (its stored figure outputs), each with an alt text that is no file name,
+   and its solutions only folded; each results page (``docs/results/*.md``) exists and opens with
+   a ``bash`` block, the command that regenerates it; every name of ``ifslib.__all__`` has an entry in the API reference; and no page loads a script or a style
    sheet from the network (MathJax is the book's own copy, from the npm package ``make book``
    installs into ``build/npm``).
 
@@ -107,6 +108,16 @@ def assemble() -> None:
     _complete_api(SRC / "docs" / "api" / "index.md")
 
 
+def _slides():
+    """``docs/slides.py``, whose figure captions give the book's images their alt text."""
+    name = "ifslib_docs_slides"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, DOCS / "slides.py")
+        sys.modules[name] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]
+
+
 def _student():
     """``notebooks/student.py``, which reads the solution markers (the student edition's tool)."""
     name = "ifslib_student_edition"
@@ -128,12 +139,17 @@ def fold_solutions(source: Path, target: Path) -> int:
     block (the exercise and its check, shown as the student sees them) and each block's lines
     without the markers, tagged ``hide-input``. The cell's outputs stay under its last piece, so the
     check's verdict follows the check. A markdown cell's blocks (a written answer's model answer and
-    rubric) are folded in place, in a ``<details>`` block. Returns the number of solutions folded.
+    rubric) are folded in place, in a ``<details>`` block. Each figure's alt text is its caption
+    (MyST-NB's own is the image file's name, a hash). Returns the number of solutions folded.
     """
     import nbformat
 
     student = _student()
     book = nbformat.read(source, as_version=4)
+    # each figure's alt text, its caption (else MyST-NB's alt is the image file's name, a hash)
+    for index, alt in _slides().alt_texts(book).items():
+        options = book.cells[index].metadata.setdefault("mystnb", {})
+        options["image"] = {**options.get("image", {}), "alt": alt}
     cells, folded = [], 0
     for cell in book.cells:
         try:
@@ -215,7 +231,7 @@ def check() -> list[str]:
         body = page.read_text(encoding="utf-8")
         if "<img" not in body:
             problems.append(f"{page.relative_to(ROOT)}: no <img> (stored figure outputs missing)")
-        problems += check_folded(nb, page, body)
+        problems += check_folded(nb, page, body) + check_alt(page, body)
         if f'href="notebooks/{nb.stem}.html"' not in text:
             problems.append(f"index.html: no toctree link to notebooks/{nb.stem}.html")
     problems += check_results() + check_api() + check_offline()
@@ -233,6 +249,23 @@ def check_folded(nb: Path, page: Path, body: str) -> list[str]:
     unfolded = sorted(solutions & {line.strip() for line in shown.splitlines()})
     if "BEGIN SOLUTION" in body or unfolded:
         return [f"{page.relative_to(ROOT)}: a solution shown unfolded: {(unfolded or ['its markers'])[0]!r}"]
+    return []
+
+
+#: an alt text that names a file instead of saying what the image shows: a hash, a path
+HASH_ALT = re.compile(r"^([0-9a-f]{16,}|.*\.(png|jpe?g|svg|gif))$", re.I)
+
+
+def check_alt(page: Path, body: str) -> list[str]:
+    """Every image of a notebook's page has an alt text that says what it shows (its caption)."""
+    import html
+
+    alts = [html.unescape(alt) for alt in re.findall(r'<img[^>]*\balt="([^"]*)"', body)]
+    missing = len(re.findall(r"<img\b", body)) - len(alts)
+    bad = [alt for alt in alts if not alt.strip() or HASH_ALT.match(alt.strip().rsplit("/", 1)[-1])]
+    if missing or bad:
+        return [f"{page.relative_to(ROOT)}: {missing + len(bad)} image(s) without a caption as alt text, "
+                f"e.g. {(bad or ['(no alt)'])[0]!r}"]
     return []
 
 

@@ -1,42 +1,57 @@
-"""Lecture slides: ``python docs/slides.py [DECK ...]`` (``make slides``) -> ``build/slides/DECK.html``.
+"""Lecture slides: ``python docs/slides.py [DECK ...]`` (``make slides``) -> ``build/slides/DECK.html``,
+and the students' decks ``build/slides/student/DECK.html``.
 
 One reveal.js deck per lecture of the course (``docs/slides/lectures.yaml`` lists each lecture's
 notebooks and sections), condensed from the notebooks' cells and their stored outputs: nothing is
 executed and no notebook is written. Slides are across (one column per ``##`` section) and down (the
-slides of a section). What a slide holds, at 1280 x 720 (``Condense`` holds the limits):
+slides of a section). A ``#``, ``##`` or ``###`` heading opens a section wherever it stands, at the
+top of a markdown cell or inside one, except an exercise's heading (``### Exercise 2 ...``). What a
+slide holds, at 1280 x 720 (``Condense`` holds the limits):
 
 * a section's **opening slide**: its heading and at most four short lines, the first sentence of
-  each paragraph cut at a clause (or the talking points the lecture file gives); an opening that is
-  empty or only repeats its figure's caption gives way to the figure;
+  each paragraph before the section's first figure or number, cut at a clause (or the talking
+  points the lecture file gives; a section that opens on its exercises lists them); an opening that
+  is empty or only repeats its figure's caption gives way to the figure;
 * a **figure**: each picture a code cell stored, as large as the slide allows, under the section's
-  heading and over a caption (the first sentence of the paragraph before the cell); a tall grid of
-  panels is cut at its blank rows, a slide per row or per few rows, so that its labels stay legible;
+  heading and over its caption (`figure_caption`: a ``*Figure: ...*`` line written under the cell,
+  else the sentence before the cell that says what it shows, else the title its code gives it, else
+  the section's heading), which is also its alt text; a tall grid of panels is cut at its blank
+  rows, a slide per row or per few rows, so that its labels stay legible;
 * a **number**: a short printed output (at most twelve lines as set); short numbers share the slide
   before them while both fit;
-* an **exercise**: its statement (cut between sentences if long); the worked answer is never on a slide.
+* an **exercise**: its title and statement, its tables, code and formulas included (cut between
+  sentences if long). A statement opens with ``**Exercise N (kind): title.**`` or a heading
+  ``### Exercise N ...``; an answer cell with no statement before it fails the build. The worked
+  answer is never on a slide.
 
 Everything else goes to the **speaker notes** (``<aside class="notes">``, key ``S``) of the slide it
-belongs to: the section's whole prose, every code cell, long outputs, exercise hints, and the worked
-answers (the ``### BEGIN SOLUTION`` blocks of the instructor's notebooks, and model answers and
-rubrics of written exercises). The first slide's notes are the lecture's objectives, class plan and
-homework from the course page. Skipped: the ``parameters`` cell and the short paragraph that
-introduces it, nbgrader's test cells, interactive widgets (they need a kernel), warnings on stderr.
+belongs to: the section's whole prose, every code cell, long outputs, exercise hints, and, in the
+instructor's deck, the worked answers (the ``### BEGIN SOLUTION`` blocks of the instructor's
+notebooks: code, and the model answers and rubrics of written exercises). The student's deck is the
+same slides with none of these in its notes: the answer cell as the student edition has it
+(``notebooks/student.py`` finds the markers), no hidden test, no answer cell's output (no deck shows
+one). The first slide's notes are the lecture's objectives, class plan and homework from the course
+page. Skipped: the ``parameters`` cell and the short paragraph that introduces it, nbgrader's test
+cells, interactive widgets (they need a kernel), warnings on stderr.
 
 Offline: reveal.js and MathJax are the npm packages under ``build/npm`` (``make slides`` installs
-them), referenced by paths relative to ``build/slides/``; the build fails when a deck would load an
+them), referenced by paths relative to each deck's folder; the build fails when a deck would load an
 ``http(s)://`` script or style sheet (the style sheets it links are read too, with their
 ``@import``s), when reveal.js or MathJax is missing, when the lecture file names a notebook or
 section that is not there, or when a lecture notebook is in no lecture. ``--notebooks DIR`` builds
-from another folder of notebooks, ``--out DIR`` (beside ``build/npm``) into another folder.
+from another folder of notebooks, ``--out DIR`` into another folder; ``--outline`` prints each
+slide's heading and words instead (``--student``: the students' decks), to read a deck through.
 """
 
 from __future__ import annotations
 
 import argparse
 import base64
+import copy
 import dataclasses
 import html
 import html.parser
+import os
 import re
 import sys
 import textwrap
@@ -53,9 +68,11 @@ LECTURES = DOCS / "slides" / "lectures.yaml"
 CSS = DOCS / "slides" / "slides.css"
 COURSE = DOCS / "guide" / "course.md"
 NOTEBOOK_GLOB = "[0-9][0-9]_*.ipynb"
-#: reveal.js and MathJax as seen from a deck in build/slides/ (opened as a file).
-REVEAL_PREFIX = "../npm/node_modules/reveal.js"
-MATHJAX_URL = "../npm/node_modules/mathjax/es5/tex-mml-chtml.js"
+#: reveal.js and MathJax under build/npm, referenced from a deck by a path relative to its folder (opened as a file)
+REVEAL = "reveal.js"
+MATHJAX = "mathjax/es5/tex-mml-chtml.js"
+#: the student's decks: a folder of the decks' folder (build/slides/student/)
+STUDENT = "student"
 #: "white": its fonts are reveal.js's own files ("simple" and most others @import Google Fonts).
 THEME = "white"
 REVEAL_FILES = ("dist/reveal.js", "dist/reveal.css", f"dist/theme/{THEME}.css", "plugin/notes/notes.js")
@@ -71,6 +88,7 @@ class Condense:
     bullet_chars: int = 110     # visible characters of a line: two lines of the slide at most
     caption_chars: int = 150    # a figure's caption: two lines under the picture
     statement_chars: int = 360  # an exercise's statement on its slide: five lines; longer ones cut
+    statement_rows: int = 8     # and under it, its tables, code and formulas: lines at 22-26 px
     text_lines: int = 12        # a printed output on a slide, in lines as set (longer ones wrap): what fits
     text_cols: int = 86         # characters of a line of output at 22 px across the slide; longer lines wrap
     figure_aspect: float = 2.1  # width / height of the room a figure has under a heading and over a caption
@@ -82,8 +100,9 @@ class Condense:
 
 
 CONDENSE = Condense()
-#: paragraphs that stay in the notes: for the one who runs the notebook, not for the room
-NOT_BULLETS = ("**How long it runs", "**What you need first", "Parameters")
+#: paragraphs that stay in the notes: for the one who runs the notebook, not for the room, and a
+#: caption written under a figure (its slide shows it under the figure)
+NOT_BULLETS = ("**How long it runs", "**What you need first", "Parameters", "*Figure:")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -278,11 +297,25 @@ def pre(text: str, cls: str = "") -> str:
 
 
 # ---------------------------------------------------------------------------------------------------
-# Notebooks: sections, and the slides of a section
+# Notebooks: sections, exercises, captions, and the slides of a section
 
-SOLUTION_BLOCK = re.compile(r"^[ \t]*### BEGIN SOLUTION[ \t]*\n(.*?)^[ \t]*### END SOLUTION", re.M | re.S)
-MARK_SCHEME = re.compile(r"=== BEGIN MARK SCHEME ===(.*?)=== END MARK SCHEME ===", re.S)
-EXERCISE = re.compile(r"\s*\*\*(Exercise[^*]*?)[.:]?\*\*[.:]?\s*")
+#: An exercise's first paragraph: ``**Exercise 2 (apply): a title.**`` or a heading ``### Exercise 2 (code). A title``
+EXERCISE = re.compile(r"\s*(?:\*\*(Exercise\b[^*]*?)[.:]?\*\*[.:]?|#{1,6}[ \t]+(Exercise\b[^\n]*?)[.:]?[ \t]*(?:\n|$))\s*")
+#: A figure's caption written under it (notebook 10's convention): ``*Figure: what it shows.*``
+FIGURE_CAPTION = re.compile(r"\s*\*Figure:\s*(.+?)\.?\*(?=\s|$)", re.S)
+_FENCE = re.compile(r"\s*(```|~~~)")
+
+
+def _student():
+    """``notebooks/student.py``: where the solution and hidden-test markers are read (the student edition's tool)."""
+    name = "ifslib_student_edition"
+    if name not in sys.modules:
+        import importlib.util
+
+        spec = importlib.util.spec_from_file_location(name, ROOT / "notebooks" / "student.py")
+        sys.modules[name] = importlib.util.module_from_spec(spec)  # before it runs: its dataclass looks itself up
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]
 
 
 @dataclasses.dataclass
@@ -292,11 +325,51 @@ class Section:
     cells: list
 
 
+def _nbgrader(cell) -> dict:
+    return cell.metadata.get("nbgrader", {})
+
+
+def exercise_title(paragraph: str) -> str | None:
+    """The title of the exercise ``paragraph`` opens (``Exercise 2 (apply): IoU``), else None."""
+    match = EXERCISE.match(paragraph)
+    return (match.group(1) or match.group(2)).strip() if match else None
+
+
+def split_at_headings(cells) -> list:
+    """The cells with each markdown cell cut before every heading inside it (outside code fences and
+    ``$$``): a heading in the middle of a cell opens a section as one at its top does. nbgrader's
+    cells stay whole (``### BEGIN SOLUTION`` is a marker, not a heading)."""
+    out = []
+    for cell in cells:
+        if cell.cell_type != "markdown" or _nbgrader(cell):
+            out.append(cell)
+            continue
+        pieces, current, fenced, maths = [], [], False, False
+        for line in cell.source.splitlines():
+            if _FENCE.match(line):
+                fenced = not fenced
+            elif not fenced and line.count("$$") % 2:
+                maths = not maths
+            if not fenced and not maths and _HEADING.match(line) and "".join(current).strip():
+                pieces.append("\n".join(current).strip("\n"))
+                current = []
+            current.append(line)
+        pieces.append("\n".join(current).strip("\n"))
+        for text in pieces:
+            piece = copy.deepcopy(cell)
+            piece.source = text
+            out.append(piece)
+    return out
+
+
 def sections(nb) -> list[Section]:
-    """The notebook cut at its ``#``, ``##`` and ``###`` headings (cells before the first: the title's)."""
+    """The notebook cut at its ``#``, ``##`` and ``###`` headings, in a cell or at its top (cells
+    before the first: the title's); a heading ``### Exercise ...`` opens an exercise, not a section."""
     found = [Section(1, "", [])]
-    for cell in nb.cells:
+    for cell in split_at_headings(nb.cells):
         head = None if _nbgrader(cell) else heading(cell)   # "### BEGIN SOLUTION" is no heading
+        if head and exercise_title(cell.source):
+            head = None
         if head and head[0] <= 3 and (found[-1].cells or found[-1].title):
             found.append(Section(head[0], head[1], []))
         elif head and head[0] <= 3:
@@ -323,8 +396,9 @@ def pick(secs: list[Section], part: Part, where: str) -> list[Section]:
     return kept
 
 
-def _nbgrader(cell) -> dict:
-    return cell.metadata.get("nbgrader", {})
+def _is_answer(cell) -> bool:
+    """An exercise's answer cell (nbgrader's, tagged ``exercise``, or holding a marked solution)."""
+    return _student().is_exercise(cell)
 
 
 def _is_test(cell) -> bool:
@@ -342,34 +416,159 @@ def _skipped(cells, index) -> bool:
 
 def solution_text(cell) -> str:
     """The worked answer of an exercise cell: its BEGIN/END SOLUTION blocks (else the whole cell)."""
-    blocks = SOLUTION_BLOCK.findall(cell.source) or MARK_SCHEME.findall(cell.source)
+    blocks = [p.text for p in _student().split(cell.source) if p.solution]
     return "\n".join(textwrap.dedent(b).strip("\n") for b in blocks) if blocks else cell.source
 
 
-def exercise_slide(statement: list[str], answer, where: str) -> Slide:
-    """An exercise's slide: its title and statement (cut when long); hint and worked answer in the notes."""
-    lead = EXERCISE.match(statement[0])
-    title = lead.group(1).strip() if lead else "Exercise"
-    text = [statement[0][lead.end():] if lead else statement[0]]
-    text += [p for p in statement[1:] if not p.lstrip().startswith("<")]
-    body, used, every = [], 0, sentences(" ".join(text))
-    for sentence in every:
-        if used + visible_length(sentence) > CONDENSE.statement_chars:
+def _has_image(cell) -> bool:
+    return cell.cell_type == "code" and any(m in out.get("data", {}) for out in cell.get("outputs", [])
+                                            for m in IMAGE_MIMES)
+
+
+def _prose(paragraph: str) -> bool:
+    """A paragraph of sentences: not a heading, list, table, formula, code or HTML block, nor an aside
+    in parentheses."""
+    text = paragraph.strip()
+    return not (_HEADING.match(text) or re.match(r"([-*+]|\d+\.)\s", text)
+                or text.startswith(("<", "```", "$$", "|")) or (text.startswith("(") and text.endswith(")")))
+
+
+def pointer_sentence(paragraph: str) -> str:
+    """The sentence of ``paragraph`` that says what the cell after it shows: one that opens with
+    "Below" or "The picture" (bars, plot, figure), else a last sentence that ends in a colon, else
+    the first that points "below" or at "the bars", else the first (an exercise's lead and a figure
+    caption written under the cell before are left out)."""
+    text = FIGURE_CAPTION.sub("", paragraph, count=1)
+    lead = EXERCISE.match(text)
+    found = sentences(text[lead.end():] if lead else text)
+    if not found:
+        return ""
+    ranked = [s for s in found if re.match(r"(Below\b|The (picture|pictures|bars|plot|figure)\b)", s)]
+    ranked += [found[-1]] * found[-1].endswith(":")
+    ranked += [s for s in found if re.search(r"\bbelow\b|\bthe bars\b|\bpictured\b", s, re.I)]
+    return (ranked or found)[0]
+
+
+#: a figure's title in its code: fig.suptitle("...") or ax.set_title("..."), a literal or an f-string
+_TITLE_CALL = re.compile(r"""\b(suptitle|set_title)\(\s*(f?)("[^"\n]*"|'[^'\n]*')""")
+
+
+def _code_title(source: str) -> str:
+    """The figure's title its code sets (``suptitle`` before ``set_title``), each ``{name}`` of an
+    f-string shown as code; "" when there is none, or when it computes (an expression, not a name)."""
+    for call in ("suptitle", "set_title"):
+        for kind, prefix, literal in _TITLE_CALL.findall(source):
+            if kind != call:
+                continue
+            text = literal[1:-1]
+            fields = re.findall(r"\{([^{}]*)\}", text) if prefix else []
+            if any(not re.fullmatch(r"\w+(:[^{}]*)?", f) for f in fields):
+                continue
+            text = re.sub(r"\{(\w+)(:[^{}]*)?\}", r"`\1`", text) if prefix else text
+            if len(re.sub(r"`\w+`|[^\w]", " ", text).split()) >= 2:
+                return text[0].upper() + text[1:]
+    return ""
+
+
+def figure_caption(cells, index: int) -> str:
+    """The caption of the figure that the code cell ``cells[index]`` draws, as markdown:
+
+    1. a caption written under the cell, ``*Figure: ...*`` (the convention of the later notebooks);
+    2. else the sentence before it that says what it shows (`pointer_sentence`) in the last prose
+       paragraph before the cell, looking back over code cells without a figure, not past a heading,
+       another figure or an exercise's answer;
+    3. else the title its code gives the figure (``suptitle``, ``set_title``);
+    4. else the heading of its section.
+    """
+    after = cells[index + 1] if index + 1 < len(cells) else None
+    if after is not None and after.cell_type == "markdown" and not _nbgrader(after):
+        match = FIGURE_CAPTION.match(after.source)
+        if match:
+            text = " ".join(match.group(1).split())
+            return text[0].upper() + text[1:] + "."
+    head, blocked = "", False
+    for cell in reversed(split_at_headings(cells[:index])):
+        if cell.cell_type == "code":
+            blocked = blocked or _has_image(cell) or _is_answer(cell)
+            continue
+        for paragraph in reversed(paragraphs(cell.source) if not _nbgrader(cell) else []):
+            if _HEADING.match(paragraph) and not exercise_title(paragraph):
+                head = _HEADING.match(paragraph).group(2).strip()
+                break
+            if not blocked and (_prose(paragraph) or exercise_title(paragraph)) and pointer_sentence(paragraph):
+                return pointer_sentence(paragraph)
+        blocked = blocked or bool(_nbgrader(cell))
+        if head:
             break
-        body.append(sentence)
-        used += visible_length(sentence)
-    body = body or [shorten(first_sentence(text[0]), CONDENSE.statement_chars) or title]
-    more = " …" if len(body) < len(every) else ""
-    slide = Slide(title, "exercise", f'<div class="statement">{md(" ".join(body) + more)}</div>')
+    # a figure that opens its section is captioned by the heading; one after another figure, by its title
+    return (head if not blocked else "") or _code_title(cells[index].source) or head
+
+
+def plain(text: str) -> str:
+    """Markdown as the words it shows (an image's alt text): emphasis, code marks and links dropped."""
+    text = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", text)
+    return " ".join(re.sub(r"[*`]|(?<!\\)\$", "", text).split())
+
+
+def alt_texts(nb) -> dict[int, str]:
+    """Each figure cell's alt text (its caption in plain words), by the cell's index in ``nb``."""
+    return {i: plain(figure_caption(nb.cells, i)) for i, cell in enumerate(nb.cells) if _has_image(cell)}
+
+
+def exercise_slide(statement: list[str]) -> Slide:
+    """An exercise's slide: its title and statement, tables, formulas and code blocks included, cut
+    between sentences when long; the whole statement and its hint go to the notes."""
+    lead = EXERCISE.match(statement[0])
+    title = exercise_title(statement[0]) or "Exercise"
+    blocks = [statement[0][lead.end():] if lead else statement[0], *statement[1:]]
+    blocks = [b for b in blocks if b.strip() and not b.lstrip().startswith("<")]   # a folded hint stays in the notes
+    shown, used, rows, cut = [], 0, 0, False
+    for block in blocks:
+        if block.lstrip().startswith(("|", "$$", "```")):
+            # a table, a formula or code is shown whole or not at all (a table's |---| row and a code
+            # block's fences are not drawn; a formula takes about two lines)
+            lines = [r for r in block.strip().splitlines() if not re.fullmatch(r"[\s|:-]+|\s*(```|~~~).*", r)]
+            cost = 2 if block.lstrip().startswith("$$") else len(lines)
+            if rows + cost > CONDENSE.statement_rows:
+                cut = True
+                break
+            shown.append(block.strip())
+            rows += cost
+            continue
+        kept = []
+        for sentence in sentences(block):
+            if used + visible_length(sentence) > CONDENSE.statement_chars:
+                cut = True
+                break
+            kept.append(sentence)
+            used += visible_length(sentence)
+        if kept:
+            shown.append(" ".join(kept))
+        if cut:
+            break
+    if not shown and blocks:
+        shown = [shorten(first_sentence(blocks[0]), CONDENSE.statement_chars) or title]
+    if cut and shown[-1].startswith(("|", "$$", "```")):     # the rest is in the notes
+        shown.append("…")
+    elif cut:
+        shown[-1] += " …"
+    body = "\n\n".join(shown)
+    slide = Slide(title, "exercise", f'<div class="statement">{md(body)}</div>')
     slide.notes.append(md("\n\n".join(statement)))
-    if answer is None:
-        slide.notes.append(f"<p><em>No worked answer in {where}.</em></p>")
-    elif answer.cell_type == "code":
-        slide.notes.append("<p><strong>Worked answer</strong> (the notebook's solution block):</p>"
-                           + pre(solution_text(answer)))
-    else:
-        slide.notes.append("<p><strong>Model answer and rubric:</strong></p>" + md(solution_text(answer)))
     return slide
+
+
+def answer_notes(answer, student: bool) -> str:
+    """What the speaker notes say of an exercise's answer cell: the worked answer (the instructor's
+    deck), or the cell as the student edition has it, its solution stubbed (the student's deck)."""
+    if student:
+        if answer.cell_type != "code":
+            return "<p><em>A written answer, graded by hand.</em></p>"
+        stubbed = _student().student_source(answer.source)
+        return "<p>The answer cell, as the student edition has it:</p>" + pre(_student().HIDDEN.sub("", stubbed))
+    if answer.cell_type == "code":
+        return "<p><strong>Worked answer</strong> (the notebook's solution block):</p>" + pre(solution_text(answer))
+    return "<p><strong>Model answer and rubric:</strong></p>" + md(solution_text(answer))
 
 
 def _bands(blank, size: int) -> list[tuple[int, int]]:
@@ -477,36 +676,46 @@ def _text_of(out) -> str:
 
 
 def caption_of(paragraph: str | None) -> str:
-    if not paragraph or paragraph.lstrip().startswith(("<", "```", "|")):
+    """A printed number's caption: the sentence of the paragraph before it that says what it shows."""
+    if not paragraph or not _prose(paragraph) or paragraph.lstrip().startswith(NOT_BULLETS):
         return ""
-    return shorten(first_sentence(paragraph), CONDENSE.caption_chars) or ""
+    return shorten(pointer_sentence(paragraph), CONDENSE.caption_chars) or ""
 
 
 class SectionSlides:
-    """The slides of one section, cell by cell: ``SectionSlides(sec, where).build(bullets)``."""
+    """The slides of one section, cell by cell: ``SectionSlides(sec, where).build(bullets)``;
+    ``student=True``: the student's deck, with no worked answer, model answer or rubric in the notes."""
 
-    def __init__(self, section: Section, where: str):
-        self.section, self.where = section, where
+    def __init__(self, section: Section, where: str, student: bool = False):
+        self.section, self.where, self.student = section, where, student
         self.opening = Slide(section.title, "title" if section.level == 1 else "opening")
         self.slides = [self.opening]
-        self.prose: list[str] = []          # paragraphs that are not exercises: the opening's bullets
-        self.statement: list[str] | None = None     # an exercise waiting for its answer cell
-        self.last: str | None = None        # the paragraph just before a cell: a figure's caption
+        self.prose: list[str] = []          # paragraphs that are not exercises: the opening's notes
+        # the paragraphs before the section's first figure or number: the opening's bullets (a later
+        # one speaks of an output the opening does not show, "the L1 printed above")
+        self.lead: list[str] = []
+        self.statement: list[str] | None = None     # the paragraphs of an exercise being read
+        self.pending: Slide | None = None   # the exercise slide whose answer cell is still to come
+        self.last: str | None = None        # the paragraph just before a cell: a number's caption
 
     def build(self, bullets: tuple[str, ...] | None = None) -> list[Slide]:
         cells = self.section.cells
         for index, cell in enumerate(cells):
             if _skipped(cells, index):
                 continue
-            if _nbgrader(cell).get("solution"):
-                self.exercise(cell)
+            if _is_answer(cell):
+                self.answer(cell)
             elif cell.cell_type == "markdown":
                 self.markdown(cell)
             else:
-                self.code(cell)
-        if self.statement:
-            self.exercise(None)
+                self.flush()
+                self.code(cells, index)
+        self.flush()
+        self.close()
         lines = list(bullets) if bullets else self.bullets()
+        if not lines and len(self.slides) > 1 and self.slides[1].kind == "exercise":
+            # a section that opens on its exercises ("On your own"): its opening lists them
+            lines = [f"**{s.title}**" for s in self.slides[1:] if s.kind == "exercise"][:CONDENSE.bullets]
         self.opening.body = "<ul>" + "".join(f"<li>{md(b, inline=True)}</li>" for b in lines) + "</ul>" if lines else ""
         self.opening.notes.insert(0, md("\n\n".join(self.prose)) if self.prose else "")
         self.opening.height = sum(_text_height(b, 30, 1190) + 16 for b in lines)
@@ -520,46 +729,68 @@ class SectionSlides:
 
     def bullets(self) -> list[str]:
         found = []
-        for paragraph in (p for p in self.prose if not p.lstrip().startswith(NOT_BULLETS)):
+        for paragraph in (p for p in self.lead if not p.lstrip().startswith(NOT_BULLETS)):
             items = list_items(paragraph)
             found += [s for s in (shorten(i, CONDENSE.bullet_chars) for i in items) if s] if items \
                 else [b for b in [bullet_of(paragraph)] if b]
         return found[:CONDENSE.bullets]
 
     def markdown(self, cell) -> None:
-        source = _HEADING.sub("", cell.source, count=1) if heading(cell) else cell.source
+        exercise = exercise_title(cell.source)
+        source = _HEADING.sub("", cell.source, count=1) if heading(cell) and not exercise else cell.source
         in_statement = False        # the paragraphs after an exercise's first, in its cell, are its own
         for paragraph in paragraphs(source):
-            if EXERCISE.match(paragraph):
-                if self.statement:
-                    self.exercise(None)
+            if exercise_title(paragraph):
+                self.flush()
+                self.close()
                 self.statement, in_statement = [paragraph], True
             elif self.statement is not None and (in_statement or paragraph.lstrip().startswith("<details")):
                 self.statement.append(paragraph)
             else:
                 self.prose.append(paragraph)
+                if not any(s.kind in ("figure", "number") for s in self.slides):
+                    self.lead.append(paragraph)
                 self.last = paragraph
 
-    def exercise(self, answer) -> None:
-        if answer is not None and answer.cell_type == "code" and not self.statement:
-            self.statement = ["**Exercise.** (its statement is not in the markdown cell before it)"]
+    def flush(self) -> None:
+        """The exercise being read becomes its slide, which waits for its answer cell."""
         if self.statement:
-            self.slides.append(exercise_slide(self.statement, answer, self.where))
-        elif answer is not None:        # a written answer cell with the statement in its own text
-            self.slides[-1].notes.append("<p><strong>Model answer:</strong></p>" + md(solution_text(answer)))
+            self.pending = exercise_slide(self.statement)
+            self.slides.append(self.pending)
         self.statement = None
 
-    def code(self, cell) -> None:
+    def close(self) -> None:
+        """An exercise slide whose answer never came: the notes say so."""
+        if self.pending is not None and not self.student:
+            self.pending.notes.append(f"<p><em>No worked answer in {self.where}.</em></p>")
+        self.pending = None
+
+    def answer(self, cell) -> None:
+        self.flush()
+        if self.pending is None:
+            grader = _nbgrader(cell).get("grade_id") or cell.get("id", "?")
+            raise DeckError(f"{self.where}: the answer cell {grader} (section {self.section.title!r}) has no "
+                            "exercise before it: open its statement with **Exercise N (kind): title.** or a "
+                            "heading ### Exercise N ...")
+        self.pending.notes.append(answer_notes(cell, self.student))
+        self.pending, self.last = None, None
+
+    def code(self, cells, index: int) -> None:
+        cell = cells[index]
         figures = [pieces for out in cell.get("outputs", []) for pieces in [_image_src(out)] if pieces]
         text = "".join(_text_of(out) for out in cell.get("outputs", [])).strip("\n")
-        code = pre(cell.source)
-        caption = caption_of(self.last)
+        source = _student().HIDDEN.sub("", _student().student_source(cell.source)) if self.student else cell.source
+        code = pre(source)
+        full = figure_caption(cells, index) if figures else ""
+        caption = (shorten(full, CONDENSE.caption_chars) or "") if figures else caption_of(self.last)
         for pieces in figures:
             for i, src in enumerate(pieces):
                 part = f" (row {i + 1} of {len(pieces)})" if len(pieces) > 1 else ""
                 notes = [code] if i == 0 else [f"<p>Row {i + 1} of {len(pieces)} of the figure, a slide each.</p>"]
-                self.slides.append(Slide(self.section.title, "figure", _figure(src, caption + part), notes, caption))
+                slide = Slide(self.section.title, "figure", _figure(src, caption + part, plain(full) + part), notes, caption)
+                self.slides.append(slide)
             code = ""
+        caption = "" if figures else caption    # the figure above says what the cell shows
         rows = sum(-(-max(len(line), 1) // CONDENSE.text_cols) for line in text.splitlines())
         if text and rows <= CONDENSE.text_lines:
             height = 30 * rows + 52 + (_text_height(caption, 24, 1190) + 10 if caption else 0)
@@ -610,8 +841,9 @@ def _caption(text: str) -> str:
     return f'<p class="caption">{md(text, inline=True)}</p>' if text else ""
 
 
-def _figure(src: str, caption: str) -> str:
-    return f'<div class="figure"><img src="{src}" alt="{html.escape(caption or "a figure")}"></div>' + _caption(caption)
+def _figure(src: str, caption: str, alt: str) -> str:
+    """A figure with its caption (markdown) under it and ``alt`` (plain words) as its alt text."""
+    return f'<div class="figure"><img src="{src}" alt="{html.escape(alt, quote=True)}"></div>' + _caption(caption)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -628,8 +860,9 @@ def course_notes(title: str, course: Path = COURSE) -> str:
     return md("\n\n".join(kept)) if kept else md(match.group(1))
 
 
-def lecture_columns(lecture: Lecture, notebooks: Path) -> list[list[Slide]]:
-    """The deck's columns (left to right), each a list of slides (top to bottom)."""
+def lecture_columns(lecture: Lecture, notebooks: Path, student: bool = False) -> list[list[Slide]]:
+    """The deck's columns (left to right), each a list of slides (top to bottom); ``student``: the
+    student's deck (no worked answer, model answer, rubric or hidden test in its notes)."""
     title = Slide(lecture.title, "title", notes=[course_notes(lecture.title)])
     columns, used = [[title]], set()
     for part in lecture.parts:
@@ -644,7 +877,7 @@ def lecture_columns(lecture: Lecture, notebooks: Path) -> list[list[Slide]]:
             keys = [k for k in lecture.bullets if sec.title.startswith(k)]
             used.update(keys)
             points = lecture.bullets[keys[0]] if keys else shown if sec.level == 1 else None
-            slides = SectionSlides(sec, f"notebooks/{path.name}").build(points)
+            slides = SectionSlides(sec, f"notebooks/{path.name}", student).build(points)
             slides[0].notes.append(f"<p><em>notebooks/{path.name}, {html.escape(sec.title)}</em></p>")
             if sec.level == 3 and len(columns) > 1:
                 columns[-1] += slides
@@ -706,19 +939,41 @@ Reveal.initialize({{width: {width}, height: {height}, margin: 0.02, center: fals
 WIDTH, HEIGHT = 1280, 720       # the slide's box: a 720p projector, and the browser test's viewport
 
 
-def deck_html(lecture: Lecture, columns: list[list[Slide]]) -> str:
+def npm_path(folder: Path, name: str) -> str:
+    """``name`` under build/npm/node_modules as a deck in ``folder`` refers to it."""
+    return Path(os.path.relpath(NPM / name, folder)).as_posix()
+
+
+def deck_html(lecture: Lecture, columns: list[list[Slide]], folder: Path = OUT, student: bool = False) -> str:
+    """The deck's page, to be written into ``folder``."""
     body = ""
     for column in columns:
         inner = "".join(slide_html(s) for s in column)
         body += f"<section>\n{inner}</section>\n" if len(column) > 1 else inner
-    return PAGE.format(title=html.escape(lecture.title), reveal=REVEAL_PREFIX, theme=THEME, mathjax=MATHJAX_URL,
+    title = html.escape(lecture.title + (" (student's deck)" if student else ""))
+    return PAGE.format(title=title, reveal=npm_path(folder, REVEAL), theme=THEME, mathjax=npm_path(folder, MATHJAX),
                        css=CSS.read_text(encoding="utf-8"), slides=body, width=WIDTH, height=HEIGHT)
 
 
 def index_html(lectures: list[Lecture]) -> str:
-    items = "".join(f'<li><a href="{lec.deck}.html">{html.escape(lec.title)}</a></li>' for lec in lectures)
+    items = "".join(f'<li><a href="{lec.deck}.html">{html.escape(lec.title)}</a> (the instructor\'s: worked '
+                    f'answers in the notes; <a href="{STUDENT}/{lec.deck}.html">the students\'</a>: none)</li>'
+                    for lec in lectures)
     return (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>Lecture slides</title></head>'
-            f"<body><h1>Lecture slides</h1><ul>{items}</ul><p>Key S opens the speaker notes.</p></body></html>\n")
+            f"<body><h1>Lecture slides</h1><ul>{items}</ul><p>Key S opens the speaker notes. The students' decks "
+            f"hold no worked answer, model answer, rubric or hidden test: share those.</p></body></html>\n")
+
+
+def outline(columns: list[list[Slide]]) -> list[str]:
+    """Each slide as one line, ``H.V kind | heading | text``, the way a reader goes through the deck
+    (``python docs/slides.py --outline``): a slide's words without its markup, a figure by its alt text."""
+    lines = []
+    for h, column in enumerate(columns):
+        for v, slide in enumerate(column):
+            body = re.sub(r'<img[^>]*alt="([^"]*)"[^>]*>', r"[figure: \1]", slide.body)
+            text = " ".join(html.unescape(re.sub(r"<[^>]+>", " ", body)).split())
+            lines.append(f"{h}.{v} {slide.kind} | {slide.title} | {text}")
+    return lines
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -783,28 +1038,31 @@ def remote_assets(page: str, base: Path = OUT) -> list[str]:
 
 
 def build(lectures: list[Lecture], notebooks: Path = ROOT / "notebooks", out: Path = OUT) -> list[str]:
-    """Write one deck per lecture and an index into ``out``; return the problems found (remote assets)."""
-    out.mkdir(parents=True, exist_ok=True)
+    """Write one deck per lecture into ``out`` and its student's deck into ``out/student``, and an
+    index; return the problems found (remote assets)."""
     problems = []
-    for lecture in lectures:
-        if not any(part.path(notebooks) for part in lecture.parts):
-            print(f"{lecture.deck}: none of its notebooks is there yet, no deck")
-            continue
-        columns = lecture_columns(lecture, notebooks)
-        page = deck_html(lecture, columns)
-        target = out / f"{lecture.deck}.html"
-        target.write_text(page, encoding="utf-8")
-        problems += [f"{target} loads {r}" for r in remote_assets(page, out)]
-        slides = [s for c in columns for s in c]
-        kinds = {k: sum(s.kind == k for s in slides) for k in ("figure", "number", "exercise")}
-        print(f"{target}: {len(slides)} slides in {len(columns)} columns "
-              f"({kinds['figure']} figures, {kinds['number']} numbers, {kinds['exercise']} exercises), "
-              f"{sum(bool(''.join(s.notes)) for s in slides)} with speaker notes, {len(page) // 1024} KiB")
+    for folder, student in ((out, False), (out / STUDENT, True)):
+        folder.mkdir(parents=True, exist_ok=True)
+        for lecture in lectures:
+            if not any(part.path(notebooks) for part in lecture.parts):
+                print(f"{lecture.deck}: none of its notebooks is there yet, no deck")
+                continue
+            columns = lecture_columns(lecture, notebooks, student)
+            page = deck_html(lecture, columns, folder, student)
+            target = folder / f"{lecture.deck}.html"
+            target.write_text(page, encoding="utf-8")
+            problems += [f"{target} loads {r}" for r in remote_assets(page, folder)]
+            slides = [s for c in columns for s in c]
+            kinds = {k: sum(s.kind == k for s in slides) for k in ("figure", "number", "exercise")}
+            print(f"{target}: {len(slides)} slides in {len(columns)} columns "
+                  f"({kinds['figure']} figures, {kinds['number']} numbers, {kinds['exercise']} exercises), "
+                  f"{sum(bool(''.join(s.notes)) for s in slides)} with speaker notes, {len(page) // 1024} KiB")
+        if len(lectures) == len(load_lectures()):     # a whole build: decks of an earlier layout go
+            kept = {folder / f"{lec.deck}.html" for lec in lectures} | {out / "index.html"}
+            for stale in sorted(set(folder.glob("*.html")) - kept):
+                stale.unlink()
+                print(f"{stale}: removed (no such deck now)")
     (out / "index.html").write_text(index_html(lectures), encoding="utf-8")
-    if len(lectures) == len(load_lectures()):     # a whole build: decks of an earlier layout go
-        for stale in sorted(set(out.glob("*.html")) - {out / f"{lec.deck}.html" for lec in lectures} - {out / "index.html"}):
-            stale.unlink()
-            print(f"{stale}: removed (no such deck now)")
     return problems
 
 
@@ -812,21 +1070,27 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("decks", nargs="*", help="only these decks (lecture1 ...); default: all")
     parser.add_argument("--notebooks", type=Path, default=ROOT / "notebooks", help="the notebooks' folder")
-    parser.add_argument("--out", type=Path, default=OUT,
-                        help="the decks' folder, a sibling of build/npm (default build/slides)")
+    parser.add_argument("--out", type=Path, default=OUT, help="the decks' folder (default build/slides)")
+    parser.add_argument("--outline", action="store_true",
+                        help="print each slide's heading and text (the instructor's decks) instead of writing the decks")
+    parser.add_argument("--student", action="store_true", help="with --outline: the students' decks")
     args = parser.parse_args(argv)
     out = args.out.resolve()
-    missing = [f for f in REVEAL_FILES if not (NPM / "reveal.js" / f).is_file()]
-    missing += [] if (out / MATHJAX_URL).resolve().is_file() else ["mathjax"]
-    if missing:
-        sys.exit(f"missing under {NPM} (as seen from {out}): {missing}: run `make slides` "
-                 "(it installs reveal.js and mathjax from npm)")
     try:
         lectures = load_lectures()
         check_coverage(lectures, args.notebooks)
         chosen = [lec for lec in lectures if not args.decks or lec.deck in args.decks]
         if not chosen:
             raise DeckError(f"no deck named {args.decks}; the decks are {[lec.deck for lec in lectures]}")
+        if args.outline:
+            for lecture in chosen:
+                print(f"# {lecture.deck}: {lecture.title}")
+                print("\n".join(outline(lecture_columns(lecture, args.notebooks, args.student))))
+            return 0
+        missing = [f for f in REVEAL_FILES if not (NPM / REVEAL / f).is_file()]
+        missing += [] if (NPM / MATHJAX).is_file() else ["mathjax"]
+        if missing:
+            sys.exit(f"missing under {NPM}: {missing}: run `make slides` (it installs reveal.js and mathjax from npm)")
         problems = build(chosen, args.notebooks, out)
     except DeckError as err:
         sys.exit(f"error: {err}")

@@ -3,6 +3,8 @@ what goes to the speaker notes, on small notebooks built here and on the real le
 
 ``browser_tests/test_slides.py`` measures the built decks in Chromium; these run in a few seconds.
 """
+import base64
+import html
 import io
 import re
 from pathlib import Path
@@ -192,3 +194,164 @@ def test_a_line_of_labels_stays_with_the_row_it_is_nearer():
     Image.fromarray(pixels).convert("RGB").save(out, format="PNG")
     pieces = slides.figure_pieces(out.getvalue())
     assert [_size(p)[1] for p in pieces] == [70] * 4
+
+
+# ---------------------------------------------------------------------------------------------------
+# Sections, exercises and captions as the later notebooks write them (headings inside a cell,
+# "### Exercise N" headings, "*Figure: ...*" under the figure), and the real decks checked for each
+
+def _png_output():
+    out = io.BytesIO()
+    Image.fromarray(np.zeros((40, 80, 3), np.uint8)).save(out, format="PNG")
+    return v4.new_output("display_data", data={"image/png": base64.b64encode(out.getvalue()).decode(),
+                                               "text/plain": "<Figure>"})
+
+
+def test_a_heading_inside_a_cell_opens_a_section_and_the_cells_after_it_go_there():
+    decoded = v4.new_code_cell("decode()", outputs=[_png_output()])
+    book = _nb(v4.new_markdown_cell("# 10. A lesson"),
+               v4.new_markdown_cell("## Blocks\n\nCut the image into blocks."),
+               v4.new_markdown_cell("The mean is rounded.\n\n## Decoding\n\nThe file holds no pixels, only maps."),
+               decoded,
+               v4.new_markdown_cell("*Figure: the decoder's iterates from a black image.* The change falls fast."))
+    secs = slides.sections(book)
+    assert [s.title for s in secs] == ["10. A lesson", "Blocks", "Decoding"]
+    figure = [s for s in slides.SectionSlides(secs[2], "t").build() if s.kind == "figure"]
+    assert len(figure) == 1 and figure[0].title == "Decoding"
+    # the caption written under the figure is its caption and its alt text
+    assert figure[0].caption == "The decoder's iterates from a black image."
+    assert 'alt="%s"' % html.escape("The decoder's iterates from a black image.") in figure[0].body
+
+
+def test_an_exercise_heading_opens_an_exercise_with_its_table_on_the_slide():
+    answer = v4.new_code_cell("d = None\n### BEGIN SOLUTION\nd = 1.5\n### END SOLUTION", metadata={"nbgrader": GRADER})
+    book = _nb(v4.new_markdown_cell("## On your own\n\n### Exercise 3 (by hand). A box dimension from counts\n\n"
+                                    "A student counted boxes:\n\n| side | 1/4 | 1/32 |\n|---|---|---|\n| boxes | 14 | 318 |\n\n"
+                                    "Estimate the dimension."), answer)
+    secs = slides.sections(book)
+    assert [s.title for s in secs] == ["On your own"]          # the exercise's heading opens no section
+    opening, exercise = slides.SectionSlides(secs[0], "t").build()
+    assert exercise.kind == "exercise" and exercise.title == "Exercise 3 (by hand). A box dimension from counts"
+    assert "<table>" in exercise.body and "318" in exercise.body and "Estimate the dimension" in exercise.body
+    assert "d = 1.5" in "".join(exercise.notes) and "d = 1.5" not in exercise.body
+    assert "Exercise 3 (by hand)" in opening.body             # an opening of exercises lists them
+
+
+def test_an_answer_cell_without_its_statement_fails_naming_the_cell():
+    answer = v4.new_code_cell("x = None\n### BEGIN SOLUTION\nx = 1\n### END SOLUTION", metadata={"nbgrader": GRADER})
+    sec = slides.sections(_nb(v4.new_markdown_cell("## Counting\n\nSome prose."), answer))[0]
+    with pytest.raises(slides.DeckError, match="t-leaves.*no exercise before it"):
+        slides.SectionSlides(sec, "t").build()
+
+
+def test_the_opening_takes_no_bullet_from_a_paragraph_about_an_output_shown_later():
+    number = v4.new_code_cell("print(l1)", outputs=[v4.new_output("stream", name="stdout", text="L1: 0.062\n")])
+    sec = slides.sections(_nb(v4.new_markdown_cell("## Two ways\n\nThe histogram is a random estimate.\n\n"
+                                                   "A second way pushes the mass."), number,
+                              v4.new_markdown_cell("The two pictures agree to within the L1 printed above.")))[0]
+    built = slides.SectionSlides(sec, "t").build()
+    shown = "".join(s.body for s in built)
+    assert "random estimate" in shown and "L1: 0.062" in shown
+    assert "printed above" not in shown and "printed above" in "".join(built[0].notes)
+
+
+def test_a_figure_is_captioned_by_the_sentence_that_points_at_it_else_by_its_title():
+    cells = [v4.new_markdown_cell("## Fern\n\nThe stem map squashes the fern. Below, three choices drawn as histograms."),
+             v4.new_code_cell("draw()", outputs=[_png_output()]),
+             v4.new_code_cell('fig.suptitle(f"The measure at {size}², two ways")\nplt.show()', outputs=[_png_output()]),
+             v4.new_code_cell('ax.set_title(f"iteration {k}: {psnr(x):.1f} dB")', outputs=[_png_output()])]
+    assert slides.figure_caption(cells, 1) == "Below, three choices drawn as histograms."
+    assert slides.figure_caption(cells, 2) == "The measure at `size`², two ways"      # after a figure: its title
+    # a computed title says nothing without its values: the section's heading is the last resort
+    assert slides.figure_caption(cells, 3) == "Fern"
+    assert slides.figure_caption([v4.new_markdown_cell("## Success rate"), cells[3]], 1) == "Success rate"
+
+
+@pytest.fixture(scope="module")
+def real_decks():
+    return {lec.deck: (lec, slides.lecture_columns(lec, ROOT / "notebooks")) for lec in slides.load_lectures()}
+
+
+def _headings(lecture):
+    """The headings of the sections a deck shows: every `#`-`###` heading of its notebooks' kept sections,
+    at a cell's top or inside it, but an exercise's."""
+    found = []
+    for part in lecture.parts:
+        path = part.path(ROOT / "notebooks")
+        secs = slides.pick(slides.sections(nbformat.read(path, as_version=4)), part, path.name)
+        found += [s.title for s in secs]
+    return found
+
+
+def test_every_section_of_a_deck_has_its_slides_under_its_own_heading(real_decks):
+    for deck, (lecture, columns) in real_decks.items():
+        titles = {s.title for column in columns for s in column}
+        missing = [h for h in _headings(lecture) if h not in titles]
+        assert not missing, f"{deck}: no slide under the heading(s) {missing}"
+
+
+def test_every_exercise_has_a_slide_with_its_statement(real_decks):
+    for deck, (lecture, columns) in real_decks.items():
+        answers = []
+        for part in lecture.parts:
+            path = part.path(ROOT / "notebooks")
+            secs = slides.pick(slides.sections(nbformat.read(path, as_version=4)), part, path.name)
+            answers += [c for s in secs for c in s.cells if slides._is_answer(c)]
+        exercises = [s for column in columns for s in column if s.kind == "exercise"]
+        assert len(exercises) == len(answers), f"{deck}: {len(exercises)} exercise slides, {len(answers)} answers"
+        for slide in exercises:
+            assert re.match(r"Exercise\b", slide.title) and "statement is not in" not in slide.body, (deck, slide.title)
+            assert len(re.sub(r"<[^>]+>", "", slide.body).strip()) > 20, (deck, slide.title)
+
+
+def test_lecture_6_shows_its_exercises_and_figures_where_the_notebooks_put_them(real_decks):
+    lecture, columns = real_decks["lecture6"]
+    shown = [s for column in columns for s in column]
+    assert not any("statement is not in" in s.body for s in shown)
+    assert sum(s.kind == "exercise" for s in shown) == 8
+    table = next(s for s in shown if s.title.startswith("Exercise 3 (by hand)"))
+    assert "<table>" in table.body and "318" in table.body        # the counts, on the slide
+    title = {s.caption: s.title for s in shown if s.kind == "figure"}
+    assert title["The decoder's iterates from a black `size`² image (128²), with their PSNR against the photograph."] \
+        == "Decoding: the attractor from a blank image"
+    assert any(t.startswith("Rate and distortion") for c, t in title.items() if c.startswith("PSNR against bits"))
+    assert not any("printed above" in s.body for s in shown if s.kind == "opening")
+
+
+#: an alt text that names the image's file instead of what it shows (MyST-NB's default is the hash)
+HASHLIKE = re.compile(r"^([0-9a-f]{16,}|.*\.(png|jpe?g|svg))$|^a figure$|^\s*$", re.I)
+
+
+def test_no_figure_of_a_deck_has_an_alt_text_that_looks_like_a_hash(real_decks):
+    for deck, (lecture, columns) in real_decks.items():
+        alts = [html.unescape(a) for s in (s for c in columns for s in c) for a in re.findall(r'alt="([^"]*)"', s.body)]
+        assert alts and not [a for a in alts if HASHLIKE.match(a.split(" (row")[0])], deck
+
+
+def test_every_notebook_figure_has_a_caption_for_its_alt_text():
+    """The book's copy of each notebook (docs/build.py) gives every figure its caption as alt text."""
+    for path in sorted((ROOT / "notebooks").glob("*.ipynb")):
+        book = nbformat.read(path, as_version=4)
+        alts = slides.alt_texts(book)
+        figures = [i for i, c in enumerate(book.cells) if slides._has_image(c)]
+        assert sorted(alts) == figures, path.name
+        assert not [a for a in alts.values() if HASHLIKE.match(a) or "`" in a or "**" in a], path.name
+
+
+def test_the_books_copy_of_a_notebook_carries_the_alt_texts(tmp_path):
+    build = load_module("ifslib_docs_build", ROOT / "docs" / "build.py")
+    source = ROOT / "notebooks" / "10_fractal_compression.ipynb"
+    build.fold_solutions(source, tmp_path / source.name)
+    copy = nbformat.read(tmp_path / source.name, as_version=4)
+    alts = [c.metadata["mystnb"]["image"]["alt"] for c in copy.cells
+            if c.cell_type == "code" and any("image/png" in o.get("data", {}) for o in c.get("outputs", []))]
+    assert alts and all(not HASHLIKE.match(a) for a in alts)
+    assert "The decoder's iterates from a black size² image (128²), with their PSNR against the photograph." in alts
+
+
+def test_outline_lists_each_slide_with_its_heading_and_words(real_decks):
+    lecture, columns = real_decks["lecture6"]
+    lines = slides.outline(columns)
+    assert len(lines) == sum(len(c) for c in columns)
+    assert any(line.startswith(tuple(f"{h}." for h in range(len(columns)))) and " exercise | Exercise 3 (by hand)" in line
+               and "318" in line for line in lines)
