@@ -6,8 +6,13 @@ anything long: a make target must exist and ``make -n`` must accept it; a Python
 must accept each of the command's options (read from its ``--help``); a papermill command must name
 a notebook that exists and only parameters its ``parameters`` cell defines. The exercises the page
 assigns must exist: each notebook named in an "At home" paragraph has an "On your own" section
-with graded cells (nbgrader metadata), and the page's table of exercises matches the counts.
+with graded cells (nbgrader metadata), the page's table of exercises has a row for each notebook of
+each lecture (``docs/slides/lectures.yaml``) with the counts of its nbgrader cells, each "At home"
+paragraph counts its lecture's exercises and names as on paper exactly its written ones, and asks
+only for what a student has (the student edition, ifslib and JupyterLab: no ``make``, papermill or
+checkout), each value it sets in a parameters cell being a parameter of the notebook.
 """
+import dataclasses
 import json
 import re
 import shlex
@@ -15,12 +20,15 @@ import subprocess
 import sys
 from pathlib import Path
 
+import nbformat
 import pytest
+from common_testing import load_module
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "guide" / "course.md"
 NOTEBOOKS = ROOT / "notebooks"
 PROGRAMS = ("make", "python", "papermill", ".venv/bin/", "../.venv/bin/")
+slides = load_module("ifslib_docs_slides", ROOT / "docs" / "slides.py")
 
 
 def commands(text):
@@ -157,7 +165,7 @@ def graded(notebook):
 def assigned(text):
     """The notebooks the page's "At home" paragraphs name (``NN_name``)."""
     homework = re.findall(r"\*\*At home\.\*\*(.*?)(?:\n\n|\Z)", text, flags=re.S)
-    return sorted({name for paragraph in homework for name in re.findall(r"\b(0\d_[a-z_]+)\b", paragraph)
+    return sorted({name for paragraph in homework for name in re.findall(r"\b(\d\d_[a-z_]+)\b", paragraph)
                    if (NOTEBOOKS / f"{name}.ipynb").exists()})
 
 
@@ -178,16 +186,118 @@ def test_every_assigned_notebook_has_exercises_and_an_on_your_own_section(name):
 
 
 def table(text):
-    """The page's exercise table: {notebook: (exercises, on paper)}."""
-    rows = re.findall(r"^\|\s*`(\w+)`\s*\|\s*(\d+)\s*\|\s*(\d+)\s*\|\s*$", text, flags=re.M)
-    return {name: (int(n), int(w)) for name, n, w in rows}
+    """The page's exercise table: [(lecture, notebook, what of it, exercises, on paper)], in order."""
+    rows = re.findall(r"^\|\s*(\d+)\s*\|\s*`(\w+)`([^|]*)\|\s*(\d+)\s*\|\s*(\d+)\s*\|\s*$", text, flags=re.M)
+    return [(int(lec), name, what.strip(), int(n), int(w)) for lec, name, what, n, w in rows]
 
 
-def test_the_exercise_table_counts_what_the_notebooks_hold():
+@dataclasses.dataclass
+class Exercise:
+    notebook: str       # 09_measures_and_dimension
+    label: str          # its number as the notebook writes it ("1b"), "" when it has none
+    title: str          # "Exercise 1 (pen and paper). Moran's equation with two scales"
+    written: bool       # answered on paper: a graded markdown cell
+    points: int
+
+
+def exercises(path, sections=None):
+    """The exercises of a notebook (of its `##` sections starting with ``sections``): one a graded
+    nbgrader cell, titled by the exercise statement before it."""
+    book = nbformat.read(path, as_version=4)
+    kept = slides.pick(slides.sections(book), slides.Part(path.stem, sections), path.name)
+    found, title = [], ""
+    for cell in (c for sec in kept for c in sec.cells):
+        grader = cell.metadata.get("nbgrader", {})
+        if cell.cell_type == "markdown" and not grader:
+            title = next((t for p in slides.paragraphs(cell.source) for t in [slides.exercise_title(p)] if t), title)
+        if grader.get("grade"):
+            label = re.match(r"Exercise\s+(\w*\d\w*)?", title)
+            found.append(Exercise(path.stem, (label.group(1) or "") if label else "", title,
+                                  cell.cell_type == "markdown", grader.get("points") or 0))
+    return found
+
+
+def lecture_exercises():
+    """{lecture number: [(part, its exercises)]}, the parts as docs/slides/lectures.yaml lists them."""
+    out = {}
+    for number, lecture in enumerate(slides.load_lectures(), 1):
+        out[number] = [(part, exercises(part.path(NOTEBOOKS), part.sections)) for part in lecture.parts]
+    return out
+
+
+LECTURE_EXERCISES = lecture_exercises()
+
+
+def test_the_exercise_table_has_every_lecture_notebook_with_its_nbgrader_counts():
     rows = table(PAGE.read_text())
-    assert rows, "the page's table of exercises is missing"
-    for name, counts in rows.items():
-        assert graded(NOTEBOOKS / f"{name}.ipynb") == counts, f"{name}: the page says {counts}"
+    expected = [(number, part.path(NOTEBOOKS).stem, len(found), sum(e.written for e in found))
+                for number, parts in LECTURE_EXERCISES.items() for part, found in parts]
+    assert [(lec, name, n, w) for lec, name, _, n, w in rows] == expected
+    for (lec, name, what, n, w), (number, parts) in zip(rows, ((n, p) for n, ps in LECTURE_EXERCISES.items()
+                                                                 for p, _ in ps)):
+        if parts.sections:      # a notebook shown in part says which parts
+            assert what and all(re.search(rf"\b{re.escape(s.rstrip('.'))}\b", what) for s in parts.sections
+                                if s[0].isdigit()), f"{name}: the row says {what!r}, the lecture has {parts.sections}"
+
+
+def homework():
+    """{lecture number: its "At home" paragraph}."""
+    text = PAGE.read_text()
+    found = {}
+    for match in re.finditer(r"^## Lecture (\d+)\b(.*?)(?=^## |\Z)", text, flags=re.M | re.S):
+        paragraph = re.search(r"\*\*At home\.\*\*(.*?)(?:\n\n|\Z)", match.group(2), flags=re.S)
+        found[int(match.group(1))] = " ".join(paragraph.group(1).split()) if paragraph else ""
+    return found
+
+
+HOMEWORK = homework()
+NUMBERS = {"none": 0, "no": 0, "one": 1, "two": 2, "three": 3, "four": 4}
+
+
+@pytest.mark.parametrize("number", sorted(LECTURE_EXERCISES))
+def test_each_lectures_homework_counts_its_exercises_and_names_its_written_ones(number):
+    paragraph = HOMEWORK[number]
+    found = [e for _, part in LECTURE_EXERCISES[number] for e in part]
+    written = [e for e in found if e.written]
+    if not found:
+        return
+    total = re.search(r"\((\d+) exercises", paragraph)
+    assert total and int(total.group(1)) == len(found), f"lecture {number}: {len(found)} exercises: {paragraph}"
+    paper = re.search(r"\b(\w+)(?: of them)? on paper\b", paragraph)
+    assert paper and NUMBERS.get(paper.group(1), -1) == len(written), \
+        f"lecture {number}: {len(written)} on paper ({[e.title for e in written]}): {paragraph}"
+    # the ones it names as on paper, "09's exercise 1" or "the tutorial's exercise 1b", are the written ones
+    clause = paragraph[paper.end():]
+    named = {(("00" if who == "the tutorial" else who), label)
+             for who, label in re.findall(r"(\d\d|the tutorial)'s exercise (\w+)", clause)}
+    assert named == {(e.notebook[:2], e.label) for e in written}, \
+        f"lecture {number}: names {sorted(named)} as on paper, the written ones are {[e.title for e in written]}"
+
+
+def test_the_grading_totals_are_the_notebooks():
+    every = [e for path in sorted(NOTEBOOKS.glob("[0-9][0-9]_*.ipynb")) for e in exercises(path)]
+    code, written = [e for e in every if not e.written], [e for e in every if e.written]
+    text = " ".join(PAGE.read_text().split())
+    claim = (f"{len(code)} auto-graded exercises worth {sum(e.points for e in code)} points, "
+             f"{len(written)} written ones worth {sum(e.points for e in written)}")
+    assert claim in text
+    assert f"the written exercises ({len(written)}," in text
+
+
+#: what a student has: the wheel, requirements-student.txt and the student edition (docs/guide/start-here.md)
+CHECKOUT_ONLY = re.compile(r"^(make\b|\.\.?/?\.venv/|\S*papermill\b|\S*notebooks/)|\bnotebooks/\S+\.py\b")
+
+
+@pytest.mark.parametrize("number", sorted(HOMEWORK))
+def test_homework_asks_only_for_what_a_student_has(number):
+    paragraph = HOMEWORK[number]
+    for command in commands(paragraph):
+        assert not CHECKOUT_ONLY.search(command), f"lecture {number}: {command!r} needs the project's checkout"
+    assert "from the folder `notebooks/`" not in paragraph
+    names = re.findall(r"`(\d\d_[a-z_]+)`", paragraph)
+    for name, value in re.findall(r"`(\w+) = ([^`]+)`", paragraph):
+        assert any(name in _parameters(NOTEBOOKS / f"{n}.ipynb") for n in names), \
+            f"lecture {number}: {name} is a parameter of none of {names}"
 
 
 def test_graded_counts_code_tests_and_written_answers():
