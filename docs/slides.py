@@ -436,8 +436,8 @@ def _prose(paragraph: str) -> bool:
 def pointer_sentence(paragraph: str) -> str:
     """The sentence of ``paragraph`` that says what the cell after it shows: one that opens with
     "Below" or "The picture" (bars, plot, figure), else a last sentence that ends in a colon, else
-    the first that points "below" or at "the bars", else the first (an exercise's lead and a figure
-    caption written under the cell before are left out)."""
+    the first that points "below" or at "the bars", else the first that does not point "above"
+    (an exercise's lead and a figure caption written under the cell before are left out)."""
     text = FIGURE_CAPTION.sub("", paragraph, count=1)
     lead = EXERCISE.match(text)
     found = sentences(text[lead.end():] if lead else text)
@@ -446,6 +446,7 @@ def pointer_sentence(paragraph: str) -> str:
     ranked = [s for s in found if re.match(r"(Below\b|The (picture|pictures|bars|plot|figure)\b)", s)]
     ranked += [found[-1]] * found[-1].endswith(":")
     ranked += [s for s in found if re.search(r"\bbelow\b|\bthe bars\b|\bpictured\b", s, re.I)]
+    ranked += [s for s in found if not re.search(r"\babove\b", s)]     # one that points back speaks of another output
     return (ranked or found)[0]
 
 
@@ -538,6 +539,9 @@ def exercise_slide(statement: list[str]) -> Slide:
         kept = []
         for sentence in sentences(block):
             if used + visible_length(sentence) > CONDENSE.statement_chars:
+                # the sentence that does not fit is shown up to a clause that does, when one does
+                part = shorten(sentence, CONDENSE.statement_chars - used)
+                kept += [part.removesuffix(" …")] if part else []
                 cut = True
                 break
             kept.append(sentence)

@@ -237,6 +237,17 @@ def test_an_exercise_heading_opens_an_exercise_with_its_table_on_the_slide():
     assert "Exercise 3 (by hand)" in opening.body             # an opening of exercises lists them
 
 
+def test_a_long_statement_is_cut_at_a_clause_of_the_sentence_that_does_not_fit():
+    long = ("Move the point over a grid within a wider range instead, compute the descent fields of both "
+            "losses there with the library's gradient field, and store in a variable the share of arrows "
+            "pointing toward the optimum for each loss, which your function of exercise 1 gives, then say "
+            "which loss still leads back from further out, and why the other one does not, in a sentence or two.")
+    slide = slides.exercise_slide(["**Exercise 3 (extension): further out.** The figure looked close. " + long])
+    text = re.sub(r"<[^>]+>", "", slide.body)
+    assert text.startswith("The figure looked close. Move the point") and text.endswith(" …")
+    assert slides.visible_length(text) <= slides.CONDENSE.statement_chars + 2
+
+
 def test_an_answer_cell_without_its_statement_fails_naming_the_cell():
     answer = v4.new_code_cell("x = None\n### BEGIN SOLUTION\nx = 1\n### END SOLUTION", metadata={"nbgrader": GRADER})
     sec = slides.sections(_nb(v4.new_markdown_cell("## Counting\n\nSome prose."), answer))[0]
@@ -262,6 +273,10 @@ def test_a_figure_is_captioned_by_the_sentence_that_points_at_it_else_by_its_tit
              v4.new_code_cell('ax.set_title(f"iteration {k}: {psnr(x):.1f} dB")', outputs=[_png_output()])]
     assert slides.figure_caption(cells, 1) == "Below, three choices drawn as histograms."
     assert slides.figure_caption(cells, 2) == "The measure at `size`², two ways"      # after a figure: its title
+    # a sentence that points "above" speaks of an earlier output
+    back = [v4.new_markdown_cell("The target above is the library's. The last exercise is a curve drawn at random."),
+            cells[1]]
+    assert slides.figure_caption(back, 1) == "The last exercise is a curve drawn at random."
     # a computed title says nothing without its values: the section's heading is the last resort
     assert slides.figure_caption(cells, 3) == "Fern"
     assert slides.figure_caption([v4.new_markdown_cell("## Success rate"), cells[3]], 1) == "Success rate"
