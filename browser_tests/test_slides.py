@@ -13,8 +13,9 @@ must move to the next slide. Then every slide is shown in turn and measured:
   the slide's text are at least ``MIN_FONT_PX`` tall, in the slide's own pixels;
 * every column (a lecture section: a notebook's title or one of its ``##`` steps) has speaker notes.
 
-A screenshot of every slide goes to ``build/browser/slides/DECK/H-V.png``. Without the decks the
-tests FAIL: run ``make slides`` first. ``IFSLIB_SLIDES`` points them at another folder.
+The students' decks (``build/slides/student/DECK.html``: the same slides, other notes) are opened
+the same way, offline. A screenshot of every slide goes to ``build/browser/slides/DECK/H-V.png``.
+Without the decks the tests FAIL: run ``make slides`` first. ``IFSLIB_SLIDES`` points them at another folder.
 """
 from __future__ import annotations
 
@@ -121,7 +122,7 @@ def _open(page, name: str):
     page.evaluate("() => Reveal.configure({transition: 'none', backgroundTransition: 'none'})")
 
 
-@pytest.mark.parametrize("name", sorted(DECKS))
+@pytest.mark.parametrize("name", sorted(DECKS) + [f"student/{deck}" for deck in sorted(DECKS)])
 def test_deck_opens_offline_and_moves(offline, shots, name):
     page, asked = offline
     _open(page, name)
@@ -132,7 +133,7 @@ def test_deck_opens_offline_and_moves(offline, shots, name):
     texts = page.evaluate(_SLIDE_TEXT)
     raw = [(i, m) for i, t in enumerate(texts) for m in RAW_TEX if m in t]
     raw += [(i, d.group()) for i, t in enumerate(texts) for d in [INLINE_DOLLARS.search(t)] if d]
-    if _has_math(DECKS[name]):
+    if _has_math(DECKS[name.rsplit("/", 1)[-1]]):
         assert typeset >= 1, f"{name}: its notebooks have formulas but none is typeset on its slides"
     assert not raw, f"{name}: raw TeX source on slides (slide, text): {raw[:5]}"
 
