@@ -233,14 +233,16 @@ def test_the_shipped_target_is_the_hidden_truths_picture_and_the_truth_passes(gr
 
 
 def test_the_carpets_hidden_test_catches_a_missing_copy_that_the_visible_test_forgives():
-    # the true carpet without its first corner copy: the whole picture's IoU is 0.85 (the visible
-    # test passes), but one of the 8 copies is empty (the hidden test fails)
+    # the true carpet with its first corner copy drawn twice in place of the last (8 maps, one copy
+    # missing): the whole picture's IoU is over 0.8 (the visible test passes), but one of the 8
+    # copies is empty (the hidden test fails)
     picture = ifslib.exercises.carpet_target(64)
-    seven = ifslib.patterns.affine(course_targets.carpet_truth().maps().detach().double().numpy()[1:], depth=3)
+    maps = course_targets.carpet_truth().maps().detach().double().numpy()
+    missing = ifslib.patterns.affine(np.concatenate([maps[:7], maps[:1]])[:, :2], depth=3)
     test = cell_of("05_more_examples-carpet-fit-test").source
     visible = test[:test.index("    ### BEGIN HIDDEN TESTS")] + "\n\n_test()\n"
-    exec(visible, {"np": np, "ifslib": ifslib, "my_carpet": seven, "odd_carpet": picture})
-    fails("05_more_examples-carpet-fit", "copy 1 of 8", answer_source="my_carpet = seven", seven=seven,
+    exec(visible, {"np": np, "ifslib": ifslib, "my_carpet": missing, "odd_carpet": picture})
+    fails("05_more_examples-carpet-fit", "copy 8 of 8", answer_source="my_carpet = missing", missing=missing,
           odd_carpet=picture)
 
 

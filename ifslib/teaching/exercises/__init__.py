@@ -6,8 +6,12 @@ in the instructor's notebooks (nbgrader's solution regions and hidden tests) and
 with the library's own one switched off, and raises ``AssertionError`` with a hint on a wrong answer:
 
 * `run_answer` refuses the library's function handed in as the answer (directly, through
-  ``functools.partial``, a wrapper or a closure) and, while the student's function runs, replaces
-  the library's functions for that exercise (`LIBRARY`) with ones that raise `WriteItYourself`;
+  ``functools.partial``, a wrapper, a closure or a default argument) and, while the student's
+  function runs, switches the library's functions for that exercise (`LIBRARY`: the function asked
+  for and the library's others that compute the same thing) off at their root: each one's code is
+  swapped for code that raises `WriteItYourself`, so it raises however it is reached (a global, a
+  class attribute, a dict, a ``functools.partial``, another library function that calls it), and
+  is restored when the student's function returns or raises;
 * `koch_target`, `carpet_target` and `two_map_target` read pictures shipped with the package
   (``targets/*.png``): a student fits the picture; the maps that drew it are not installed.
 """

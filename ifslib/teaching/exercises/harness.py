@@ -7,6 +7,9 @@ import contextlib
 import functools
 import importlib
 import math
+import sys
+import threading
+import types
 from typing import Callable, Iterator
 
 import numpy as np
@@ -16,19 +19,36 @@ from ...errors import IFSError
 
 
 class WriteItYourself(RuntimeError):
-    """Raised by a library function that a test has switched off: the exercise asks for your own."""
+    """Raised by a library function that a test has switched off: the exercise asks for your own.
+
+    ``name`` is the function reached (``module.attribute``).
+    """
+
+    def __init__(self, name: str = "a library function"):
+        super().__init__(f"{name} is switched off while this test runs: write it yourself")
+        self.name = name
 
 
-#: For each exercise that asks for a function the library has: where the library keeps it
-#: (module, attribute), every place a student could reach it from.
+#: For each exercise that asks for a function a library has: where it is kept (module, attribute; a
+#: method or property as ``Class.attribute``). Each is switched off however it is reached while the
+#: student's function runs (see `library_off`), the ifslib functions that compute the same thing too.
 LIBRARY = {
     "chaos game": [("ifslib", "chaos_game"), ("ifslib.raster.chaos", "chaos_game"),
+                   ("ifslib.raster.chaos", "chaos_window"),
                    ("ifslib.geometry.sampled", "sample_attractor"),
-                   ("ifslib.geometry.expand", "sample_attractor")],
-    "Hausdorff distance": [("ifslib.scoring.metrics", "hausdorff")],
-    "collage distance": [("ifslib.scoring.metrics", "hausdorff"), ("ifslib.scoring.collage", "collage_distance")],
+                   ("ifslib.geometry.expand", "sample_attractor"),
+                   ("ifslib.geometry.attractor", "attractor_leaves")],
+    "Hausdorff distance": [("ifslib.scoring.metrics", "hausdorff"),
+                           ("ifslib.scoring.metrics", "depth_to_attractor"),
+                           ("scipy.spatial.distance", "directed_hausdorff"),
+                           ("scipy.spatial._hausdorff", "directed_hausdorff")],
+    "collage distance": [("ifslib.scoring.metrics", "hausdorff"), ("ifslib.scoring.collage", "collage_distance"),
+                         ("scipy.spatial.distance", "directed_hausdorff"),
+                         ("scipy.spatial._hausdorff", "directed_hausdorff")],
     "contraction and fixed point": [("ifslib.geometry.rules", "singular_values"),
-                                    ("ifslib.geometry.rules", "map_scales")],
+                                    ("ifslib.geometry.rules", "map_scales"),
+                                    ("ifslib.geometry.ifs", "IFS.scales"),
+                                    ("ifslib.scoring.dimension", "ifs_scales")],
     "loss": [("ifslib", "loss"), ("ifslib.scoring.losses", "loss"), ("ifslib.scoring.losses", "mse"),
              ("ifslib.scoring.losses", "multiscale_mse"), ("ifslib.scoring.losses", "pyramid")],
     "best-fit-line start": [("ifslib", "initialize"), ("ifslib", "best_fit_line"),
@@ -36,28 +56,167 @@ LIBRARY = {
                             ("ifslib.discovery.initialization", "best_fit_line"),
                             ("ifslib.targets.placement", "best_fit_line"), ("ifslib.targets.placement", "place"),
                             ("ifslib.targets.placement", "placed_points")],
-    "leaf map": [("ifslib", "expand"), ("ifslib.geometry.leaves", "expand")],
-    "leaf count": [("ifslib", "expand"), ("ifslib.geometry.leaves", "expand")],
+    "leaf map": [("ifslib", "expand"), ("ifslib.geometry.leaves", "expand"),
+                 ("ifslib.geometry.leaves", "compose_words"), ("ifslib.geometry.attractor", "word_maps")],
+    "leaf count": [("ifslib", "expand"), ("ifslib.geometry.leaves", "expand"),
+                   ("ifslib.geometry.ifs", "IFS.n_leaves"), ("ifslib.geometry.leaves", "leaf_count_text")],
     "depth": [("ifslib.scoring.metrics", "depth_to_attractor")],
-    "iou": [("ifslib", "iou"), ("ifslib.scoring.metrics", "iou")],
-    "chamfer": [("ifslib", "chamfer"), ("ifslib.scoring.metrics", "chamfer")],
+    "iou": [("ifslib", "iou"), ("ifslib.scoring.metrics", "iou"), ("ifslib.scoring.metrics", "f1"),
+            ("ifslib.scoring.metrics", "scores")],
+    "chamfer": [("ifslib", "chamfer"), ("ifslib.scoring.metrics", "chamfer"), ("ifslib.scoring.metrics", "scores")],
+    "alignment": [("ifslib.teaching.landscape", "alignment")],
+    "segments cross": [("ifslib.geometry.crossings", "crossing_pairs"),
+                       ("ifslib.geometry.crossings", "crossing_depths"),
+                       ("ifslib.geometry.crossings", "crossing_penalty"),
+                       ("ifslib.scoring.metrics", "crossing_points"), ("ifslib.scoring.metrics", "self_crossings")],
+    "crossing count": [("ifslib.geometry.crossings", "crossing_pairs"),
+                       ("ifslib.geometry.crossings", "crossing_depths"),
+                       ("ifslib.geometry.crossings", "crossing_penalty"),
+                       ("ifslib.scoring.metrics", "crossing_points"), ("ifslib.scoring.metrics", "self_crossings")],
+    "similarity dimension": [("ifslib.scoring.dimension", "similarity_dimension"),
+                             ("ifslib.scoring.dimension", "ifs_similarity_dimension")],
 }
+# read-only, so that an answer cell cannot empty an exercise's list (LIBRARY["iou"] = [])
+LIBRARY = types.MappingProxyType({exercise: tuple(places) for exercise, places in LIBRARY.items()})
+
+# What is switched off now, with how many `library_off` blocks hold it: key -> [restore, count].
+# A function switched off by two blocks at once (nested, or from two threads) is restored when the
+# last one ends, whatever the order they end in; the lock keeps the swaps of two threads apart.
+_LOCK = threading.RLock()
+_ACTIVE: dict[tuple, list] = {}
+
+
+def _owner(module_name: str, path: str) -> tuple[object, str]:
+    """The module or class that holds ``path`` (``attribute`` or ``Class.attribute``), and the attribute."""
+    owner = importlib.import_module(module_name)
+    *outer, attr = path.split(".")
+    for name in outer:
+        owner = getattr(owner, name)
+    return owner, attr
+
+
+def _stored(owner, attr: str):
+    """What ``owner`` keeps under ``attr``, as it was before any switch-off: a class's property or method itself."""
+    entry = _ACTIVE.get(("attr", id(owner), attr))
+    if entry is not None:
+        return entry[2]
+    if isinstance(owner, type):
+        for klass in owner.__mro__:
+            if attr in vars(klass):
+                return vars(klass)[attr]
+    return getattr(owner, attr)
+
+
+def _functions(value) -> list[types.FunctionType]:
+    """The plain Python functions behind ``value``: itself, a property's accessors, a static or class
+    method's function, and what each wraps (``__wrapped__``)."""
+    if isinstance(value, property):
+        parts = [value.fget, value.fset, value.fdel]
+    elif isinstance(value, (staticmethod, classmethod)):
+        parts = [value.__func__]
+    else:
+        parts = [value]
+    out, seen = [], set()
+    for part in parts:
+        while part is not None and id(part) not in seen:
+            seen.add(id(part))
+            if isinstance(part, types.FunctionType):
+                out.append(part)
+            part = getattr(part, "__wrapped__", None)
+    return out
+
+
+def _is_plain(value) -> bool:
+    """Whether switching off ``value``'s functions' code switches ``value`` off wherever it is held."""
+    if isinstance(value, property):
+        return all(f is None or isinstance(f, types.FunctionType) for f in (value.fget, value.fset, value.fdel))
+    if isinstance(value, (staticmethod, classmethod)):
+        return isinstance(value.__func__, types.FunctionType)
+    return isinstance(value, types.FunctionType)
+
+
+@functools.lru_cache(maxsize=None)
+def _raising_code(free: tuple[str, ...], name: str) -> types.CodeType:
+    """Code that raises `WriteItYourself` naming ``name``, with the free variables ``free`` of the function
+    whose ``__code__`` it replaces (a function's closure must match its code's free variables)."""
+    lines = ["def _outer():"] + [f"    {v} = None" for v in free] + ["    def _off(*args, **kwargs):"]
+    if free:
+        lines.append(f"        ({', '.join(free)},)")
+    lines += [f"        raise __import__({__name__!r}, fromlist=['_']).WriteItYourself({name!r})", "    return _off"]
+    scope: dict = {}
+    exec(compile("\n".join(lines), f"<{name} switched off>", "exec"), scope)  # noqa: S102  our own text
+    return scope["_outer"]().__code__
+
+
+def _hold(key: tuple, switch: Callable[[], Callable[[], None]], keep: object = None) -> tuple:
+    """Switch off what ``key`` names (``switch`` does it and returns the restore) unless it is off already."""
+    entry = _ACTIVE.get(key)
+    if entry is None:
+        entry = _ACTIVE[key] = [switch(), 0, keep]
+    entry[1] += 1
+    return key
+
+
+def _code_off(function: types.FunctionType, name: str) -> tuple:
+    def switch():
+        original = function.__code__
+        function.__code__ = _raising_code(original.co_freevars, name)
+        return lambda: setattr(function, "__code__", original)
+    return _hold(("code", id(function)), switch, function)
+
+
+def _attribute_off(owner, attr: str, name: str) -> tuple:
+    def switch():
+        own = attr in vars(owner)
+        original = vars(owner)[attr] if own else getattr(owner, attr)
+        off = _switched_off(name)
+        setattr(owner, attr, property(off) if isinstance(original, property) else off)
+        return (lambda: setattr(owner, attr, original)) if own else (lambda: delattr(owner, attr))
+    return _hold(("attr", id(owner), attr), switch, _stored(owner, attr))
+
+
+def _global_off(namespace: dict, key: str, name: str) -> tuple:
+    def switch():
+        original = namespace[key]
+        namespace[key] = _switched_off(name)
+        return lambda: namespace.__setitem__(key, original)
+    return _hold(("global", id(namespace), key), switch, namespace)
+
+
+def _release(keys: list[tuple]) -> None:
+    for key in reversed(keys):
+        entry = _ACTIVE[key]
+        entry[1] -= 1
+        if entry[1] == 0:
+            del _ACTIVE[key]
+            entry[0]()
 
 
 def _switched_off(name: str) -> Callable:
     def off(*args, **kwargs):
-        raise WriteItYourself(f"ifslib's own {name} is switched off while this test runs: write it yourself")
-    off.__name__ = f"{name.replace(' ', '_')}_switched_off"
+        raise WriteItYourself(name)
+    off.__name__ = f"{name.rsplit('.', 1)[-1]}_switched_off"
     return off
 
 
-def _originals(exercise: str) -> list[tuple[object, str, object]]:
+def _originals(exercise: str, imported: bool = False) -> list[tuple[object, str, object, str]]:
+    """(owner, attribute, what it keeps, dotted name) for each of ``exercise``'s library functions.
+
+    With ``imported``, only those of modules already imported (nothing else can be held yet).
+    """
     if exercise not in LIBRARY:
         raise KeyError(f"no exercise {exercise!r}; one of {sorted(LIBRARY)}")
     out = []
-    for module_name, attr in LIBRARY[exercise]:
-        module = importlib.import_module(module_name)
-        out.append((module, attr, getattr(module, attr)))
+    for module_name, path in LIBRARY[exercise]:
+        if imported and (module_name not in sys.modules
+                         or path.split(".")[0] not in vars(sys.modules[module_name])):
+            continue
+        try:
+            owner, attr = _owner(module_name, path)
+            value = _stored(owner, attr)
+        except (ImportError, AttributeError):   # a route that this version lacks: nothing to switch off
+            continue
+        out.append((owner, attr, value, f"{module_name}.{path}"))
     return out
 
 
@@ -65,24 +224,37 @@ def _originals(exercise: str) -> list[tuple[object, str, object]]:
 def library_off(exercise: str, answer: Callable | None = None) -> Iterator[None]:
     """Within the block, the library's functions for ``exercise`` (a key of `LIBRARY`) raise `WriteItYourself`.
 
-    They are replaced where the library keeps them and, when ``answer`` is a function, in its
-    globals (a name the notebook imported with ``from ifslib... import ...``).
+    A plain Python function (a method's or a property's too) is switched off itself: its ``__code__``
+    is swapped for code that raises, so every reference to it raises, wherever it is held (a module, a
+    global of the notebook, a ``functools.partial``, a class attribute, a dict or list, a default
+    argument) and whoever calls it, other ifslib functions included. Anything else (a builtin, a
+    C extension's function) is replaced where the library keeps it and, when ``answer`` is a
+    function, in its globals. Everything is restored when the block ends, however it ends; two
+    blocks may hold one function at once (nested, or from two threads), and the lock keeps their
+    swaps apart. While a block runs, every thread of the process sees the functions switched off.
     """
-    saved = _originals(exercise)
-    ids = {id(value) for _, _, value in saved}
-    namespace = getattr(_unwrapped(answer), "__globals__", None)
-    shadowed = {k: v for k, v in namespace.items() if id(v) in ids} if isinstance(namespace, dict) else {}
+    keys: list[tuple] = []
+    with _LOCK:
+        try:
+            saved = _originals(exercise)
+            others = {}
+            for owner, attr, value, name in saved:
+                keys += [_code_off(f, name) for f in _functions(value)]
+                if not _is_plain(value):   # a builtin: replaced where it is kept, and in the answer's globals
+                    keys.append(_attribute_off(owner, attr, name))
+                    others[id(value)] = name
+            namespace = getattr(_unwrapped(answer), "__globals__", None)
+            if isinstance(namespace, dict) and others:
+                keys += [_global_off(namespace, k, others[id(v)]) for k, v in list(namespace.items())
+                         if id(v) in others]
+        except BaseException:
+            _release(keys)
+            raise
     try:
-        for module, attr, _ in saved:
-            setattr(module, attr, _switched_off(f"{module.__name__}.{attr}"))
-        for key in shadowed:
-            namespace[key] = _switched_off(key)
         yield
     finally:
-        for module, attr, value in saved:
-            setattr(module, attr, value)
-        for key, value in shadowed.items():
-            namespace[key] = value
+        with _LOCK:
+            _release(keys)
 
 
 def _unwrapped(answer):
@@ -99,22 +271,34 @@ def _unwrapped(answer):
     return answer
 
 
-def _library_functions() -> set[int]:
-    return {id(value) for exercise in LIBRARY for _, _, value in _originals(exercise)}
+def _library_functions() -> dict[int, str]:
+    """id -> dotted name of every function of `LIBRARY` (of the modules imported so far)."""
+    with _LOCK:
+        held = [(value, name) for exercise in LIBRARY for _, _, value, name in _originals(exercise, imported=True)]
+    return {id(v): name for value, name in held for v in [value, *_functions(value)]}
 
 
-def _holds_library(answer) -> bool:
-    """Whether ``answer`` is, wraps, or closes over one of the library's functions of `LIBRARY`."""
+def _held_library(answer) -> str | None:
+    """The library function that ``answer`` is, wraps, or holds (a closure, frozen or default arguments): its
+    dotted name, or None. Any function of ifslib's own counts."""
     library = _library_functions()
     inner = _unwrapped(answer)
-    if id(answer) in library or id(inner) in library:
-        return True
-    if str(getattr(inner, "__module__", "") or "").startswith("ifslib"):
-        return True
+    for candidate in (answer, inner):
+        if id(candidate) in library:
+            return library[id(candidate)]
+    module = str(getattr(inner, "__module__", "") or "")
+    if module.startswith("ifslib"):
+        return f"{module}.{getattr(inner, '__qualname__', '?')}"
     cells = getattr(inner, "__closure__", None) or ()
-    frozen = [getattr(answer, "args", ()), tuple(getattr(answer, "keywords", {}).values())]
+    frozen = [getattr(answer, "args", ()), tuple(getattr(answer, "keywords", {}).values()),
+              getattr(inner, "__defaults__", None) or (),
+              tuple((getattr(inner, "__kwdefaults__", None) or {}).values())]
     held = [cell.cell_contents for cell in cells if _filled(cell)] + [v for group in frozen for v in group]
-    return any(id(value) in library or id(_unwrapped(value)) in library for value in held)
+    for value in held:
+        for candidate in (value, _unwrapped(value)):
+            if id(candidate) in library:
+                return library[id(candidate)]
+    return None
 
 
 def _filled(cell) -> bool:
@@ -150,13 +334,16 @@ def run_answer(answer, exercise: str, *args):
     assert answer is not None and answer is not Ellipsis, f"write your {exercise} first (the cell above)."
     assert callable(answer), (f"give your function itself (its name, without brackets), "
                               f"got {type(answer).__name__}.")
-    assert not _holds_library(answer), f"that is ifslib's own function; write the {exercise} yourself."
+    held = _held_library(answer)
+    assert held is None, f"that is {held.split('.')[0]}'s own function ({held}); write the {exercise} yourself."
     try:
         with library_off(exercise, answer):
             return answer(*args)
-    except WriteItYourself:
-        raise AssertionError(f"your function calls ifslib's own {exercise}; write it yourself "
-                             "(numpy and scipy are fine).") from None
+    except WriteItYourself as off:
+        whose, short = off.name.split(".")[0], off.name.rsplit(".", 1)[-1]
+        raise AssertionError(f"your function calls {whose}'s own {short} ({off.name}), directly or through "
+                             f"another function: write the {exercise} yourself (numpy and scipy's building "
+                             "blocks are fine).") from None
     except AssertionError:
         raise
     except Exception as exc:  # noqa: BLE001  a student's bug is answered with a hint, not torch's traceback
