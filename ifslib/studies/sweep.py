@@ -1,30 +1,40 @@
-"""Convergence sweeps: many seeded Koch fits per cell (strategy x gradient x start x loss), on Dask.
+"""Convergence sweeps: many seeded Koch fits per cell (strategy x gradient x start x loss), in parallel.
 
 A *cell* fixes how a fit is made; a sweep runs every cell for a list of seeds and judges each fit
 on the image: recovered when the symmetric Chamfer distance between its figure and the target mask
 is at most ``success_chamfer`` pixels at the target's size. Each task is a batch of seeds of one
 cell, run in a worker with one torch thread, so a run is reproducible and the serial result equals
-the distributed one.
+the parallel one, whichever scheduler runs it.
 
 ``scheduler``: ``"serial"`` runs in this process; ``"local"`` starts a ``dask.distributed``
-``LocalCluster``; any other string is the address of a running scheduler. Dask is an optional
-extra (``pip install -e '.[sweep]'``, which ``make setup`` installs).
+``LocalCluster``, or where Dask is not installed (a student's environment: ``requirements-student.txt``
+has none) a process pool of the standard library (`concurrent.futures`), with a one-line note saying
+so; any other string is the address of a running Dask scheduler. Dask is an optional extra
+(``pip install -e '.[sweep]'``, which ``make setup`` installs).
+
+Both parallel schedulers start their workers with ``spawn``: a script that runs a ``"local"`` sweep
+calls it under ``if __name__ == "__main__":``, or each worker would run the script again.
 """
 from __future__ import annotations
 
 import csv
 import json
 import math
+import multiprocessing
 import os
 import statistics
 import time
 import warnings
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Callable
 
+from tqdm.auto import tqdm
+
 from ..errors import IFSError, check_int
 from ..geometry import patterns
+from ..progress import draw_bars, note
 from ..geometry.rules import check_gradient_mode
 from ..threads import cores, fixed_threads
 from ..fitting.fit import fit
@@ -155,10 +165,12 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
     batch : int
         Seeds per task.
     scheduler : str
-        ``"serial"``, ``"local"`` (a ``LocalCluster`` of ``workers`` processes, one thread each) or a
-        scheduler address such as ``"tcp://10.0.0.5:8786"``.
+        ``"serial"``; ``"local"``: ``workers`` processes of one thread each, a Dask ``LocalCluster``,
+        or a `concurrent.futures` process pool where ``dask.distributed`` is not installed (with a
+        note saying so; the rows are the same); or a Dask scheduler's address such as
+        ``"tcp://10.0.0.5:8786"``.
     workers : int
-        Worker processes of the local cluster, at most the cores this process may use (more are
+        Worker processes of a ``"local"`` sweep, at most the cores this process may use (more are
         cut to that, with a warning: workers x threads never exceeds the cores).
     on_rows : callable, optional
         Called with each task's rows as soon as that task ends (in completion order), so that a long
@@ -168,6 +180,11 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
     -------
     list of dict
         One row per fit, in cell order then seed order.
+
+    Raises
+    ------
+    IFSError
+        For a cell or a seed list that cannot run, or a scheduler address without ``dask.distributed``.
     """
     _check(cells, seeds)
     check_int(batch, "batch", 1)
@@ -178,41 +195,96 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
             parts.append(run_batch(cell, chunk, setup))
             if on_rows is not None:
                 on_rows(parts[-1])
-    else:
-        try:
-            import dask
-            from dask.distributed import Client, LocalCluster, as_completed, progress
-        except ImportError as exc:
-            raise IFSError("a Dask sweep needs dask.distributed: pip install -e '.[sweep]' "
-                           "(or use scheduler='serial')") from exc
-        env = {"IFSLIB_DATA": os.environ.get("IFSLIB_DATA", ""), "OMP_NUM_THREADS": "1"}
-        if scheduler == "local":
-            n_cores = cores()
-            if workers > n_cores:  # one thread per worker: never more workers than cores
-                warnings.warn(f"sweep: {workers} workers on {n_cores} cores would oversubscribe them; using {n_cores}")
-                workers = n_cores
-            # Dask's nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers, so glibc hands every freed
-            # tensor back to the kernel and faults it in again, and a worker spends more time in the
-            # kernel than in torch (docs/results/strategies.md). Unset it.
-            with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
-                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, env=env)
-            client = Client(cluster)
-        else:
-            cluster, client = None, Client(scheduler)
-        try:
-            futures = [client.submit(run_batch, cell, chunk, setup, pure=False) for cell, chunk in tasks]
-            if on_rows is not None:
-                for future in as_completed(futures):
-                    on_rows(future.result())
-            elif os.environ.get("IFSLIB_PROGRESS", "1") != "0":
-                progress(futures)
-            parts = client.gather(futures)
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+        return _joined(parts)
+    modules = _dask()
+    if modules is None and scheduler != "local":
+        raise IFSError(f"a sweep on the Dask scheduler {scheduler!r} needs dask.distributed: "
+                       "pip install 'dask[distributed]' (or use scheduler='local' or 'serial')")
+    if scheduler == "local":
+        workers = _local_workers(workers)
+        if modules is None:
+            note(f"sweep: dask.distributed is not installed; running on a process pool of {workers} workers "
+                 "(concurrent.futures), with the same results")
+            return _joined(_run_pool(tasks, setup, workers, on_rows))
+    return _joined(_run_dask(modules, tasks, setup, scheduler, workers, on_rows))
+
+
+def _joined(parts: list[list[dict]]) -> list[dict]:
     return [row for part in parts for row in part]
+
+
+def _dask():
+    """``(dask, dask.distributed)``, or None where they are not installed (a student's environment)."""
+    try:
+        import dask
+        import dask.distributed
+    except ImportError:
+        return None
+    return dask, dask.distributed
+
+
+def _local_workers(workers: int) -> int:
+    """``workers``, cut to the cores with a warning: one thread per worker, never more workers than cores."""
+    check_int(workers, "workers", 1)
+    n_cores = cores()
+    if workers > n_cores:
+        warnings.warn(f"sweep: {workers} workers on {n_cores} cores would oversubscribe them; using {n_cores}")
+        return n_cores
+    return workers
+
+
+def _show_progress() -> bool:
+    return os.environ.get("IFSLIB_PROGRESS", "1") != "0"
+
+
+def _run_pool(tasks: list[tuple[Cell, list[int]]], setup: Setup, workers: int,
+              on_rows: Callable[[list[dict]], None] | None) -> list[list[dict]]:
+    """Each task on a `ProcessPoolExecutor` of ``workers`` processes; the parts in task order."""
+    # spawn, as Dask starts its workers: a forked child would copy this process's threads (torch's
+    # OpenMP pool, a notebook kernel's) in whatever state they hold, which Python warns against
+    # since 3.12; a fresh interpreter gives every platform the same workers (macOS and Windows spawn)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    try:
+        futures = [pool.submit(run_batch, cell, chunk, setup) for cell, chunk in tasks]
+        with tqdm(total=len(futures), desc="sweep", disable=not (_show_progress() and draw_bars())) as bar:
+            for future in as_completed(futures):
+                rows = future.result()  # a task's error is raised here, at once
+                bar.update()
+                if on_rows is not None:
+                    on_rows(rows)
+        return [future.result() for future in futures]
+    finally:
+        # on an error or an interrupt, the tasks not yet started are dropped rather than run to the end
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _run_dask(modules, tasks: list[tuple[Cell, list[int]]], setup: Setup, scheduler: str, workers: int,
+              on_rows: Callable[[list[dict]], None] | None) -> list[list[dict]]:
+    """Each task on a Dask ``LocalCluster`` (``scheduler="local"``) or the scheduler at ``scheduler``."""
+    dask, distributed = modules
+    env = {"IFSLIB_DATA": os.environ.get("IFSLIB_DATA", ""), "OMP_NUM_THREADS": "1"}
+    if scheduler == "local":
+        # Dask's nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers, so glibc hands every freed
+        # tensor back to the kernel and faults it in again, and a worker spends more time in the
+        # kernel than in torch (docs/results/strategies.md). Unset it.
+        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+            cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                               dashboard_address=None, env=env)
+        client = distributed.Client(cluster)
+    else:
+        cluster, client = None, distributed.Client(scheduler)
+    try:
+        futures = [client.submit(run_batch, cell, chunk, setup, pure=False) for cell, chunk in tasks]
+        if on_rows is not None:
+            for future in distributed.as_completed(futures):
+                on_rows(future.result())
+        elif _show_progress():
+            distributed.progress(futures)
+        return client.gather(futures)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
 
 
 def summarize(rows: list[dict]) -> list[dict]:

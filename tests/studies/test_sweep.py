@@ -1,5 +1,7 @@
-"""A tiny convergence sweep: serial and on a 2-worker Dask LocalCluster give the same rows."""
+"""A tiny convergence sweep: serial, on a 2-worker Dask LocalCluster and on the process pool that stands in
+for it without Dask give the same rows."""
 import math
+import sys
 
 import pytest
 
@@ -41,6 +43,47 @@ def test_dask_local_cluster_equals_serial(monkeypatch):
                         on_rows=lambda rows: streamed.extend(rows))
     assert strip(distributed) == strip(serial)
     assert sorted(map(str, strip(streamed))) == sorted(map(str, strip(serial)))  # every row, in completion order
+
+
+def without_dask(monkeypatch):
+    """Make ``import dask`` fail here as in a student's environment (requirements-student.txt has no Dask)."""
+    for name in ("dask", "dask.distributed", "distributed"):
+        monkeypatch.setitem(sys.modules, name, None)
+
+
+@pytest.mark.slow
+def test_local_without_dask_runs_on_a_process_pool_with_the_serial_rows(monkeypatch, capsys):
+    # notebook 06's teaching value is scheduler="local": a student without Dask runs it too
+    without_dask(monkeypatch)
+    monkeypatch.setenv("IFSLIB_PROGRESS", "0")
+    seeds = [0, 1, 2]
+    serial = sweep(CELLS[:2], seeds, SETUP, batch=2, scheduler="serial")
+    streamed = []
+    pooled = sweep(CELLS[:2], seeds, SETUP, batch=2, scheduler="local", workers=2, on_rows=streamed.append)
+    assert strip(pooled) == strip(serial)
+    assert sorted(len(part) for part in streamed) == [1, 1, 2, 2]  # every task's rows, in completion order
+    assert sorted(map(str, strip([r for part in streamed for r in part]))) == sorted(map(str, strip(serial)))
+    notes = [line for line in capsys.readouterr().err.splitlines() if "dask.distributed is not installed" in line]
+    assert notes == ["sweep: dask.distributed is not installed; running on a process pool of 2 workers "
+                     "(concurrent.futures), with the same results"]
+
+
+def test_a_scheduler_address_without_dask_is_refused_before_any_fit(monkeypatch):
+    without_dask(monkeypatch)
+    with pytest.raises(IFSError, match=r"Dask scheduler 'tcp://10.0.0.5:8786' needs dask.distributed: "
+                                        r"pip install 'dask\[distributed\]'"):
+        sweep(CELLS, [0], SETUP, scheduler="tcp://10.0.0.5:8786")
+
+
+def test_local_workers_are_cut_to_the_cores(monkeypatch):
+    from ifslib.studies import sweep as module
+
+    monkeypatch.setattr(module, "cores", lambda: 2)
+    assert module._local_workers(2) == 2
+    with pytest.warns(UserWarning, match="3 workers on 2 cores would oversubscribe them; using 2"):
+        assert module._local_workers(3) == 2
+    with pytest.raises(IFSError, match="workers"):
+        module._local_workers(0)
 
 
 def test_bad_cells_are_refused():
