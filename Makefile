@@ -12,7 +12,7 @@ export IFSLIB_DATA
 # __pycache__ folders that git ignores)
 export PYTHONDONTWRITEBYTECODE :=
 
-.PHONY: setup setup-grading test test-fast figures book slides student setup-browser test-browser bench clean
+.PHONY: setup setup-grading test test-fast figures book slides student student-binder setup-browser test-browser bench clean
 
 # pyproject.toml declares ranges; constraints.txt pins the versions the tests ran with (torch==2.13.0:
 # this machine's local CPU wheel, never a multi-GB CUDA build from the index).
@@ -69,6 +69,9 @@ slides: $(VENV)/.installed-docs $(REVEAL)  ## a reveal.js deck per lecture (docs
 
 student: $(VENV)/.installed-grading  ## student edition (nbgrader's release: solutions stubbed, hidden tests out) in build/student, each executed and checked
 	$(PY) notebooks/student.py build/student --check
+
+student-binder: $(VENV)/.installed-grading  ## the students' Binder repository in build/student-binder (student edition, ifslib wheel, binder/; no answers); its README says how to publish it
+	$(PY) course/student_binder.py build/student-binder
 
 setup-browser: $(VENV)/.installed-docs  ## Debian's chromium (apt-get, as root, only when missing) and playwright, for test-browser
 	PY=$(PY) sh browser_tests/setup.sh
