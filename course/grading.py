@@ -117,18 +117,27 @@ def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
 
 
 def check(course: Path, names: list[str]) -> int:
-    """Autograde the solved source and the blank release; 0 when they score full and 0, else 1."""
-    instructor, blank = autograde(course, {"instructor": course / "source" / ASSIGNMENT,
-                                           "blank": course / "release" / ASSIGNMENT})
-    for score in (instructor, blank):
+    """Autograde the solved source, the blank release and a lazy submission (``lazy_submission.py``);
+    0 when they score full, 0 and under half of the auto-graded points, else 1."""
+    from lazy_submission import passed_tests, write_lazy
+
+    release, lazy_folder = course / "release" / ASSIGNMENT, course / "lazy" / ASSIGNMENT
+    write_lazy(release, lazy_folder)
+    scores = autograde(course, {"instructor": course / "source" / ASSIGNMENT, "blank": release, "lazy": lazy_folder})
+    for score in scores:
         print(score.line(), flush=True)
-    problems = []
-    if instructor.auto != instructor.auto_max or instructor.auto_max == 0:
-        problems.append("the instructor's source does not get every auto-graded point")
-    if instructor.manual_cells != instructor.written:
-        problems.append("a written answer of the instructor's source was not left for manual grading")
-    if blank.auto != 0:
-        problems.append("the blank release gets auto-graded points")
+    walked = passed_tests(course / "gradebook.db", ASSIGNMENT, "lazy")
+    print(f"  lazy: the tests it passed ({len(walked)}): {', '.join(walked) or 'none'}", flush=True)
+    instructor, blank, lazy = scores
+    problems = [problem for failed, problem in [
+        (instructor.auto != instructor.auto_max or instructor.auto_max == 0,
+         "the instructor's source does not get every auto-graded point"),
+        (instructor.manual_cells != instructor.written,
+         "a written answer of the instructor's source was not left for manual grading"),
+        (blank.auto != 0, "the blank release gets auto-graded points"),
+        (lazy.auto >= lazy.auto_max / 2,
+         f"the lazy submission gets {lazy.auto:g} of {lazy.auto_max:g} auto-graded points, not under half"),
+    ] if failed]
     for problem in problems:
         print(f"FAILED: {problem}", flush=True)
     return 1 if problems else 0
@@ -139,7 +148,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("course", type=Path, help="the course folder to write (replaced)")
     parser.add_argument("--source", type=Path, default=NOTEBOOKS, help="the instructor's notebooks")
     parser.add_argument("--quick", action="store_true", help="inject each notebook's quick values (CI)")
-    parser.add_argument("--check", action="store_true", help="autograde the source (full) and the release (0)")
+    parser.add_argument("--check", action="store_true",
+                        help="autograde the source (full), the release (0) and a lazy submission (under half)")
     args = parser.parse_args(argv)
     names = layout(args.course, args.source, args.quick)
     release = generate(args.course)
