@@ -148,6 +148,13 @@ def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
         When the maps contract so slowly that a chain would need more than `MAX_BURN_IN` steps to forget
         its start: the points still lie on the attractor, but lean towards the first map's fixed point.
     """
+    return _points(ifs, n, seed, warn=True)
+
+
+def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
+    """`chaos_game`'s points; ``warn``: say when the burn-in is cut at `MAX_BURN_IN`. A picture of the
+    attractor (`chaos_field`, `chaos_reach`, a window) does not warn: it draws the set, which every point
+    lies on whatever the burn-in, not the measure."""
     check_int(n, "the number of chaos-game points", 1)
     check_int(seed, "seed", 0)
     _check_memory(n)
@@ -155,9 +162,10 @@ def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
         maps_t = ifs.to(torch.float64).maps()
     burn = burn_in_steps(maps_t, ifs.rules)
     if burn > MAX_BURN_IN:
-        warnings.warn(f"chaos_game: the maps contract slowly (a chain needs {burn:,} steps to forget its start, "
-                      f"it takes {MAX_BURN_IN:,}): the points lie on the attractor, but are not a fair sample "
-                      "of its measure", stacklevel=2)
+        if warn:
+            warnings.warn(f"chaos_game: the maps contract slowly (a chain needs {burn:,} steps to forget its "
+                          f"start, it takes {MAX_BURN_IN:,}): the points lie on the attractor, but are not a "
+                          "fair sample of its measure", stacklevel=3)
         burn = MAX_BURN_IN
     p = ifs.measure_probabilities(maps_t).numpy()
     maps = maps_t.numpy()
@@ -255,7 +263,7 @@ def chaos_window(ifs: IFS, n: int, window, seed: int = 0) -> np.ndarray:
     rng = np.random.default_rng(seed)
     out, count = [], 0
     for k in range(MAX_ROUNDS):
-        points = chaos_game(ifs, n, seed + 1 + k)
+        points = _points(ifs, n, seed + 1 + k, warn=False)
         pick = maps[rng.choice(len(maps), size=n, p=weight / weight.sum())]
         mapped = np.einsum("nij,nj->ni", pick[:, :, :2], points) + pick[:, :, 2]
         inside = ((mapped >= window[:2]) & (mapped <= window[2:])).all(1)
@@ -292,7 +300,7 @@ def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, win
     check_int(n, "the number of chaos-game points", 1)
     _check_memory(n, check_int(size, "size", 1) ** 2)
     found = np.empty((0, 2)) if window is None else chaos_window(ifs, n, _grown(window, WINDOW_MARGIN), seed)
-    points = torch.from_numpy(found if len(found) else chaos_game(ifs, n, seed))
+    points = torch.from_numpy(found if len(found) else _points(ifs, n, seed, warn=False))
     x, y = pixel_centres(size, dtype=torch.float64, window=window)
     return nearest_point(points, x, y)[1].view(size, size)
 
@@ -315,7 +323,7 @@ def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
     if not (isinstance(radius, (int, float)) and 0 <= radius < math.inf):
         raise IFSError(f"radius must be a finite number >= 0, got {radius!r}")
     _check_memory(n)
-    points = chaos_game(ifs, n, seed)
+    points = _points(ifs, n, seed, warn=False)
     # each point's column and row as real numbers (column c's centre at c), then the columns and rows in reach
     u, v = (points[:, 0] + 0.5) * size - 0.5, (0.5 - points[:, 1]) * size - 0.5
     reach = radius * size
