@@ -8,9 +8,11 @@ The assignment ``ifs`` holds every notebook of ``notebooks/`` with nbgrader cell
 but the explorer and the glossary), each at its teaching values with a locked grading cell after its
 parameters cell (``grading_run.py``): while nbgrader executes it (autograde, Validate) the lesson runs
 at its grading sizes and skips the demonstrations no check needs. ``--quick`` also injects each
-notebook's quick values (``metadata["ifslib"]["quick"]``) after its parameters cell. ``--check`` submits two students: ``instructor`` (the source, solved)
-and ``blank`` (the release, unanswered), autogrades both with nbgrader itself and prints each one's
-auto-graded points and the cells left for manual grading (the written answers).
+notebook's quick values (``metadata["ifslib"]["quick"]``) after its parameters cell. ``--check`` submits
+three students: ``instructor`` (the source, solved: every auto-graded point), ``blank`` (the release,
+unanswered: 0) and ``lazy`` (the release answered the laziest way, ``lazy_submission.py``: under half),
+autogrades them with nbgrader itself and prints each one's auto-graded points, the cells left for
+manual grading (the written answers) and how long its autograde took.
 """
 from __future__ import annotations
 
