@@ -5,15 +5,18 @@ The tricks: the library's own function reached through a container the old switc
 ``functools.partial`` in a global, a class attribute, a dict, a list, a default argument), library
 functions that compute the same answer under another name (``IFS.n_leaves``, ``IFS.scales``,
 ``ifslib.f1``, ``metrics.scores``, ``landscape.alignment``, ``crossing_pairs``, ``metrics.hausdorff``,
-scipy's ``directed_hausdorff``, ``similarity_dimension``), the target itself as a "fit" (one tiny map
-onto each of its pixels), and guesses. Each library trick is first shown to be a real one: with the
-switch-off disabled it passes the very same test cell.
+scipy's ``directed_hausdorff``, ``similarity_dimension``, scipy's Wilson interval of ``binomtest``, the
+fractal search's ``moment_maps``, ``split_flag_count`` and ``Code.bits``), the target itself as a "fit" (one
+tiny map onto each of its pixels), and guesses. Each library trick is first shown to be a real one: with
+the switch-off disabled it passes the very same test cell. Answers that only the lesson's size tells apart
+are tested at the values nbgrader grades the lesson at (``metadata["ifslib"]["grading"]``).
 
 The harness's own guarantees are tested here too: a switched-off function raises however it is
 reached, and everything is restored after, nested, on error and from two threads.
 """
 from __future__ import annotations
 
+import ast
 import functools
 import math
 import re
@@ -35,6 +38,7 @@ from ifslib.teaching.exercises import harness
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "course"))
+import grading_run  # noqa: E402  the grading values nbgrader runs a lesson at
 import targets as course_targets  # noqa: E402  the instructor's truths
 
 SOLUTION = re.compile(r"^([ \t]*)### BEGIN SOLUTION.*?### END SOLUTION[ \t]*(\n|\Z)", re.M | re.S)
@@ -110,10 +114,38 @@ def koch_results(size: int = 32) -> dict:
     return {"size": size, "results": {"koch": (ifslib.load_target(ifs, size), None, SimpleNamespace(best=ifs))}}
 
 
+def copy_map_names() -> dict:
+    """Notebook 07's ``target`` (a figure whose pixels are split in halves) and what its answer cell reads."""
+    from ifslib.targets import silhouettes
+
+    return {"target": ifslib.load_target(silhouettes.letter("G", 64).astype(float), 64),
+            "foreground_points": foreground_points}
+
+
+@functools.cache
+def compressed() -> object:
+    """A code of the camera man at 64² and 0.5 bpp, as notebook 10 codes its photograph (block sizes 4, 8, 16)."""
+    from skimage import data, transform
+
+    from ifslib.compression import encode
+
+    image = transform.resize(data.camera()[:, 64:-64] / 255, (64, 64), anti_aliasing=True)
+    return encode(np.clip(image, 0, 1), bpp=0.5)
+
+
+def bits_names() -> dict:
+    from ifslib.compression import to_bytes
+    from ifslib.compression.domains import domain_bits
+
+    return {"code": compressed(), "to_bytes": to_bytes, "domain_bits": domain_bits}
+
+
 NAMES = {"03_gradient_fields-alignment": alignment_names, "04_local_minima-count-crossings": crossing_names,
          "08_real_fractals-collage": collage_names,
          "09_measures_and_dimension-moran-code": lambda: {"dimension": dimension},
-         "02_fitting_gallery-chamfer": koch_results}
+         "02_fitting_gallery-chamfer": koch_results,
+         "06_convergence_study-wilson": lambda: {"summary": []},
+         "07_your_own_image-copy-map": copy_map_names, "10_fractal_compression-bits": bits_names}
 
 
 def names_of(grade_id: str) -> dict:
@@ -190,6 +222,30 @@ LIBRARY_TRICKS = [
     ("09_measures_and_dimension-moran-code", "", "return dimension.similarity_dimension(scales)"),
     ("09_measures_and_dimension-moran-code", "",
      f"return dimension.ifs_similarity_dimension({AFFINE}([[[r, 0, 0], [0, r, 0]] for r in scales]))"),
+    # 06: scipy's Wilson interval, from the binomial test or its own helper
+    ("06_convergence_study-wilson", "from scipy.stats import binomtest, norm\n",
+     "ci = binomtest(k, n).proportion_ci(2 * norm.cdf(z) - 1, method='wilson')\nreturn ci.low, ci.high"),
+    ("06_convergence_study-wilson", "import scipy.stats\nfrom scipy.stats._binomtest import _binom_wilson_conf_int\n",
+     "return _binom_wilson_conf_int(k, n, 2 * scipy.stats.norm.cdf(z) - 1, 'two-sided', False)"),
+    # 07: the fractal search's moment maps (the region's copy of the figure), unclipped
+    ("07_your_own_image-copy-map", "from ifslib.discovery.fractal.regions import moment_maps\n",
+     "return moment_maps(points, part, angles=1, scales=(0.0, np.inf))[0]"),
+    ("07_your_own_image-copy-map", "TOOLS = {'m': ifslib.discovery.fractal.regions.moment_maps}\n",
+     "return TOOLS['m'](points, part, 1, 0.0, (0.0, np.inf))[0]"),
+    # 10: the library's counts of the flags, and of the flags and maps together
+    ("10_fractal_compression-bits", "from ifslib.compression.code import split_flag_count\n",
+     "flags, maps = split_flag_count(code), 12 * len(code)\n"
+     "isometries = 3 * int((~code.flat).sum())\n"
+     "return {'header': 120, 'flags': flags, 's and m': maps, 'isometries': isometries,\n"
+     "        'domains': code.bits() - flags - maps - isometries,\n"
+     "        'padding': 8 * len(to_bytes(code)) - 120 - code.bits()}"),
+    ("10_fractal_compression-bits", "",
+     "H, W = code.padded\n"
+     "domains = sum(domain_bits(H, W, int(k)) for k in code.size[~code.flat])\n"
+     "maps, isometries = 12 * len(code), 3 * int((~code.flat).sum())\n"
+     "return {'header': 120, 'flags': code.bits() - maps - isometries - domains, 's and m': maps,\n"
+     "        'isometries': isometries, 'domains': domains,\n"
+     "        'padding': 8 * len(to_bytes(code)) - 120 - code.bits()}"),
 ]
 
 
@@ -339,6 +395,127 @@ def test_a_positive_guess_of_the_scaled_distance_fails(guess):
     refused("00_tutorial-scaled-distance", f"distance_to_copy = {guess}")
 
 
+# -- graded at the values where right and lazy answers differ ------------------------------------
+
+def lesson_values(name: str, preset: str) -> dict:
+    """A lesson's parameters at its ``teaching``, ``quick`` or ``grading`` values (those nbgrader runs it at)."""
+    book = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
+    teaching = grading_run.teaching_values(book)
+    quick = {**teaching, **book.metadata.get("ifslib", {}).get("quick", {})}
+    return {"teaching": teaching, "quick": quick, "grading": grading_run.grading_values(book, teaching)}[preset]
+
+
+FAR = "03_gradient_fields-further-out"
+FAR_LAZY = ['far_share = {kind: scores[kind][1] for kind in ("pixel", "distance")}',   # the near grid's, copied
+            'far_share = {"pixel": 1.0, "distance": 1.0}']                              # every arrow toward
+
+
+@functools.cache
+def gradient_names(size: int, grid: int, depth: int, half_width: float) -> dict:
+    """What notebook 03's further-out cells read, at these values: the near grid's scores among them."""
+    optimum = ifslib.patterns.koch(depth=depth)
+    target = ifslib.load_target(optimum, size)
+    p2 = optimum.points[2].detach().double().numpy()
+    xs, ys = (p2[i] + np.linspace(-half_width, half_width, grid) for i in (0, 1))
+    true = ifslib.landscape.toward(xs, ys, p2)
+    scores = {kind: ifslib.landscape.alignment(
+        ifslib.landscape.gradient_field(optimum, target, 2, xs, ys, kind, progress=False), true)
+        for kind in ("pixel", "distance")}
+    alignment = run("03_gradient_fields-alignment", **alignment_names())["alignment"]
+    return {"optimum": optimum, "target": target, "p2": p2, "scores": scores, "alignment": alignment}
+
+
+def far_names(preset: str) -> dict:
+    v = lesson_values("03_gradient_fields", preset)
+    return gradient_names(v["size"], v["grid"], v["depth"], v["half_width"])
+
+
+@pytest.mark.parametrize("preset", ["grading", pytest.param("teaching", marks=pytest.mark.slow)])
+def test_the_far_shares_copied_or_guessed_fail_where_they_are_graded(preset):
+    # at 64² both far shares are 1.0, as are the near grid's: notebook 03 is graded at 128², where the
+    # pixel loss's far share is 0.75 (as at the teaching 256²) and its near share 0.96
+    names = far_names(preset)
+    far = run(FAR, **names)["far_share"]
+    assert far["pixel"] < 1 and far["pixel"] != names["scores"]["pixel"][1], (far, names["scores"])
+    for lazy in FAR_LAZY:
+        refused(FAR, with_body(FAR, lazy), "pixel: share is off", **names)
+
+
+def test_at_the_quick_size_the_far_shares_cannot_tell_a_guess_from_the_answer():
+    # why notebook 03 is not graded at its quick values
+    names = far_names("quick")
+    assert run(FAR, **names)["far_share"] == {"pixel": 1.0, "distance": 1.0}
+    for lazy in FAR_LAZY:
+        run(FAR, with_body(FAR, lazy), **names)
+    sizes = {preset: lesson_values("03_gradient_fields", preset)["size"] for preset in ("quick", "grading")}
+    assert sizes["grading"] != sizes["quick"], sizes
+
+
+KOCH_DEPTH = "01_koch_iterations-koch-depth"
+
+
+@functools.cache
+def koch_distances(size: int) -> list[float]:
+    """Notebook 01's distance at depth 0 (its table's first row; the exercise reads no other)."""
+    return ifslib.metrics.depth_to_attractor(ifslib.patterns.koch(depth=1), range(1), points=400_000,
+                                             spacing=0.25 / size)
+
+
+def the_tables_depth() -> int:
+    """The depth the lesson's stored table gives: its depth-0 distance in pixels, shrunk by 3 to half a pixel."""
+    book = nbformat.read(ROOT / "notebooks" / "01_koch_iterations.ipynb", as_version=4)
+    [table] = [c for c in book.cells if c.cell_type == "code" and "depth_to_attractor" in c.source]
+    printed = "".join(o.get("text", "") for o in table.outputs)
+    d0 = float(re.search(r"depth 0:\s+([0-9.]+) px", printed).group(1))
+    return next(k for k in range(20) if d0 / 3 ** k <= 0.5)
+
+
+def test_the_koch_depth_read_off_the_lessons_table_passes_where_it_is_graded():
+    # the statement asks for the number; the lesson's table (at the teaching size) gives it, and
+    # nbgrader grades notebook 01 at the teaching size, so the number read there is the right one
+    grading, teaching = (lesson_values("01_koch_iterations", preset) for preset in ("grading", "teaching"))
+    assert grading["size"] == teaching["size"]
+    depth_needed = run("01_koch_iterations-depth-needed")["depth_needed"]
+    names = {"distances": koch_distances(grading["size"]), "size": grading["size"], "depth_needed": depth_needed}
+    read = the_tables_depth()
+    assert run(KOCH_DEPTH, **names)["koch_depth"] == read == 5
+    run(KOCH_DEPTH, f"koch_depth = {read}", **names)
+    for wrong in (read - 1, read + 1):
+        refused(KOCH_DEPTH, f"koch_depth = {wrong}", "half a pixel at depth", **names)
+
+
+def test_the_instructors_koch_depth_passes_at_the_quick_size_too():
+    quick = lesson_values("01_koch_iterations", "quick")["size"]
+    depth_needed = run("01_koch_iterations-depth-needed")["depth_needed"]
+    names = {"distances": koch_distances(quick), "size": quick, "depth_needed": depth_needed}
+    assert run(KOCH_DEPTH, **names)["koch_depth"] == 4   # what the lesson's table reads at 128 px
+
+
+FERN_STEM = "09_measures_and_dimension-fern-stem"
+
+
+def fern_names() -> dict:
+    """Notebook 09's names that the fern-stem cells read (the drawing of the answer made a no-op)."""
+    from ifslib.raster.measure import chaos_measure
+
+    book = nbformat.read(ROOT / "notebooks" / "09_measures_and_dimension.ipynb", as_version=4)
+    barnsley = re.search(r"^BARNSLEY = (\([^)]*\))", "\n".join(c.source for c in book.cells), re.M).group(1)
+    figure = SimpleNamespace(subplots=lambda **kw: (None, None), show=lambda: None)
+    return {"BARNSLEY": ast.literal_eval(barnsley), "fern": ifslib.patterns.fern().to(torch.float64),
+            "chaos_measure": chaos_measure, "plt": figure, "show": lambda *args, **kwargs: None}
+
+
+def test_barnsleys_probabilities_pass_the_fern_stem_exercise_by_design():
+    # the statement asks for any four probabilities that show the stem (0.5 % to 5 %) with the main
+    # leaflet the largest: Barnsley's (the lesson's constant, stem 1 %) are one such choice, so
+    # handing them in is a right answer, not a lazy pass; the |det| shares (stem 0.02 %) are not
+    names = fern_names()
+    run(FERN_STEM, **names)
+    run(FERN_STEM, "my_probabilities = BARNSLEY", **names)
+    det = np.abs(np.linalg.det(names["fern"].maps().detach().numpy()[:, :2, :2]))
+    refused(FERN_STEM, f"my_probabilities = {tuple((det / det.sum()).tolist())}", "stem's share", **names)
+
+
 # -- a whole lazy submission -----------------------------------------------------------------------
 
 def test_a_submission_of_the_tricks_scores_nothing_on_their_exercises():
@@ -365,7 +542,7 @@ def test_a_submission_of_the_tricks_scores_nothing_on_their_exercises():
             scored += points(grade_id)
         except AssertionError:
             pass
-    assert total == 25 and scored == 0, (scored, total)
+    assert total == 30 and scored == 0, (scored, total)
 
 
 # -- the harness ---------------------------------------------------------------------------------

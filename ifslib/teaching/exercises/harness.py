@@ -75,6 +75,14 @@ LIBRARY = {
                        ("ifslib.scoring.metrics", "crossing_points"), ("ifslib.scoring.metrics", "self_crossings")],
     "similarity dimension": [("ifslib.scoring.dimension", "similarity_dimension"),
                              ("ifslib.scoring.dimension", "ifs_similarity_dimension")],
+    # scipy's binomial test gives the interval (proportion_ci(method="wilson")); ifslib computes none
+    "Wilson interval": [("scipy.stats", "binomtest"), ("scipy.stats._binomtest", "binomtest"),
+                        ("scipy.stats._binomtest", "BinomTestResult.proportion_ci"),
+                        ("scipy.stats._binomtest", "_binom_wilson_conf_int")],
+    # the fractal search's copies matched by moments, and the shape starts' (one per k-means part)
+    "copy map": [("ifslib.discovery.fractal.regions", "moment_maps"), ("ifslib.discovery.auto", "shape_maps")],
+    # the quadtree's flags, and the flags and maps' bits together
+    "bit budget": [("ifslib.compression.code", "split_flag_count"), ("ifslib.compression.code", "Code.bits")],
 }
 # read-only, so that an answer cell cannot empty an exercise's list (LIBRARY["iou"] = [])
 LIBRARY = types.MappingProxyType({exercise: tuple(places) for exercise, places in LIBRARY.items()})
