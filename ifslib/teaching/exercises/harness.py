@@ -34,7 +34,7 @@ class WriteItYourself(RuntimeError):
 #: student's function runs (see `library_off`), the ifslib functions that compute the same thing too.
 LIBRARY = {
     "chaos game": [("ifslib", "chaos_game"), ("ifslib.raster.chaos", "chaos_game"),
-                   ("ifslib.raster.chaos", "chaos_window"),
+                   ("ifslib.raster.chaos", "chaos_window"), ("ifslib.raster.chaos", "_points"),
                    ("ifslib.geometry.sampled", "sample_attractor"),
                    ("ifslib.geometry.expand", "sample_attractor"),
                    ("ifslib.geometry.attractor", "attractor_leaves")],
