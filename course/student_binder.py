@@ -23,7 +23,6 @@ commands run in it). Needs nbgrader (``make setup-grading``), as ``make student`
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import re
 import shutil
 import subprocess
@@ -32,6 +31,8 @@ import tempfile
 import zipfile
 from email.parser import Parser
 from pathlib import Path
+
+from ifslib.paths import load_script
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDENT_REQUIREMENTS = ROOT / "requirements-student.txt"
@@ -49,12 +50,7 @@ class BinderError(RuntimeError):
 
 def _student_module():
     """``notebooks/student.py``, which writes the student edition through nbgrader."""
-    name = "ifslib_student_edition"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, ROOT / "notebooks" / "student.py")
-        sys.modules[name] = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(sys.modules[name])
-    return sys.modules[name]
+    return load_script("notebooks/student.py", "ifslib_student_edition")
 
 
 def is_written_here(path: Path) -> bool:

@@ -26,12 +26,13 @@ from __future__ import annotations
 
 import argparse
 import copy
-import importlib.util
 import re
 import shutil
 import sys
 import time
 from pathlib import Path
+
+from ifslib.paths import load_script
 
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
@@ -110,22 +111,12 @@ def assemble() -> None:
 
 def _slides():
     """``docs/slides.py``, whose figure captions give the book's images their alt text."""
-    name = "ifslib_docs_slides"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, DOCS / "slides.py")
-        sys.modules[name] = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(sys.modules[name])
-    return sys.modules[name]
+    return load_script("docs/slides.py", "ifslib_docs_slides")
 
 
 def _student():
     """``notebooks/student.py``, which reads the solution markers (the student edition's tool)."""
-    name = "ifslib_student_edition"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, ROOT / "notebooks" / "student.py")
-        sys.modules[name] = importlib.util.module_from_spec(spec)  # before it runs: its dataclass looks itself up
-        spec.loader.exec_module(sys.modules[name])
-    return sys.modules[name]
+    return load_script("notebooks/student.py", "ifslib_student_edition")
 
 
 #: The toggle's words, for MyST-NB's cell-level options (``metadata.mystnb``).

@@ -308,14 +308,9 @@ _FENCE = re.compile(r"\s*(```|~~~)")
 
 def _student():
     """``notebooks/student.py``: where the solution and hidden-test markers are read (the student edition's tool)."""
-    name = "ifslib_student_edition"
-    if name not in sys.modules:
-        import importlib.util
+    from ifslib.paths import load_script
 
-        spec = importlib.util.spec_from_file_location(name, ROOT / "notebooks" / "student.py")
-        sys.modules[name] = importlib.util.module_from_spec(spec)  # before it runs: its dataclass looks itself up
-        spec.loader.exec_module(sys.modules[name])
-    return sys.modules[name]
+    return load_script("notebooks/student.py", "ifslib_student_edition")
 
 
 @dataclasses.dataclass

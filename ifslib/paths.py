@@ -21,3 +21,20 @@ def figures_dir() -> Path:
     path = repo_root() / "figures"
     path.mkdir(exist_ok=True)
     return path
+
+
+def load_script(relative: str, name: str):
+    """The repository's script ``relative`` (a path from its root, such as ``notebooks/student.py``) imported
+    once as module ``name``: the tools around the package (the course, the book, the student edition) use
+    each other's functions without being part of it.
+
+    The module is in ``sys.modules`` before it runs, so that a dataclass in it can look itself up.
+    """
+    import importlib.util
+    import sys
+
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, repo_root() / relative)
+        sys.modules[name] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]

@@ -184,14 +184,9 @@ def calls_checks(book) -> bool:
 
 def _grading():
     """``course/grading.py``, which lays the course out and runs nbgrader."""
-    import importlib.util
+    from ifslib.paths import load_script
 
-    name = "ifslib_course_grading"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, ROOT / "course" / "grading.py")
-        sys.modules[name] = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(sys.modules[name])
-    return sys.modules[name]
+    return load_script("course/grading.py", "ifslib_course_grading")
 
 
 def write_edition(out: Path, source: Path = NOTEBOOKS) -> list[Path]:
