@@ -340,13 +340,15 @@ def test_the_true_fractals_pass_the_new_checks_at_every_size(size):
         odd_carpet=ifslib.exercises.carpet_target(size))
 
 
-@pytest.mark.slow
+# the instructor's fits at the notebooks' own values: grading's checks, run by .ci/nbgrader.sh (make test runs the
+# quick ones inside the notebooks already)
+@pytest.mark.grading
 @pytest.mark.parametrize("size, steps", [(64, 100), (128, 200)])   # the quick values, the teaching ones
 def test_the_instructors_koch_fit_passes(size, steps):
     run("00_tutorial-koch-fit", koch_target=ifslib.exercises.koch_target(size), steps=steps)
 
 
-@pytest.mark.slow
+@pytest.mark.grading
 def test_the_instructors_carpet_fit_passes():
     # the notebook draws the carpet at 128² and the answer fixes its steps and learning rate: the
     # quick values and the teaching ones run this very fit
