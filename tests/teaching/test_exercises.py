@@ -7,6 +7,7 @@ it, the target's truth) raise ``AssertionError`` with a hint; the installed pack
 from __future__ import annotations
 
 import functools
+import math
 import re
 import sys
 from pathlib import Path
@@ -25,6 +26,7 @@ import targets as course_targets  # noqa: E402  the instructor's truths
 
 GRADED = ["00_tutorial", "01_koch_iterations", "05_more_examples", "07_your_own_image"]
 SOLUTION = re.compile(r"^([ \t]*)### BEGIN SOLUTION.*?### END SOLUTION[ \t]*(\n|\Z)", re.M | re.S)
+HIDDEN = re.compile(r"^[ \t]*#+\s*BEGIN HIDDEN TESTS.*?#+\s*END HIDDEN TESTS[ \t]*$", re.M | re.S)
 
 
 @functools.cache
@@ -37,11 +39,13 @@ def cell_of(grade_id: str) -> nbformat.NotebookNode:
     return graded_cells(grade_id.split("-")[0])[grade_id]
 
 
-def run(grade_id: str, answer_source: str | None = None, **names) -> dict:
-    """Execute the exercise's answer cell (``answer_source``, or the instructor's) and then its test cell."""
-    namespace = {"np": np, "torch": torch, "ifslib": ifslib, **names}
+def run(grade_id: str, answer_source: str | None = None, visible_only: bool = False, **names) -> dict:
+    """Execute the exercise's answer cell (``answer_source``, or the instructor's) and then its test cell
+    (the student's part alone with ``visible_only``), in one namespace."""
+    namespace = {"np": np, "torch": torch, "ifslib": ifslib, "math": math, **names}
     exec(cell_of(grade_id).source if answer_source is None else answer_source, namespace)
-    exec(cell_of(f"{grade_id}-test").source, namespace)
+    test = cell_of(f"{grade_id}-test").source
+    exec(HIDDEN.sub("", test) if visible_only else test, namespace)
     return namespace
 
 

@@ -40,23 +40,14 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "course"))
 import grading_run  # noqa: E402  the grading values nbgrader runs a lesson at
 import targets as course_targets  # noqa: E402  the instructor's truths
-
-SOLUTION = re.compile(r"^([ \t]*)### BEGIN SOLUTION.*?### END SOLUTION[ \t]*(\n|\Z)", re.M | re.S)
-HIDDEN = re.compile(r"^[ \t]*#+\s*BEGIN HIDDEN TESTS.*?#+\s*END HIDDEN TESTS[ \t]*$", re.M | re.S)
-
-
-@functools.cache
-def graded_cells(name: str) -> dict[str, nbformat.NotebookNode]:
-    book = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
-    return {c.metadata["nbgrader"]["grade_id"]: c for c in book.cells if c.metadata.get("nbgrader")}
-
+from test_exercises import SOLUTION, cell_of, fails, run  # noqa: E402  one way to run a test cell
 
 def cell(grade_id: str) -> str:
-    return graded_cells(grade_id.split("-")[0])[grade_id].source
+    return cell_of(grade_id).source
 
 
 def points(grade_id: str) -> int:
-    return graded_cells(grade_id.split("-")[0])[f"{grade_id}-test"].metadata["nbgrader"]["points"]
+    return cell_of(f"{grade_id}-test").metadata["nbgrader"]["points"]
 
 
 def with_body(grade_id: str, body: str, before: str = "") -> str:
@@ -65,23 +56,8 @@ def with_body(grade_id: str, body: str, before: str = "") -> str:
                                  cell(grade_id))
 
 
-def run(grade_id: str, answer: str | None = None, visible_only: bool = False, **names) -> dict:
-    """The answer cell (``answer``, or the instructor's), then its test cell (the student's part alone
-    with ``visible_only``), in one namespace."""
-    namespace = {"np": np, "torch": torch, "ifslib": ifslib, "math": math, **names}
-    exec(cell(grade_id) if answer is None else answer, namespace)
-    test = cell(f"{grade_id}-test")
-    exec(HIDDEN.sub("", test) if visible_only else test, namespace)
-    return namespace
-
-
 def refused(grade_id: str, answer: str, *words: str, **names) -> str:
-    with pytest.raises(AssertionError) as raised:
-        run(grade_id, answer, **names)
-    message = str(raised.value)
-    for word in words:
-        assert word in message, message
-    return message
+    return fails(grade_id, *words, answer_source=answer, **names)
 
 
 @pytest.fixture
