@@ -27,6 +27,8 @@ from pathlib import Path
 
 import nbformat
 
+from ifslib.paths import load_script
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from grading_run import with_grading_cell  # noqa: E402
 from run_edition import with_quick_values  # noqa: E402  one way to inject the quick values, here and there
@@ -53,7 +55,8 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[
     for path in sorted(source.glob("*.ipynb")):
         book = nbformat.read(path, as_version=4)
         if is_graded(book):
-            book = with_grading_cell(with_quick_values(book) if quick else book, path.stem)
+            teaching = load_script("notebooks/run.py", "ifslib_notebooks_run").teaching_parameters(path)
+            book = with_grading_cell(with_quick_values(book) if quick else book, path.stem, teaching)
             nbformat.write(book, folder / path.name)
             names.append(path.stem)
     if not names:

@@ -221,18 +221,11 @@ def grading_source(values: dict, skipped: list[str]) -> str:
         "    ])\n")
 
 
-def teaching_values(book) -> dict:
-    """The parameters cell's ``name = literal`` lines as a dict."""
-    where = parameters_index(book)
-    if where is None:
-        return {}
-    return {node.targets[0].id: ast.literal_eval(node.value)
-            for node in ast.parse(book.cells[where].source).body if isinstance(node, ast.Assign)}
-
-
-def with_grading_cell(book, name: str):
+def with_grading_cell(book, name: str, teaching: dict):
     """``book`` (changed in place) with its grading cell, locked, after the parameters cell (and any
-    values injected after it); a notebook without a parameters cell is returned as it is."""
+    values injected after it); a notebook without a parameters cell is returned as it is.
+
+    ``teaching``: the parameters cell's values (``notebooks/run.py``'s ``teaching_parameters``)."""
     where = parameters_index(book)
     if where is None:
         return book
@@ -240,7 +233,7 @@ def with_grading_cell(book, name: str):
         where += 1
     needed = needed_cells(book)
     skipped = [cell_key(c.source) for i, c in enumerate(book.cells) if c.cell_type == "code" and i not in needed]
-    cell = nbformat.v4.new_code_cell(grading_source(grading_values(book, teaching_values(book)), skipped))
+    cell = nbformat.v4.new_code_cell(grading_source(grading_values(book, teaching), skipped))
     cell.metadata["nbgrader"] = {"grade": False, "solution": False, "locked": True,
                                  "grade_id": f"{name}-{GRADE_ID}", "schema_version": 3}
     cell.metadata["tags"] = ["grading-run"]

@@ -34,6 +34,7 @@ import torch
 import ifslib
 from ifslib.scoring import dimension
 from ifslib.targets.target import foreground_points
+from ifslib.paths import load_script
 from ifslib.teaching.exercises import harness
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -377,8 +378,9 @@ def test_a_positive_guess_of_the_scaled_distance_fails(guess):
 
 def lesson_values(name: str, preset: str) -> dict:
     """A lesson's parameters at its ``teaching``, ``quick`` or ``grading`` values (those nbgrader runs it at)."""
-    book = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
-    teaching = grading_run.teaching_values(book)
+    path = ROOT / "notebooks" / f"{name}.ipynb"
+    book = nbformat.read(path, as_version=4)
+    teaching = load_script("notebooks/run.py", "ifslib_notebooks_run").teaching_parameters(path)
     quick = {**teaching, **book.metadata.get("ifslib", {}).get("quick", {})}
     return {"teaching": teaching, "quick": quick, "grading": grading_run.grading_values(book, teaching)}[preset]
 

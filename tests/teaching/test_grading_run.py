@@ -64,7 +64,8 @@ def test_a_cell_that_cannot_be_read_is_kept():
 
 
 def test_the_grading_cell_is_locked_after_the_parameters_and_sets_every_parameter():
-    book = grading_run.with_grading_cell(lesson("x = 1", answer="y = 2", test="assert y"), "demo")
+    book = grading_run.with_grading_cell(lesson("x = 1", answer="y = 2", test="assert y"), "demo",
+                                         {"size": 256, "steps": 1500})
     cell = book.cells[1]
     assert cell.metadata["nbgrader"]["locked"] and not cell.metadata["nbgrader"]["grade"]
     assert cell.metadata["nbgrader"]["grade_id"] == "demo-grading-run"
