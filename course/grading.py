@@ -30,7 +30,7 @@ import nbformat
 from ifslib.paths import load_script
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from grading_run import with_grading_cell  # noqa: E402
+from grading_run import parameters_index, with_grading_cell  # noqa: E402
 from run_edition import with_quick_values  # noqa: E402  one way to inject the quick values, here and there
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -55,7 +55,9 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[
     for path in sorted(source.glob("*.ipynb")):
         book = nbformat.read(path, as_version=4)
         if is_graded(book):
-            teaching = load_script("notebooks/run.py", "ifslib_notebooks_run").teaching_parameters(path)
+            # a graded notebook without a parameters cell gets no grading cell (it has nothing to shrink)
+            teaching = ({} if parameters_index(book) is None else
+                        load_script("notebooks/run.py", "ifslib_notebooks_run").teaching_parameters(path))
             book = with_grading_cell(with_quick_values(book) if quick else book, path.stem, teaching)
             nbformat.write(book, folder / path.name)
             names.append(path.stem)
