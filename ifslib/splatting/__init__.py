@@ -1,0 +1,9 @@
+"""Splatting: a differentiable chaos game (chains' points splatted onto the pixel grid) and a fit of many maps and
+their probabilities on it, the literature's way (Djeacoumar et al., CGF 2025). Uses the core only."""
+from .. import threads as _threads  # noqa: F401 - torch's thread count is set before this folder computes
+from .fit import SplatFit, SplatFitOptions, fit_splat
+from .parameters import ContractiveMaps
+from .render import SplatOptions, coverage, splat_measure
+
+__all__ = ["ContractiveMaps", "SplatFit", "SplatFitOptions", "SplatOptions", "coverage", "fit_splat",
+           "splat_measure"]

@@ -1,0 +1,111 @@
+"""The chains behind the splat: the library's chaos game, the map that made each point read back, and the last steps
+of each chain replayed differentiably (a hand-written backward pass: one bincount per coefficient a step, where
+autograd's gather would scatter-add into the few maps point by point, three times slower)."""
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+from ..core.geometry import patterns
+from ..core.raster.chaos import CHAINS, chaos_game
+
+
+def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """``rows`` consecutive points of each of `CHAINS` chains, and the map that made each from the one before.
+
+    `chaos_game` does not return its picks, so each is read back as the map whose image of a chain's point is that
+    chain's next point (exact up to float64 rounding; where two maps send a point to the same place either is right).
+
+    Returns
+    -------
+    points : numpy.ndarray
+        ``(rows, CHAINS, 2)`` float64 (burned in by `chaos_game`: every point a draw of the measure).
+    picks : numpy.ndarray
+        ``(rows, CHAINS)`` int64: ``picks[k]`` sent ``points[k - 1]`` to ``points[k]`` (row 0's is -1, unknown).
+    """
+    work = maps.detach().double().cpu()
+    ifs = patterns.affine(work, depth=1, dtype=torch.float64)
+    p = probabilities.detach().double().cpu()
+    ifs.probabilities = tuple((p / p.sum()).tolist())
+    points = chaos_game(ifs, rows * CHAINS, seed).reshape(rows, CHAINS, 2)
+    x, y = points[:-1, :, 0], points[:-1, :, 1]
+    nx, ny = points[1:, :, 0], points[1:, :, 1]
+    coef = work[:, :2, :].reshape(-1, 6).numpy()
+    best = np.full(x.shape, np.inf)
+    picks = np.full(points.shape[:2], -1, dtype=np.int64)
+    for i, (a, b, tx, c, d, ty) in enumerate(coef):  # a pass per map: memory stays at a few copies of the points
+        miss = np.abs(a * x + b * y + tx - nx) + np.abs(c * x + d * y + ty - ny)
+        closer = miss < best
+        best[closer] = miss[closer]
+        picks[1:][closer] = i
+    return points, picks
+
+
+class Replay(torch.autograd.Function):
+    """``depth`` steps of the chains from fixed starts, differentiable in the maps' coefficients and log-probabilities.
+
+    forward(coef ``(m, 6)``, log_p ``(m,)``, x ``(n,)``, y ``(n,)``, picks ``(depth, n)``) ->
+    (xy ``(n, 2)``, score ``(n,)`` the sum of ``log_p`` over each point's picks).
+    """
+
+    @staticmethod
+    def forward(ctx, coef, log_p, x, y, picks):
+        xs, ys = [x], [y]
+        score = torch.zeros_like(x, dtype=log_p.dtype)
+        for s in picks:
+            a, b, tx, c, d, ty = coef.t()[:, s]
+            x, y = torch.addcmul(torch.addcmul(tx, a, x), b, y), torch.addcmul(torch.addcmul(ty, c, x), d, y)
+            xs.append(x), ys.append(y)
+            score = score + log_p[s]
+        ctx.save_for_backward(coef, picks, torch.stack(xs[:-1]), torch.stack(ys[:-1]))
+        ctx.m = coef.shape[0]
+        return torch.stack([x, y], 1), score
+
+    @staticmethod
+    def backward(ctx, grad_xy, grad_score):
+        coef, picks, xs, ys = ctx.saved_tensors
+        m = ctx.m
+        gx, gy = grad_xy[:, 0].contiguous(), grad_xy[:, 1].contiguous()
+        gcoef = torch.zeros(6, m, dtype=torch.float64, device=coef.device)
+        glog = torch.zeros(m, dtype=torch.float64, device=coef.device)
+        count = lambda s, w: torch.bincount(s, w, minlength=m).double()  # noqa: E731 - serial: same bits at any thread count
+        for j in range(len(picks) - 1, -1, -1):
+            s, x, y = picks[j], xs[j], ys[j]
+            for k, w in enumerate((gx * x, gx * y, gx, gy * x, gy * y, gy)):
+                gcoef[k] += count(s, w)
+            if grad_score is not None:
+                glog += count(s, grad_score)
+            a, b, _, c, d, _ = coef.t()[:, s]
+            gx, gy = a * gx + c * gy, b * gx + d * gy
+        return gcoef.t().to(coef.dtype), glog.to(coef.dtype), None, None, None
+
+
+def replay(maps: torch.Tensor, probabilities: torch.Tensor, points: np.ndarray, picks: np.ndarray,
+           depth: int) -> tuple[torch.Tensor, torch.Tensor]:
+    """The chains' last ``rows - depth`` points rebuilt from their points ``depth`` steps before, with their weights.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(m, 3, 3)`` maps; the points are computed in their dtype and on their device.
+    probabilities : torch.Tensor
+        ``(m,)``.
+    points, picks
+        Of `chain_points`, with ``rows > depth``.
+
+    Returns
+    -------
+    xy : torch.Tensor
+        ``(n, 2)`` points, differentiable in ``maps`` (the pathwise gradient through ``depth`` steps).
+    weight : torch.Tensor
+        ``(n,)`` ones, whose gradient in ``probabilities`` is the score of each point's ``depth`` picks.
+    """
+    kept = points.shape[0] - depth
+    dtype, device = maps.dtype, maps.device
+    start = torch.as_tensor(points[:kept].reshape(-1, 2), dtype=dtype, device=device)
+    pick = torch.as_tensor(picks, device=device)
+    steps = torch.stack([pick[j:j + kept].reshape(-1) for j in range(1, depth + 1)])
+    coef = maps[:, :2, :].reshape(-1, 6)
+    xy, score = Replay.apply(coef, probabilities.to(dtype).log(), start[:, 0].contiguous(),
+                             start[:, 1].contiguous(), steps)
+    return xy, (score - score.detach()).exp()

@@ -1,0 +1,56 @@
+"""The splatting renderer's and fit's tuned numbers, one line each on what they trade."""
+
+#: Points a picture splats: 2048 chains (`ifslib.core.raster.chaos.CHAINS`) of 250 points, as Djeacoumar et al.'s
+#: 2,000 chains of 250. More, less noise in the gray levels; the step's time grows with them.
+POINTS = 2048 * 250
+
+#: Last steps of each chain the gradient runs through: a point's dependence on a map ``j`` steps back shrinks like
+#: ``s_max ** j``, so 8 keeps 1 - 0.5 ** 8 of it for maps of scale 0.5; each step holds 48 bytes a point for backward.
+GRADIENT_DEPTH = 8
+
+#: Bytes the differentiable part holds per point and gradient step (six coefficients, the point, their gradients).
+BYTES_PER_POINT_STEP = 64
+#: ... and per point and splat corner (index, weight and its gradient).
+BYTES_PER_CORNER = 32
+
+#: The largest singular value a fitted map may reach: the parameterization maps onto (0, MAX_SCALE), so every map
+#: contracts at every step; nearer 1, larger copies but slower burn-in and a weaker gradient.
+MAX_SCALE = 0.95
+
+#: A support target's coverage: a pixel of density ``COVERAGE`` times the target's mean density per figure pixel
+#: reads 1 - 1/e. Lower, thin parts count sooner; but a pixel then reads covered on fewer points (noisier).
+COVERAGE = 0.1
+
+#: Pooled copies in the multiscale loss: 5 reaches 32-pixel blocks, so a copy far from where it belongs still feels a pull.
+LOSS_LEVELS = 5
+
+#: Adam's learning rate for the raw parameters (angles in radians, logits of singular values, translations in plane
+#: units) and for the probabilities' logits.
+MAP_LR = 0.01
+PROBABILITY_LR = 0.02
+
+#: Annealing: Gaussian noise added to the raw parameters at each step of the first ``ANNEAL_SHARE`` of the steps, its
+#: scale ``ANNEAL_NOISE`` times the learning rate falling linearly to 0 (escape from a local minimum, then settle).
+ANNEAL_SHARE = 0.5
+ANNEAL_NOISE = 2.0
+
+#: Reselection: every ``RESEED_EVERY`` steps within the first ``RESEED_SHARE`` of the steps, the map that covers least
+#: of the figure on its own is placed anew where the figure is least covered; more often, more tries, less settling.
+RESEED_EVERY = 60
+RESEED_SHARE = 0.6
+
+#: A random start's maps: singular values uniform in this range (a 10-map figure's copies are about a third wide).
+START_SCALES = (0.2, 0.45)
+
+#: Coarse-to-fine: the fit runs at the target's size divided by these factors, in order, with these shares of the
+#: steps; a level's points are `POINTS_PER_PIXEL` times its pixels (a 64 px level, a sixteenth of 256 px's).
+LEVELS = (4, 2, 1)
+LEVEL_STEPS = (0.6, 0.25, 0.15)
+
+#: Points a fit's step splats per pixel of the frame (8 at 256 px: Djeacoumar et al.'s 512,000): more, less noise
+#: in the loss and its gradient; the step's time grows with them.
+POINTS_PER_PIXEL = 8.0
+
+#: Reselection moves a map only while at least this share of the figure is uncovered (a fit that covers it all
+#: has nothing to gain from moving a map, and much to lose).
+RESEED_UNCOVERED = 0.02

@@ -1,0 +1,273 @@
+"""A fit of many maps and their probabilities to an image through the splatting renderer, as the literature fits.
+
+Adam moves the maps (`ContractiveMaps`: every map contracts at every step) and the probabilities (a softmax of free
+logits) on a multiscale image loss, coarse to fine (`LEVELS`). A figure (a mask) is compared as coverage (a pixel the
+chains visit reads 1, `coverage`), a gray image as density. Two escapes from local minima: Gaussian noise on the
+parameters, annealed to 0 over the first part of the steps, and reselection of the map that covers least of the
+figure alone (`reselect`). The start is random maps placed on the figure, or given maps (the fractal search's best
+set, say), topped up with random ones to the number asked for.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from tqdm.auto import tqdm
+
+from ..errors import IFSError, check_int
+from ..core.geometry import patterns
+from ..core.geometry.ifs import IFS
+from ..core.scoring.losses import multiscale_mse
+from ..core.targets.target import Target
+from ..progress import draw_bars
+from . import config
+from .moves import random_start, reselect
+from .parameters import ContractiveMaps
+from .render import SplatOptions, coverage, splat_measure
+
+KINDS = ("auto", "support", "measure")
+
+
+@dataclass(frozen=True)
+class SplatFitOptions:
+    """How `fit_splat` runs (defaults from `ifslib.splatting.config`, which says what each trades).
+
+    Attributes
+    ----------
+    steps : int
+        Adam steps over all levels, split by `config.LEVEL_STEPS`.
+    points_per_pixel : float
+        Points splatted a step per pixel of a level's frame (`config.POINTS_PER_PIXEL`).
+    kind : {"auto", "support", "measure"}
+        Fit the image as a figure's mask (coverage) or as a measure's gray levels (density); "auto": a boolean
+        image or a `Target` is a figure, anything else a measure.
+    map_lr, probability_lr : float
+        Adam's learning rates.
+    anneal_share, anneal_noise : float
+        Annealing noise's share of the steps and its scale in learning rates.
+    reseed_every, reseed_share : int, float
+        Reselection every this many steps within this share of the steps (``reseed_every=0``: never).
+    depth : int
+        Chain steps the gradient runs through (`SplatOptions.depth`).
+    seed : int
+        Seeds the start, the noise and the chains.
+    progress : bool
+        A progress bar (tqdm.auto) where someone watches.
+    """
+
+    steps: int = 1500
+    points_per_pixel: float = config.POINTS_PER_PIXEL
+    kind: str = "auto"
+    map_lr: float = config.MAP_LR
+    probability_lr: float = config.PROBABILITY_LR
+    anneal_share: float = config.ANNEAL_SHARE
+    anneal_noise: float = config.ANNEAL_NOISE
+    reseed_every: int = config.RESEED_EVERY
+    reseed_share: float = config.RESEED_SHARE
+    depth: int = config.GRADIENT_DEPTH
+    seed: int = 0
+    progress: bool = False
+
+    def __post_init__(self) -> None:
+        check_int(self.steps, "steps", 1)
+        if isinstance(self.points_per_pixel, bool) or not isinstance(self.points_per_pixel, (int, float)) \
+                or not 0 < self.points_per_pixel <= 1e4:
+            raise IFSError(f"points_per_pixel must be a number in (0, 10000], got {self.points_per_pixel!r}")
+        check_int(self.reseed_every, "reseed_every", 0)
+        check_int(self.depth, "depth", 1, maximum=256)
+        check_int(self.seed, "seed", 0)
+        if self.kind not in KINDS:
+            raise IFSError(f"kind must be one of {KINDS}, got {self.kind!r}")
+        for name in ("map_lr", "probability_lr"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < 10:
+                raise IFSError(f"{name} must be a number in (0, 10), got {value!r}")
+        for name in ("anneal_share", "reseed_share"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 <= value <= 1:
+                raise IFSError(f"{name} must be a share in [0, 1], got {value!r}")
+        if isinstance(self.anneal_noise, bool) or not isinstance(self.anneal_noise, (int, float)) \
+                or not 0 <= self.anneal_noise < 1e3:
+            raise IFSError(f"anneal_noise must be a number >= 0, got {self.anneal_noise!r}")
+        if not isinstance(self.progress, bool):
+            raise IFSError(f"progress must be True or False, got {self.progress!r}")
+
+
+@dataclass(frozen=True)
+class SplatFit:
+    """What `fit_splat` found.
+
+    Attributes
+    ----------
+    ifs : IFS
+        Affine rules (`ifslib.core.geometry.patterns.affine`) with the fitted ``probabilities``.
+    losses : tuple of float
+        The loss at each step (levels differ in scale).
+    reseeds : int
+        Maps moved by reselection.
+    seconds : float
+        Wall time of the fit.
+    """
+
+    ifs: IFS
+    losses: tuple[float, ...]
+    reseeds: int
+    seconds: float
+
+
+def read_image(image, kind: str) -> tuple[np.ndarray, str]:
+    """``(S, S)`` float64 image and its kind: a figure's mask of 0 and 1, or a measure's gray levels summing to 1."""
+    if isinstance(image, Target):
+        image = image.mask
+    array = np.asarray(image.detach().cpu() if isinstance(image, torch.Tensor) else image)
+    if array.ndim != 2 or array.shape[0] != array.shape[1] or array.shape[0] < 8:
+        raise IFSError(f"the image must be square (S, S) with S >= 8, got shape {array.shape}")
+    if kind == "auto":
+        kind = "support" if array.dtype == bool else "measure"
+    if not np.issubdtype(array.dtype, np.number) and array.dtype != bool:
+        raise IFSError(f"the image must hold numbers or booleans, got dtype {array.dtype}")
+    array = array.astype(np.float64)
+    if not np.isfinite(array).all() or (array < 0).any():
+        raise IFSError("the image must be finite and >= 0 (gray levels or a mask)")
+    if kind == "support":
+        array = (array > 0).astype(np.float64)
+        if not 0 < array.sum() < array.size:
+            raise IFSError("the figure is empty or fills the frame: nothing to fit")
+        return array, kind
+    if not array.sum() > 0:
+        raise IFSError("the measure's image has no mass")
+    return array / array.sum(), kind
+
+
+def level_image(image: np.ndarray, factor: int, kind: str) -> torch.Tensor:
+    """The image at ``1 / factor`` of its size: a figure max-pooled (a block is on where any pixel is), a measure
+    sum-pooled."""
+    t = torch.as_tensor(image)[None, None]
+    if factor == 1:
+        return t[0, 0]
+    pooled = F.max_pool2d(t, factor, ceil_mode=True) if kind == "support" else \
+        F.avg_pool2d(t, factor, ceil_mode=True) * factor ** 2
+    return pooled[0, 0]
+
+
+def image_loss(density: torch.Tensor, target: torch.Tensor, kind: str) -> torch.Tensor:
+    """The multiscale MSE of a splat's mass per pixel against a level's target (coverage or density)."""
+    if kind == "support":
+        scale = config.COVERAGE / float(target.sum())   # COVERAGE of the figure's mean mass a pixel
+        return multiscale_mse(coverage(density, scale), target.to(density.dtype), config.LOSS_LEVELS)
+    pixels = target.numel()
+    return multiscale_mse(density * pixels, target.to(density.dtype) * pixels, config.LOSS_LEVELS)
+
+
+def start_maps(start, m: int | None, mask: np.ndarray, generator: torch.Generator) -> ContractiveMaps:
+    """The start's maps: ``start`` (an IFS or ``(k, 3, 3)`` maps) topped up to ``m`` with random ones, or ``m``
+    random maps."""
+    if start is None:
+        if m is None:
+            raise IFSError("give the number of maps, or start maps to fit from")
+        return random_start(mask, check_int(m, "maps", 1, maximum=64), config.START_SCALES, generator)
+    maps = start.to(torch.float64).maps().detach() if isinstance(start, IFS) else torch.as_tensor(start).double()
+    given = ContractiveMaps.from_maps(maps)
+    if m is None or m <= len(given):
+        return given
+    extra = random_start(mask, m - len(given), config.START_SCALES, generator)
+    return ContractiveMaps(torch.cat([given.raw.detach(), extra.raw.detach()]))
+
+
+def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptions = SplatFitOptions()) -> SplatFit:
+    """Fit ``maps`` affine maps and their probabilities to a figure or a measure's gray image by the splat renderer.
+
+    Parameters
+    ----------
+    image : Target or array-like
+        ``(S, S)``: a figure (a `Target`, or a boolean mask) or a measure's gray levels >= 0, row 0 at the top.
+    maps : int, optional
+        The number of maps (at least the start's; needed without ``start``).
+    start : IFS or array-like, optional
+        ``(k, 3, 3)`` maps (or an IFS: its maps and probabilities) to start from; random maps placed on the
+        figure when None.
+    options : SplatFitOptions
+
+    Returns
+    -------
+    SplatFit
+    """
+    if not isinstance(options, SplatFitOptions):
+        raise IFSError(f"options must be a SplatFitOptions, got {type(options).__name__}")
+    t0 = time.perf_counter()
+    array, kind = read_image(image, options.kind)
+    generator = torch.Generator().manual_seed(options.seed)
+    params = start_maps(start, maps, array > 0, generator)
+    p0 = start.measure_probabilities() if isinstance(start, IFS) and len(start.rules) == len(params) else \
+        torch.full((len(params),), 1.0 / len(params), dtype=torch.float64)
+    logits = p0.log().float().clone().requires_grad_(True)
+    optimizer = torch.optim.Adam([{"params": [params.raw], "lr": options.map_lr},
+                                  {"params": [logits], "lr": options.probability_lr}])
+    losses, reseeds, step = [], 0, 0
+    size = array.shape[0]
+    plan = [(f, share) for f, share in zip(config.LEVELS, config.LEVEL_STEPS) if size // f >= 16]
+    total_share = sum(share for _, share in plan)
+    bar = tqdm(total=options.steps, desc="fit splat", disable=not (options.progress and draw_bars()))
+    for index, (factor, share) in enumerate(plan):
+        target = level_image(array, factor, kind)
+        level_size = target.shape[0]
+        count = options.steps - step if index == len(plan) - 1 else round(options.steps * share / total_share)
+        points = max(CHAIN_FLOOR, round(options.points_per_pixel * level_size ** 2))
+        mask = target.numpy() > 0
+        for _ in range(count):
+            optimizer.zero_grad()
+            p = logits.softmax(0)
+            density = splat_measure(params.maps(), p, level_size,
+                                    SplatOptions(points, options.depth, seed=options.seed * 100_003 + step))
+            loss = image_loss(density, target, kind)
+            loss.backward()
+            optimizer.step()
+            value = float(loss.detach())
+            if not np.isfinite(value):
+                raise IFSError("the splat fit's loss is not finite: lower map_lr")
+            losses.append(value)
+            step += 1
+            _anneal(params, options, step, generator)
+            if options.reseed_every and step % options.reseed_every == 0 and step < options.reseed_share * options.steps:
+                moved = reselect(params, logits.detach().softmax(0), mask, points // 4,
+                                 options.seed * 100_003 + step, generator, config.RESEED_UNCOVERED)
+                if moved is not None:
+                    reseeds += 1
+                    _forget(optimizer, params.raw, moved)
+            bar.update(1)
+    bar.close()
+    return SplatFit(_result(params, logits), tuple(losses), reseeds, time.perf_counter() - t0)
+
+
+#: The fewest points a level splats (one step of every chain).
+CHAIN_FLOOR = 2048
+
+
+def _anneal(params: ContractiveMaps, options: SplatFitOptions, step: int, generator: torch.Generator) -> None:
+    """Gaussian noise on the raw parameters, its scale falling linearly to 0 at ``anneal_share`` of the steps."""
+    end = options.anneal_share * options.steps
+    if step >= end or options.anneal_noise == 0:
+        return
+    scale = options.anneal_noise * options.map_lr * (1 - step / end)
+    with torch.no_grad():
+        params.raw += scale * torch.randn(params.raw.shape, generator=generator).to(params.raw.dtype)
+
+
+def _forget(optimizer: torch.optim.Adam, raw: torch.Tensor, row: int) -> None:
+    """Reset Adam's moments of a reselected map's row (its old gradients say nothing of where it now is)."""
+    state = optimizer.state.get(raw, {})
+    for key in ("exp_avg", "exp_avg_sq"):
+        if key in state:
+            state[key][row] = 0
+
+
+def _result(params: ContractiveMaps, logits: torch.Tensor) -> IFS:
+    """The fitted maps as affine rules with their probabilities (float64, summing to 1)."""
+    maps = params.maps().detach().double()
+    ifs = patterns.affine(maps, depth=2, name="splat", dtype=torch.float64)
+    p = logits.detach().double().softmax(0)
+    ifs.probabilities = tuple((p / p.sum()).tolist())
+    return ifs

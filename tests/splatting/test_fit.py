@@ -1,0 +1,67 @@
+"""The splat fit on small images: it lowers its loss, keeps its maps contractive, fits gray levels' probabilities,
+and refuses bad inputs."""
+import numpy as np
+import pytest
+import torch
+
+from ifslib.errors import IFSError
+from ifslib.measures.measure import cylinder_measure
+from ifslib.core.geometry import patterns
+from ifslib.splatting import SplatFitOptions, fit_splat
+
+THREE = torch.tensor([[[0.5, 0.0, -0.2], [0.0, 0.5, -0.2], [0, 0, 1]],
+                      [[0.5, 0.0, 0.2], [0.0, 0.5, -0.2], [0, 0, 1]],
+                      [[0.5, 0.0, 0.0], [0.0, 0.5, 0.2], [0, 0, 1]]], dtype=torch.float64)
+QUICK = SplatFitOptions(steps=40, points_per_pixel=4.0, reseed_every=10, seed=0)
+
+
+def sierpinski(size: int, p=(1 / 3, 1 / 3, 1 / 3)) -> np.ndarray:
+    ifs = patterns.affine(THREE, dtype=torch.float64)
+    ifs.probabilities = p
+    return cylinder_measure(ifs, size)[0]
+
+
+def test_a_random_start_moves_towards_the_figure():
+    mask = sierpinski(32) > 0
+    fit = fit_splat(mask, maps=3, options=QUICK)
+    assert len(fit.ifs.rules) == 3 and len(fit.losses) == 40
+    assert np.mean(fit.losses[-5:]) < 0.7 * np.mean(fit.losses[:5])
+    maps = fit.ifs.maps().detach()
+    assert float(torch.linalg.svdvals(maps[:, :2, :2]).max()) < 1
+    assert abs(sum(fit.ifs.probabilities) - 1) < 1e-9
+
+
+def test_gray_levels_give_the_probabilities():
+    truth = (0.6, 0.25, 0.15)
+    image = sierpinski(32, truth)
+    start = patterns.affine(THREE, dtype=torch.float64)
+    start.probabilities = (1 / 3, 1 / 3, 1 / 3)
+    options = SplatFitOptions(steps=60, points_per_pixel=16.0, map_lr=1e-4, probability_lr=0.05, anneal_noise=0.0,
+                              reseed_every=0)
+    fit = fit_splat(image, start=start, options=options)
+    assert np.abs(np.array(fit.ifs.probabilities) - truth).max() < 0.08
+
+
+def test_a_start_is_topped_up_to_the_maps_asked_for():
+    fit = fit_splat(sierpinski(32) > 0, maps=4, start=THREE[:2], options=SplatFitOptions(steps=2, seed=1))
+    assert len(fit.ifs.rules) == 4 and fit.seconds > 0
+
+
+@pytest.mark.parametrize("image, kwargs, message", [
+    (np.zeros((32, 32), bool), {"maps": 3}, "empty"),
+    (np.ones((32, 20)), {"maps": 3}, "square"),
+    (np.full((32, 32), np.nan), {"maps": 3}, "finite"),
+    (np.ones((32, 32)) > 0, {"maps": 3}, "fills"),
+    (sierpinski(32) > 0, {}, "number of maps"),
+    (sierpinski(32) > 0, {"maps": 3, "options": {"steps": 3}}, "SplatFitOptions"),
+])
+def test_bad_inputs_are_refused(image, kwargs, message):
+    with pytest.raises(IFSError, match=message):
+        fit_splat(image, **kwargs)
+
+
+@pytest.mark.parametrize("field, value", [("steps", 0), ("kind", "gray"), ("map_lr", -1.0), ("anneal_share", 2.0),
+                                          ("points_per_pixel", 0), ("reseed_every", -1), ("progress", "yes")])
+def test_bad_options_are_refused(field, value):
+    with pytest.raises(IFSError, match=field):
+        SplatFitOptions(**{field: value})
