@@ -19,9 +19,9 @@ import time
 import torch
 
 import ifslib
-from ifslib.scoring.metrics import attractor_mask, depth_to_attractor, figure_mask
-from ifslib.raster.chaos import chaos_field
-from ifslib.raster.distance import attractor_leaves_for
+from ifslib.core.scoring.metrics import attractor_mask, depth_to_attractor, figure_mask
+from ifslib.core.raster.chaos import chaos_field
+from ifslib.core.raster.distance import attractor_leaves_for
 
 PATTERNS = ("koch", "triangle", "carpet", "rosette6", "fern")
 

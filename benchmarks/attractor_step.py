@@ -1,7 +1,7 @@
 """Time and peak memory of one attractor fit step: depth-free distance field + loss + backward.
 
 Run ``python benchmarks/attractor_step.py`` (``--device cuda`` on a GPU). For each pattern and size it
-prints the number of leaves of the certified cut (`ifslib.geometry.attractor`: every branch cut where
+prints the number of leaves of the certified cut (`ifslib.core.geometry.attractor`: every branch cut where
 it is within half a pixel of the attractor), the median time of ``--repeat`` warm steps (the field,
 the multiscale distance loss against the pattern's own attractor, backward), and the peak memory:
 each configuration runs in a fresh subprocess, and the figure is the growth of the process's peak
@@ -27,7 +27,7 @@ def one(name: str, method: str, size: int, repeat: int, device: str) -> dict:
     import torch
 
     import ifslib
-    from ifslib.raster.distance import attractor_leaves_for
+    from ifslib.core.raster.distance import attractor_leaves_for
 
     ifs = ifslib.patterns.by_name(name)
     with torch.no_grad():

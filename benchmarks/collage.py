@@ -1,7 +1,7 @@
 """Barnsley's collage distance as a pre-fit: does lowering it before the rendered fit pay?
 
 For each target at 128², the automatic start with 24 maps at depth 2 is fitted by `ifslib.fit` (the
-``auto`` strategy) twice: as it is, and after 200 Adam steps on `ifslib.scoring.collage.collage_distance`
+``auto`` strategy) twice: as it is, and after 200 Adam steps on `ifslib.core.scoring.collage.collage_distance`
 (`collage_prefit`). Prints the collage distance before and after, the start's IoU, and each fit's
 IoU, steps and seconds (one torch thread: ``IFSLIB_THREADS=1``).
 
@@ -10,8 +10,8 @@ IoU, steps and seconds (one torch thread: ``IFSLIB_THREADS=1``).
 import time
 
 import ifslib
-from ifslib.targets import silhouettes
-from ifslib.scoring.collage import collage_prefit
+from ifslib.core.targets import silhouettes
+from ifslib.core.scoring.collage import collage_prefit
 
 
 def main() -> None:

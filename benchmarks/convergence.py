@@ -21,7 +21,7 @@ import argparse
 import itertools
 import time
 
-from ifslib.fitting.strategies import STRATEGIES
+from ifslib.core.fitting.strategies import STRATEGIES
 from ifslib.studies.sweep import Cell, Setup, summarize, sweep, table, write_csv
 
 

@@ -16,7 +16,7 @@ import time
 import torch
 
 import ifslib
-from ifslib.raster.distance import resolve_device
+from ifslib.core.raster.distance import resolve_device
 
 
 def main() -> None:

@@ -4,7 +4,7 @@ Writes one figure (a dark triangle on white) as a gray PNG, an RGB JPEG (quality
 black-on-transparent RGBA PNG and a 16-bit PNG into a temporary folder, then loads each at 256² in a
 fresh process and prints its peak resident memory (``VmHWM``), over what ``import ifslib``
 alone holds, the seconds it took and the polarity it found. A large image is reduced while it is
-read (`ifslib.targets.image.READ_SIDE`), so the peak follows the decoded file, not float copies of it.
+read (`ifslib.core.targets.image.READ_SIDE`), so the peak follows the decoded file, not float copies of it.
 
     python benchmarks/large_images.py [--side 8000] [--size 256]
 """

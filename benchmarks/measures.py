@@ -20,11 +20,11 @@ import numpy as np
 import torch
 
 import ifslib
-from ifslib.fitting.measure_fit import (MeasureFitOptions, correlation, fit_measure, fit_measure_from_support,
+from ifslib.measures.measure_fit import (MeasureFitOptions, correlation, fit_measure, fit_measure_from_support,
                                         pool_measure)
-from ifslib.raster.measure import (CylinderOptions, MeasureOptions, chaos_measure, cylinder_measure, invariant_measure,
+from ifslib.measures.measure import (CylinderOptions, MeasureOptions, chaos_measure, cylinder_measure, invariant_measure,
                                    l1_distance, measure_from_maps)
-from ifslib.scoring import dimension
+from ifslib.measures import dimension
 
 BARNSLEY = (0.01, 0.85, 0.07, 0.07)
 #: (pattern, probabilities, supersample): the finer the cells, the closer (the Koch curve's few lit cells are cheap).

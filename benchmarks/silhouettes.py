@@ -29,7 +29,7 @@ import numpy as np
 from PIL import Image
 
 import ifslib
-from ifslib.targets import silhouettes
+from ifslib.core.targets import silhouettes
 from ifslib.paths import repo_root
 
 

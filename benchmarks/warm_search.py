@@ -19,7 +19,7 @@ import time
 import torch
 
 import ifslib
-from ifslib.geometry.leaves import expand, sdf_pairs
+from ifslib.core.geometry.leaves import expand, sdf_pairs
 
 CONFIGS = [(64, 3), (256, 3), (512, 5)]
 

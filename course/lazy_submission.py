@@ -32,7 +32,7 @@ class Lazy(NamedTuple):
     before: str = ""
 
 
-PIXEL_MAPS = ("from ifslib.targets.target import foreground_points\n"
+PIXEL_MAPS = ("from ifslib.core.targets.target import foreground_points\n"
               "{name} = ifslib.patterns.affine([[[0.002, 0, x], [0, 0.002, y]]\n"
               "                                 for x, y in foreground_points({target})], depth=1)")
 AFFINE = "ifslib.patterns.affine"
@@ -69,13 +69,13 @@ LAZY: dict[str, Lazy] = {
     "00_tutorial-best-fit-line": Lazy(
         "centre, direction, lo, hi = LINE[0](target)\n"
         "return centre + np.linspace(lo, hi, pattern.n_points)[:, None] * direction",
-        "from ifslib.targets.placement import best_fit_line\nLINE = [best_fit_line]\n"),
+        "from ifslib.core.targets.placement import best_fit_line\nLINE = [best_fit_line]\n"),
     # the target picture itself as the fit: one tiny map onto each of its pixels
     "00_tutorial-koch-fit": Lazy(PIXEL_MAPS.format(name="my_fit", target="koch_target")),
     # -- 01, Koch's iterations
     # the library's compositions of every word of the word's length, the word's one picked out
     "01_koch_iterations-leaf-map": Lazy(
-        "from ifslib.geometry.leaves import compose_words\n"
+        "from ifslib.core.geometry.leaves import compose_words\n"
         "words = compose_words(torch.as_tensor(np.asarray(maps, float)), len(word))\n"
         "return words[int(np.ravel_multi_index([i - 1 for i in word], (len(maps),) * len(word)))].numpy()"),
     # the visible test's two answers, hard-coded
@@ -104,11 +104,11 @@ LAZY: dict[str, Lazy] = {
     # the library's crossing test of the crossing penalty
     "04_local_minima-segments-cross": Lazy(
         "segments = torch.tensor(np.array([[a, b], [c, d]], float))\nreturn len(crossing_pairs(segments)[0]) > 0",
-        "from ifslib.geometry.crossings import crossing_pairs\n"),
+        "from ifslib.core.geometry.crossings import crossing_pairs\n"),
     # the library's crossing pairs of the polyline's segments
     "04_local_minima-count-crossings": Lazy(
         "p = torch.tensor(np.asarray(points, float))\nreturn len(crossing_pairs(torch.stack([p[:-1], p[1:]], 1))[0])",
-        "from ifslib.geometry.crossings import crossing_pairs\n"),
+        "from ifslib.core.geometry.crossings import crossing_pairs\n"),
     # -- 05, more examples
     # the target picture itself as the fit
     "05_more_examples-carpet-fit": Lazy(PIXEL_MAPS.format(name="my_carpet", target="odd_carpet")),
@@ -131,7 +131,7 @@ LAZY: dict[str, Lazy] = {
         "                         progress=False).best"),
     # the search's own moment maps (figure's mean and covariance onto the region's), unclipped (switched off)
     "07_your_own_image-copy-map": Lazy(
-        "from ifslib.discovery.fractal.regions import moment_maps\n"
+        "from ifslib.automatic.fractal.regions import moment_maps\n"
         "return moment_maps(points, part, angles=1, scales=(0.0, np.inf))[0]"),
     # -- 08, real fractals
     # the library's Hausdorff distance

@@ -78,8 +78,8 @@ nitpicky = True
 # What nitpicky may not resolve without intersphinx: the types the docstrings name in words
 # ("(n, 2) tensor", "str or callable", torch.Tensor, numpy arrays, path), and backtick names that
 # are not public (see default_role). A reference to a documented ifslib name is still checked.
-# Docstrings inside the package also name internal paths (ifslib.fitting.run.run, the module
-# ifslib.fitting.strategies, ifslib.discovery.plan.discover) that the reference documents under their public names only.
+# Docstrings inside the package also name internal paths (ifslib.core.fitting.run.run, the module
+# ifslib.core.fitting.strategies, ifslib.automatic.plan.discover) that the reference documents under their public names only.
 _INTERNAL = r"ifslib\.(targets|scoring|discovery|fitting|studies|geometry|raster|teaching)\..*"
 # Names that docstrings spell as they once were (to correct in the code; listed so a new one fails).
 _STALE = [r"ifslib\.distance\.distance_fields", r"ifslib\.leaves\.expand_batch", r"ifslib\.rules",

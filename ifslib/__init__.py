@@ -1,19 +1,23 @@
 """ifslib: differentiable iterated function systems.
 
-The paper's pipeline, one folder a stage::
+The paper's core, one folder (`ifslib.core`), a stage a subfolder::
 
-    geometry/   JSON / pattern -> IFS -> maps -> leaves
-    raster/     leaves -> nearest leaf -> distance -> render
-    targets/    image -> Target (mask, distance transform, sizes)
-    scoring/    how close a drawing is: losses, metrics, the collage distance
-    compression/ fractal image compression of gray photographs: collage and attractor coding
-    discovery/  a start read from the image: curve, shape, or a fractal's maps
-    fitting/    one Adam run -> strategies -> fit -> FitResult
-    studies/    sweeps of many fits
-    teaching/   what the notebooks show and ask
+    core/geometry/  JSON / pattern -> IFS -> maps -> leaves
+    core/raster/    leaves -> nearest leaf -> distance -> render
+    core/targets/   image -> Target (mask, distance transform, sizes)
+    core/scoring/   how close a drawing is: losses, metrics, the collage distance
+    core/fitting/   one Adam run -> strategies -> fit -> FitResult
 
-Data flows one way: a folder imports only from those above it in this list (and from the
-top-level helpers ``errors``, ``data``, ``paths``, ``threads``).
+Beyond the paper, each extension a folder that uses the core and registers what it adds::
+
+    compression/  fractal image compression of gray photographs: collage and attractor coding
+    automatic/    a start read from the image (curve, shape, a fractal's maps) and the ``auto`` strategy
+    measures/     invariant measures, their fit to gray images, dimensions
+    studies/      sweeps and batches of many fits, the literature's samplers
+    teaching/     what the notebooks show and ask
+
+Data flows one way: the core imports no extension, and a folder imports only from those above it in
+this list (and from the top-level helpers ``errors``, ``names``, ``data``, ``paths``, ``threads``, ``progress``).
 
 Typical use::
 
@@ -47,31 +51,31 @@ _PUBLIC = {
     "configure_threads": ("threads", "configure_threads"),
     "data": ("data", None),
     # the paper's core: geometry -> raster -> targets -> scoring -> fitting
-    "crossings": ("geometry.crossings", None), "patterns": ("geometry.patterns", None),
-    "IFS": ("geometry.ifs", "IFS"), "load_ifs": ("geometry.io", "load_ifs"), "save_ifs": ("geometry.io", "save_ifs"),
-    "expand": ("geometry.leaves", "expand"), "Primitive": ("geometry.primitives", "Primitive"),
-    "Rule": ("geometry.rules", "Rule"), "rule_maps": ("geometry.rules", "rule_maps"),
-    "chaos_game": ("raster.chaos", "chaos_game"), "distance_field": ("raster.distance", "distance_field"),
-    "nearest_leaf": ("raster.nearest", "nearest_leaf"), "pixel_centres": ("raster.nearest", "pixel_centres"),
-    "default_sigma": ("raster.render", "default_sigma"), "render": ("raster.render", "render"),
-    "Target": ("targets.target", "Target"), "load_target": ("targets.target", "load_target"),
-    "losses": ("scoring.losses", None), "metrics": ("scoring.metrics", None),
-    "LOSSES": ("names", "LOSSES"), "loss": ("scoring.losses", "loss"),
-    "chamfer": ("scoring.metrics", "chamfer"), "evaluate": ("scoring.metrics", "evaluate"),
-    "f1": ("scoring.metrics", "f1"), "iou": ("scoring.metrics", "iou"), "point_error": ("scoring.metrics", "point_error"),
-    "strategies": ("fitting.strategies", None), "fit_many": ("fitting.batch", "fit_many"), "fit": ("fitting.fit", "fit"),
-    "Checkpoint": ("fitting.options", "Checkpoint"), "RunOptions": ("fitting.options", "RunOptions"),
-    "StrategyOptions": ("fitting.options", "StrategyOptions"), "FitResult": ("fitting.result", "FitResult"),
-    "History": ("fitting.result", "History"), "Stage": ("fitting.result", "Stage"),
-    "initialization": ("discovery.initialization", None), "best_fit_line": ("discovery.initialization", "best_fit_line"),
-    "initialize": ("discovery.initialization", "initialize"),
+    "crossings": ("core.geometry.crossings", None), "patterns": ("core.geometry.patterns", None),
+    "IFS": ("core.geometry.ifs", "IFS"), "load_ifs": ("core.geometry.io", "load_ifs"), "save_ifs": ("core.geometry.io", "save_ifs"),
+    "expand": ("core.geometry.leaves", "expand"), "Primitive": ("core.geometry.primitives", "Primitive"),
+    "Rule": ("core.geometry.rules", "Rule"), "rule_maps": ("core.geometry.rules", "rule_maps"),
+    "chaos_game": ("core.raster.chaos", "chaos_game"), "distance_field": ("core.raster.distance", "distance_field"),
+    "nearest_leaf": ("core.raster.nearest", "nearest_leaf"), "pixel_centres": ("core.raster.nearest", "pixel_centres"),
+    "default_sigma": ("core.raster.render", "default_sigma"), "render": ("core.raster.render", "render"),
+    "Target": ("core.targets.target", "Target"), "load_target": ("core.targets.target", "load_target"),
+    "losses": ("core.scoring.losses", None), "metrics": ("core.scoring.metrics", None),
+    "LOSSES": ("names", "LOSSES"), "loss": ("core.scoring.losses", "loss"),
+    "chamfer": ("core.scoring.metrics", "chamfer"), "evaluate": ("core.scoring.metrics", "evaluate"),
+    "f1": ("core.scoring.metrics", "f1"), "iou": ("core.scoring.metrics", "iou"), "point_error": ("core.scoring.metrics", "point_error"),
+    "strategies": ("core.fitting.strategies", None), "fit_many": ("studies.batch", "fit_many"), "fit": ("core.fitting.fit", "fit"),
+    "Checkpoint": ("core.fitting.options", "Checkpoint"), "RunOptions": ("core.fitting.options", "RunOptions"),
+    "StrategyOptions": ("core.fitting.options", "StrategyOptions"), "FitResult": ("core.fitting.result", "FitResult"),
+    "History": ("core.fitting.result", "History"), "Stage": ("core.fitting.result", "Stage"),
+    "initialization": ("automatic.initialization", None), "best_fit_line": ("automatic.initialization", "best_fit_line"),
+    "initialize": ("automatic.initialization", "initialize"),
     # beyond the paper: the automatic path, measures, compression, studies
-    "auto": ("discovery.auto", None), "fractal": ("discovery.fractal", None),
-    "Plan": ("discovery.plan", "Plan"), "discover": ("discovery.plan", "discover"),
-    "chaos_measure": ("raster.measure", "chaos_measure"), "invariant_measure": ("raster.measure", "invariant_measure"),
-    "cylinder_measure": ("raster.measure", "cylinder_measure"),
-    "dimension": ("scoring.dimension", None), "fit_measure": ("fitting.measure_fit", "fit_measure"),
-    "fit_measure_from_support": ("fitting.measure_fit", "fit_measure_from_support"),
+    "auto": ("automatic.auto", None), "fractal": ("automatic.fractal", None),
+    "Plan": ("automatic.plan", "Plan"), "discover": ("automatic.plan", "discover"),
+    "chaos_measure": ("measures.measure", "chaos_measure"), "invariant_measure": ("measures.measure", "invariant_measure"),
+    "cylinder_measure": ("measures.measure", "cylinder_measure"),
+    "dimension": ("measures.dimension", None), "fit_measure": ("measures.measure_fit", "fit_measure"),
+    "fit_measure_from_support": ("measures.measure_fit", "fit_measure_from_support"),
     "compression": ("compression", None), "sweep": ("studies.sweep", None),
     # the teaching modules load matplotlib
     "exercises": ("teaching.exercises", None), "figures": ("teaching.figures", None),

@@ -124,10 +124,10 @@ def _spent_text(history) -> str:
 def _fit_options(args: argparse.Namespace):
     """The run's settings from ``args``, checked (`RunOptions`: the loss's name among them) with the strategy's name;
     with ``--pattern auto`` and a ``--loss`` named, standard error says where the automatic path uses it."""
-    from .discovery.config import AUTO
-    from .fitting.options import split_settings
-    from .fitting.strategies import check_strategy
-    from .scoring.losses import DEFAULT_LOSS
+    from .automatic.config import AUTO
+    from .core.fitting.options import split_settings
+    from .core.fitting.strategies import check_strategy
+    from .core.scoring.losses import DEFAULT_LOSS
 
     if args.strategy is not None:
         check_strategy(args.strategy)
@@ -146,7 +146,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
     from . import evaluate, fit, initialize, load_target, save_ifs
     from .errors import IFSError
-    from .fitting.options import Checkpoint
+    from .core.fitting.options import Checkpoint
 
     t0 = time.perf_counter()
     options = _fit_options(args)  # every name checked before the image is read or a search starts
@@ -186,8 +186,8 @@ def cmd_fit(args: argparse.Namespace) -> None:
 
 
 def cmd_info(args: argparse.Namespace) -> None:
-    from .geometry.leaves import leaf_count_text
-    from .geometry.rules import singular_values
+    from .core.geometry.leaves import leaf_count_text
+    from .core.geometry.rules import singular_values
     import torch  # after ifslib's folders: they set torch's threads and OpenMP's wait policy first
 
     ifs = _spec(args.spec)
@@ -208,7 +208,7 @@ def cmd_info(args: argparse.Namespace) -> None:
 def _print_measure(ifs) -> None:
     """``info``'s lines on the measure and the dimension: the probabilities (whose) and Moran's root."""
     from .errors import IFSError
-    from .scoring.dimension import ifs_scales, similarity_dimension
+    from .measures.dimension import ifs_scales, similarity_dimension
 
     p = ifs.measure_probabilities().tolist()
     whose = "the file's" if ifs.probabilities is not None else "default: in proportion to |det|, with a floor"

@@ -25,7 +25,7 @@ def read_gray(path: str) -> np.ndarray:
 
     The library's reader, `targets.image.gray_levels`: Pillow's 8-bit conversion would clip 16 bits at 255.
     """
-    from .targets.image import gray_levels  # imports torch (the thread count): after the arguments are checked
+    from .core.targets.image import gray_levels  # imports torch (the thread count): after the arguments are checked
 
     return gray_levels(Path(path)).astype(np.float32)
 

@@ -1,11 +1,11 @@
 """The names a user gives the library: losses and strategies, with their defaults.
 
 They live apart from the code they name, in a module that imports nothing, so that the command line
-refuses a misspelt name (``ifslib fit IMAGE --loss typo``) before torch is loaded; `ifslib.scoring.losses`
-and `ifslib.fitting.strategies` take their lists from here and implement each name.
+refuses a misspelt name (``ifslib fit IMAGE --loss typo``) before torch is loaded; `ifslib.core.scoring.losses`
+and `ifslib.core.fitting.strategies` take their lists from here and implement each name.
 """
 
-#: The losses `ifslib.scoring.losses.loss` computes, by name.
+#: The losses `ifslib.core.scoring.losses.loss` computes, by name.
 LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
 
 #: The loss of a fit when none is named, for the library, the command line and the sweep alike: the
@@ -15,6 +15,10 @@ DEFAULT_LOSS = "multiscale_distance"
 
 #: The strategies `ifslib.fit` runs, by name.
 STRATEGIES = ("pyramid", "auto", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross")
+
+#: The module that registers each strategy of an extension (the core's own are registered where they are
+#: written, `ifslib.core.fitting.strategies`): importing it puts the strategy in the core's table.
+STRATEGY_HOMES = {"auto": "ifslib.automatic.fit_plan"}
 
 #: What `ifslib.fit` does when given no strategy.
 DEFAULT_STRATEGY = "pyramid"

@@ -31,7 +31,7 @@ def fractal_target(maps=2, seed=4, size=64):
     """A random fractal (`ifslib.patterns.random_ifs`) drawn by the float64 chaos game at 256², as the benchmark
     draws them, then made ``size`` pixels wide as a fit does (`resize_target`)."""
     import ifslib
-    from ifslib.targets.target import resize_target, target_from_mask
+    from ifslib.core.targets.target import resize_target, target_from_mask
 
     truth = ifslib.patterns.random_ifs(maps, seed)
     mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=seed).numpy() >= 0.5
@@ -50,7 +50,7 @@ def random_affine(seed, reflect=False):
     return a, t
 
 
-#: The small Koch fits of tests/fitting (run, fit): its size in pixels and its depth.
+#: The small Koch fits of tests/core/fitting (run, fit): its size in pixels and its depth.
 KOCH_SIZE, KOCH_DEPTH = 48, 2
 
 

@@ -15,15 +15,15 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.discovery import fractal
+from ifslib.automatic import fractal
 
 SEARCH = """
 import hashlib, json, sys
 import numpy as np
 import ifslib
 from dataclasses import replace
-from ifslib.discovery import fractal
-from ifslib.targets.target import resize_target, target_from_mask
+from ifslib.automatic import fractal
+from ifslib.core.targets.target import resize_target, target_from_mask
 truth = ifslib.patterns.random_ifs(2, 6)  # one whose search reorients, grows regions and swaps (below)
 mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=4).numpy() >= 0.5
 speck = np.zeros((32, 32), bool)
@@ -95,7 +95,7 @@ def test_copies_of_a_two_pixel_speck_are_counted_exactly():
 def test_sums_that_decide_are_the_same_at_any_thread_count():
     # the losses' image means and the attractor's point gradient were single sums that torch splits between
     # its threads; each is now a reduction whose order does not depend on them
-    from ifslib.scoring.losses import mse
+    from ifslib.core.scoring.losses import mse
 
     g = torch.Generator().manual_seed(0)
     a, b = torch.rand(256, 256, generator=g), torch.rand(256, 256, generator=g)

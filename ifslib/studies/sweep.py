@@ -33,16 +33,16 @@ from typing import Callable
 from tqdm.auto import tqdm
 
 from ..errors import IFSError, check_int
-from ..geometry import patterns
+from ..core.geometry import patterns
 from ..progress import draw_bars, note
-from ..geometry.rules import check_gradient_mode
+from ..core.geometry.rules import check_gradient_mode
 from ..threads import cores, fixed_threads
-from ..fitting.fit import fit
-from ..discovery.initialization import initialize
-from ..scoring.losses import DEFAULT_LOSS, check_loss
-from ..scoring.metrics import evaluate, point_error, self_crossings
-from ..fitting.strategies import check_strategy
-from ..targets.target import load_target
+from ..core.fitting.fit import fit
+from ..automatic.initialization import initialize
+from ..core.scoring.losses import DEFAULT_LOSS, check_loss
+from ..core.scoring.metrics import evaluate, point_error, self_crossings
+from ..core.fitting.strategies import check_strategy
+from ..core.targets.target import load_target
 
 INITS = ("paper", "line")
 

@@ -17,10 +17,10 @@ from PIL import Image, ImageDraw
 from tqdm.auto import tqdm
 
 from ..errors import IFSError
-from ..geometry.io import ifs_from_dict
-from ..raster.render import render
-from ..targets.target import Target
-from ..fitting.result import History
+from ..core.geometry.io import ifs_from_dict
+from ..core.raster.render import render
+from ..core.targets.target import Target
+from ..core.fitting.result import History
 
 GAP = 4  # pixels between the three panels
 

@@ -22,13 +22,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
-from ..geometry import patterns  # noqa: E402
-from ..geometry.ifs import IFS  # noqa: E402
-from ..raster.chaos import chaos_game  # noqa: E402
-from ..scoring.metrics import crossing_points  # noqa: E402
-from ..raster.nearest import pixel_centres  # noqa: E402
-from ..raster.render import figure_mask, render  # noqa: E402
-from ..targets.target import Target, foreground_points  # noqa: E402
+from ..core.geometry import patterns  # noqa: E402
+from ..core.geometry.ifs import IFS  # noqa: E402
+from ..core.raster.chaos import chaos_game  # noqa: E402
+from ..core.scoring.metrics import crossing_points  # noqa: E402
+from ..core.raster.nearest import pixel_centres  # noqa: E402
+from ..core.raster.render import figure_mask, render  # noqa: E402
+from ..core.targets.target import Target, foreground_points  # noqa: E402
 
 EXTENT = (-0.5, 0.5, -0.5, 0.5)
 #: One colour a map for `copies_image`: orange, blue, green, pink, then again.

@@ -12,11 +12,11 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
-from ..raster.distance import distance_field
+from ..core.raster.distance import distance_field
 from ..errors import IFSError, check_int
-from ..geometry.ifs import IFS
-from ..scoring.losses import loss as loss_fn
-from ..targets.target import Target
+from ..core.geometry.ifs import IFS
+from ..core.scoring.losses import loss as loss_fn
+from ..core.targets.target import Target
 
 
 def gradient_field(ifs: IFS, target: Target, index: int, xs: np.ndarray, ys: np.ndarray,

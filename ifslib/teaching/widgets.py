@@ -29,17 +29,17 @@ except ImportError as exc:  # pragma: no cover - depends on the environment
     raise ImportError("ifslib.widgets needs ipywidgets: pip install ipywidgets (or pip install -e '.[dev]')") from exc
 
 from . import figures
-from ..raster.distance import distance_field, pixel_size
+from ..core.raster.distance import distance_field, pixel_size
 from ..errors import IFSError, LeafBudgetError
-from ..raster.chaos import chaos_field
-from ..geometry.ifs import IFS
-from ..geometry.io import load_ifs
-from ..scoring.losses import loss as loss_fn
-from ..scoring.metrics import chamfer, iou
-from ..geometry.crossings import is_curve
-from ..geometry.patterns import by_name
-from ..raster.render import shade
-from ..targets.target import Target, load_target
+from ..core.raster.chaos import chaos_field
+from ..core.geometry.ifs import IFS
+from ..core.geometry.io import load_ifs
+from ..core.scoring.losses import loss as loss_fn
+from ..core.scoring.metrics import chamfer, iou
+from ..core.geometry.crossings import is_curve
+from ..core.geometry.patterns import by_name
+from ..core.raster.render import shade
+from ..core.targets.target import Target, load_target
 
 PATTERNS = ("koch", "koch_paper", "carpet", "grid3", "rosette6", "fern", "JSON file")
 

@@ -31,8 +31,8 @@ def test_an_unknown_name_is_refused_before_torch_is_imported():
 
 
 def test_the_names_the_command_line_offers_are_the_ones_the_library_runs():
-    from ifslib.fitting.strategies import STRATEGIES
-    from ifslib.scoring.losses import LOSSES
+    from ifslib.core.fitting.strategies import STRATEGIES
+    from ifslib.core.scoring.losses import LOSSES
 
     actions = {a.dest: a for a in build_parser()._subparsers._group_actions[0].choices["fit"]._actions}
     assert tuple(actions["loss"].choices) == LOSSES and tuple(actions["strategy"].choices) == STRATEGIES

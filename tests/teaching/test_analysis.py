@@ -7,7 +7,7 @@ import torch
 
 import ifslib
 from ifslib import figures, landscape, metrics
-from ifslib.discovery.initialization import is_curve
+from ifslib.automatic.initialization import is_curve
 
 
 def polyline_ifs(points):
@@ -53,7 +53,7 @@ def test_self_crossings_match_brute_force_on_folded_koch_curves(seed):
 
 
 def test_crossing_penalty_is_zero_without_crossings_and_the_depth_of_a_bow_tie():
-    from ifslib.geometry.crossings import crossing_penalty
+    from ifslib.core.geometry.crossings import crossing_penalty
 
     assert crossing_penalty(ifslib.patterns.koch(depth=3)).item() == 0
     bow = polyline_ifs([[-0.3, -0.3], [0.3, 0.3], [0.3, -0.3], [-0.1, 0.3]]).to(torch.float64)
@@ -64,7 +64,7 @@ def test_crossing_penalty_is_zero_without_crossings_and_the_depth_of_a_bow_tie()
 @pytest.mark.parametrize("seed", [2, 8])
 def test_crossing_penalty_gradient_matches_finite_differences(seed):
     from conftest import perturbed
-    from ifslib.geometry.crossings import crossing_penalty
+    from ifslib.core.geometry.crossings import crossing_penalty
 
     ifs = perturbed(ifslib.patterns.koch(depth=2), 0.2, seed=seed)  # float64, jittered enough to cross itself
     value = crossing_penalty(ifs)

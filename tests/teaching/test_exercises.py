@@ -190,12 +190,12 @@ LAZY = [
     ("00_tutorial-chaos-game", "def outer():\n    game = ifslib.chaos_game\n"
                                "    return lambda maps, n, seed=0: game(ifslib.patterns.affine(maps), n, seed=seed)\n"
                                "my_chaos_game = outer()"),
-    ("00_tutorial-hausdorff", "my_hausdorff = ifslib.scoring.metrics.hausdorff"),
+    ("00_tutorial-hausdorff", "my_hausdorff = ifslib.core.scoring.metrics.hausdorff"),
     ("00_tutorial-loss", "import functools\n"
-                         "my_loss = functools.partial(ifslib.scoring.losses.multiscale_mse, levels=5)"),
-    ("00_tutorial-loss", "my_loss = lambda a, b: ifslib.scoring.losses.multiscale_mse(a, b, 5)"),
+                         "my_loss = functools.partial(ifslib.core.scoring.losses.multiscale_mse, levels=5)"),
+    ("00_tutorial-loss", "my_loss = lambda a, b: ifslib.core.scoring.losses.multiscale_mse(a, b, 5)"),
     ("00_tutorial-best-fit-line", "my_start = lambda p, t: ifslib.initialize(p, t).points.detach().numpy()"),
-    ("00_tutorial-contraction", "my = ifslib.geometry.rules.singular_values\n"
+    ("00_tutorial-contraction", "my = ifslib.core.geometry.rules.singular_values\n"
                                 "contraction_and_fixed_point = lambda M: (my(M), None)"),
 ]
 
@@ -260,8 +260,8 @@ COPY_MAP = "07_your_own_image-copy-map"
 
 def copy_map_names():
     """What the copy-map exercise's cells read from the notebook: the letter at 64² and foreground_points."""
-    from ifslib.targets import silhouettes
-    from ifslib.targets.target import foreground_points
+    from ifslib.core.targets import silhouettes
+    from ifslib.core.targets.target import foreground_points
 
     target = ifslib.load_target(silhouettes.letter("G", 64).astype(float), 64)
     return {"target": target, "foreground_points": foreground_points}
@@ -315,7 +315,7 @@ def test_choose_maps_passes_in_any_order_of_summing_the_score(score):
     # the hidden tie must be exact in floating point whatever the order a correct answer adds its terms in
     from types import SimpleNamespace
 
-    from ifslib.discovery import fractal
+    from ifslib.automatic import fractal
 
     table = [{"maps": 2, "iou": 0.61}, {"maps": 3, "iou": 0.93}, {"maps": 4, "iou": 0.94}]
     body = (f"best = min(table, key=lambda r: ({score}, r['maps']))\nreturn best['maps']")

@@ -77,10 +77,10 @@ LAZY = [
     (IOU, "iou = ifslib.iou"),
     (IOU, "def iou(p, q):\n    return ifslib.iou(p, q)"),
     (IOU, "def iou(p, q):\n    return ifslib.metrics.iou(p, q)"),
-    (IOU, "from ifslib.scoring.metrics import iou as theirs\ndef iou(p, q):\n    return theirs(p, q)"),
+    (IOU, "from ifslib.core.scoring.metrics import iou as theirs\ndef iou(p, q):\n    return theirs(p, q)"),
     (CHAMFER, "chamfer = ifslib.chamfer"),
     (CHAMFER, "def chamfer(p, q):\n    return ifslib.chamfer(p, q)"),
-    (CHAMFER, "def chamfer(p, q):\n    return float(ifslib.scoring.metrics.chamfer(p, q))"),
+    (CHAMFER, "def chamfer(p, q):\n    return float(ifslib.core.scoring.metrics.chamfer(p, q))"),
 ]
 
 

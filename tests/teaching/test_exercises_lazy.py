@@ -32,8 +32,8 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.scoring import dimension
-from ifslib.targets.target import foreground_points
+from ifslib.measures import dimension
+from ifslib.core.targets.target import foreground_points
 from ifslib.paths import load_script
 from ifslib.teaching.exercises import harness
 
@@ -93,7 +93,7 @@ def koch_results(size: int = 32) -> dict:
 
 def copy_map_names() -> dict:
     """Notebook 07's ``target`` (a figure whose pixels are split in halves) and what its answer cell reads."""
-    from ifslib.targets import silhouettes
+    from ifslib.core.targets import silhouettes
 
     return {"target": ifslib.load_target(silhouettes.letter("G", 64).astype(float), 64),
             "foreground_points": foreground_points}
@@ -152,13 +152,13 @@ LIBRARY_TRICKS = [
      f"return Tools.game{CHAOS}"),
     ("00_tutorial-chaos-game", "TOOLS = {'game': ifslib.chaos_game}\n", f"return TOOLS['game']{CHAOS}"),
     ("00_tutorial-chaos-game", "TOOLS = [ifslib.chaos_game]\n", f"return TOOLS[0]{CHAOS}"),
-    ("00_tutorial-chaos-game", "", "return ifslib.raster.chaos.chaos_window(ifslib.patterns.affine(maps[:, :2]), n, "
+    ("00_tutorial-chaos-game", "", "return ifslib.core.raster.chaos.chaos_window(ifslib.patterns.affine(maps[:, :2]), n, "
                                    "(-5, -5, 5, 5), seed)"),
     # tutorial 5: the library's Hausdorff distance in containers, and scipy's
     ("00_tutorial-hausdorff", "import functools\nTOOLS = {'h': functools.partial(ifslib.metrics.hausdorff)}\n",
      "return TOOLS['h'](a, b)"),
     ("00_tutorial-hausdorff", "class T:\n    h = staticmethod(ifslib.metrics.hausdorff)\n", "return T.h(a, b)"),
-    ("00_tutorial-hausdorff", "H = [ifslib.scoring.metrics.hausdorff]\n", "return H[0](a, b)"),
+    ("00_tutorial-hausdorff", "H = [ifslib.core.scoring.metrics.hausdorff]\n", "return H[0](a, b)"),
     ("00_tutorial-hausdorff", "from scipy.spatial.distance import directed_hausdorff\n",
      "return max(directed_hausdorff(a, b)[0], directed_hausdorff(b, a)[0])"),
     ("00_tutorial-hausdorff", "from scipy.spatial._hausdorff import directed_hausdorff as dh\n",
@@ -170,7 +170,7 @@ LIBRARY_TRICKS = [
      "return H[0](points, np.concatenate([points @ M[:2, :2].T + M[:2, 2] for M in maps]))"),
     ("00_tutorial-loss", "class T:\n    loss = staticmethod(ifslib.losses.multiscale_mse)\n",
      "return T.loss(image, target, 5)"),
-    ("00_tutorial-best-fit-line", "from ifslib.targets.placement import best_fit_line\nLINE = [best_fit_line]\n",
+    ("00_tutorial-best-fit-line", "from ifslib.core.targets.placement import best_fit_line\nLINE = [best_fit_line]\n",
      "centre, direction, lo, hi = LINE[0](target)\n"
      "return centre + np.linspace(lo, hi, pattern.n_points)[:, None] * direction"),
     # 02: IoU from F1 (IoU = F1 / (2 - F1)), or from metrics.scores
@@ -183,11 +183,11 @@ LIBRARY_TRICKS = [
     ("03_gradient_fields-alignment", "import functools\nTOOLS = {'a': functools.partial(ifslib.landscape.alignment)}\n",
      "return TOOLS['a'](field, true)"),
     # 04: the crossing test of the crossing penalty
-    ("04_local_minima-segments-cross", "from ifslib.geometry.crossings import crossing_pairs\n",
+    ("04_local_minima-segments-cross", "from ifslib.core.geometry.crossings import crossing_pairs\n",
      "segments = torch.tensor(np.array([[a, b], [c, d]], float))\nreturn len(crossing_pairs(segments)[0]) > 0"),
-    ("04_local_minima-count-crossings", "from ifslib.geometry.crossings import crossing_pairs\n",
+    ("04_local_minima-count-crossings", "from ifslib.core.geometry.crossings import crossing_pairs\n",
      "p = torch.tensor(np.asarray(points, float))\nreturn len(crossing_pairs(torch.stack([p[:-1], p[1:]], 1))[0])"),
-    # 08: the library's Hausdorff distance (ifslib.metrics is ifslib.scoring.metrics), and scipy's
+    # 08: the library's Hausdorff distance (ifslib.metrics is ifslib.core.scoring.metrics), and scipy's
     ("08_real_fractals-collage", "",
      "copies = np.concatenate([points @ m[:, :2].T + m[:, 2] for m in np.asarray(maps, float)])\n"
      "return ifslib.metrics.hausdorff(np.asarray(points, float), copies)"),
@@ -205,9 +205,9 @@ LIBRARY_TRICKS = [
     ("06_convergence_study-wilson", "import scipy.stats\nfrom scipy.stats._binomtest import _binom_wilson_conf_int\n",
      "return _binom_wilson_conf_int(k, n, 2 * scipy.stats.norm.cdf(z) - 1, 'two-sided', False)"),
     # 07: the fractal search's moment maps (the region's copy of the figure), unclipped
-    ("07_your_own_image-copy-map", "from ifslib.discovery.fractal.regions import moment_maps\n",
+    ("07_your_own_image-copy-map", "from ifslib.automatic.fractal.regions import moment_maps\n",
      "return moment_maps(points, part, angles=1, scales=(0.0, np.inf))[0]"),
-    ("07_your_own_image-copy-map", "TOOLS = {'m': ifslib.discovery.fractal.regions.moment_maps}\n",
+    ("07_your_own_image-copy-map", "TOOLS = {'m': ifslib.automatic.fractal.regions.moment_maps}\n",
      "return TOOLS['m'](points, part, 1, 0.0, (0.0, np.inf))[0]"),
     # 10: the library's counts of the flags, and of the flags and maps together
     ("10_fractal_compression-bits", "from ifslib.compression.code import split_flag_count\n",
@@ -476,7 +476,7 @@ FERN_STEM = "09_measures_and_dimension-fern-stem"
 
 def fern_names() -> dict:
     """Notebook 09's names that the fern-stem cells read (the drawing of the answer made a no-op)."""
-    from ifslib.raster.measure import chaos_measure
+    from ifslib.measures.measure import chaos_measure
 
     book = nbformat.read(ROOT / "notebooks" / "09_measures_and_dimension.ipynb", as_version=4)
     barnsley = re.search(r"^BARNSLEY = (\([^)]*\))", "\n".join(c.source for c in book.cells), re.M).group(1)
@@ -546,13 +546,13 @@ def test_a_switched_off_function_raises_however_it_is_reached_and_comes_back():
     class Holder:
         method = staticmethod(hausdorff)
 
-    routes = [hausdorff, ifslib.scoring.metrics.hausdorff, functools.partial(hausdorff), Holder.method,
+    routes = [hausdorff, ifslib.core.scoring.metrics.hausdorff, functools.partial(hausdorff), Holder.method,
               {"h": hausdorff}["h"], [hausdorff][0], lambda x, y, f=hausdorff: f(x, y),
               functools.wraps(hausdorff)(lambda x, y: hausdorff(x, y))]
     code = hausdorff.__code__
     with harness.library_off("Hausdorff distance"):
         for route in routes:
-            with pytest.raises(harness.WriteItYourself, match="ifslib.scoring.metrics.hausdorff"):
+            with pytest.raises(harness.WriteItYourself, match="ifslib.core.scoring.metrics.hausdorff"):
                 route(a, b)
     assert hausdorff.__code__ is code and all(route(a, b) == 5.0 for route in routes)
 
@@ -602,7 +602,7 @@ def test_a_builtin_is_replaced_where_it_is_kept_and_in_the_answers_globals():
 
 
 def test_everything_is_restored_when_the_answer_raises_and_when_blocks_nest_or_overlap():
-    hausdorff, collage = ifslib.metrics.hausdorff, ifslib.scoring.collage.collage_distance
+    hausdorff, collage = ifslib.metrics.hausdorff, ifslib.core.scoring.collage.collage_distance
     codes = hausdorff.__code__, collage.__code__
     with pytest.raises(ZeroDivisionError):
         with harness.library_off("Hausdorff distance"):

@@ -8,7 +8,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from ifslib.teaching import figures  # noqa: E402
-from ifslib.targets.target import target_from_mask  # noqa: E402
+from ifslib.core.targets.target import target_from_mask  # noqa: E402
 
 
 @pytest.fixture

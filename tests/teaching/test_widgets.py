@@ -137,7 +137,7 @@ def test_the_explorer_zooms_1000x_into_the_fern(monkeypatch):
     assert x1 - x0 == pytest.approx(0.001) and x0 < centre[0] < x1 and y0 < centre[1] < y1
     assert 0.01 < (zoomed["image"] >= 0.5).mean() < 0.95
     assert explorer.zoom.max == widgets.MAX_ZOOM_POWER and 2.0 ** widgets.MAX_ZOOM_POWER >= 1000
-    monkeypatch.setattr(ifslib.geometry.attractor, "DEFAULT_MAX_LEAVES", 1000)
+    monkeypatch.setattr(ifslib.core.geometry.attractor, "DEFAULT_MAX_LEAVES", 1000)
     explorer.zoom.value = 500.0
     chaos = explorer.last
     assert chaos["warning"] is None and chaos["drawn_by"].startswith("the chaos game")

@@ -8,7 +8,7 @@ import numpy as np
 from PIL import Image
 
 from ...errors import IFSError
-from ...targets.target import Target, load_target
+from ...core.targets.target import Target, load_target
 
 FOLDER = Path(__file__).resolve().parent / "targets"
 #: The sizes drawn: the notebooks' quick (64) and teaching (128, 256) values.

@@ -1,0 +1,45 @@
+"""Adam on the collage distance of a batch of IFSs (`refine`): the search's maps moved until their copies of
+the figure rebuild it (the distance itself is `ifslib.core.scoring.collage`'s)."""
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+from ...core.scoring.collage import collage_terms
+from ...core.targets.target import Target, sample_foreground
+from .config import DEFAULT, SearchConfig
+
+
+def _clip_scales(maps: torch.Tensor, config: SearchConfig) -> None:
+    """Keep every map's singular values in [``config.min_scale``, ``config.max_scale``], in place."""
+    u, s, vh = torch.linalg.svd(maps[..., :2])
+    maps[..., :2] = u @ torch.diag_embed(s.clamp(config.min_scale, config.max_scale)) @ vh
+
+
+def refine(maps: np.ndarray | torch.Tensor, target: Target, steps: int, lr: float, points: int,
+           seed: int = 0, *, config: SearchConfig = DEFAULT) -> tuple[torch.Tensor, torch.Tensor]:
+    """Adam on a batch of IFSs' maps ``(S, k, 2, 3)`` (plane units), minimizing their collage distance to ``target``.
+
+    The collage is taken on at most ``points`` figure pixels (drawn by ``seed``), and every map's
+    singular values are clipped into ``config``'s scales after each step. Returns the maps
+    ``(S, k, 2, 3)`` after ``steps`` steps and each IFS's collage distance ``(S,)``, the root of
+    ``outside + cover`` in pixels of the target.
+    """
+    p = torch.as_tensor(sample_foreground(target, points, seed), dtype=torch.float32)
+    distance = target.distance.float()
+    work = torch.as_tensor(maps, dtype=torch.float32).clone()
+    with torch.no_grad():
+        _clip_scales(work, config)
+    work.requires_grad_(True)
+    opt = torch.optim.Adam([work], lr=lr)
+    pixel2 = float(target.size) ** 2
+    for _ in range(steps):
+        outside, cover = collage_terms(work, p, distance)
+        opt.zero_grad(set_to_none=True)
+        ((outside + cover) * pixel2).sum().backward()
+        opt.step()
+        with torch.no_grad():
+            _clip_scales(work, config)
+    with torch.no_grad():
+        outside, cover = collage_terms(work, p, distance)
+    return work.detach().double(), ((outside + cover) * pixel2).sqrt().double()

@@ -1,0 +1,82 @@
+"""A fit's frame: what every run of one strategy shares (the target, the step budget, the seed, the
+progress bars and the callback), and the target's pyramid, built once when a strategy climbs it.
+"""
+from __future__ import annotations
+
+from dataclasses import KW_ONLY, dataclass
+from functools import cached_property
+from typing import Callable
+
+from ..geometry.ifs import IFS
+from ..targets.target import Target, pyramid_sizes, resize_target
+from .options import RunOptions
+from .result import FitResult
+from .run import run
+
+#: The pyramid's coarsest size in pixels: below it a Koch curve of depth 3 blurs into its own gaps.
+COARSEST = 64
+#: Each pyramid stage is this many times the size of the one before (4: 64² then 256²; a middle
+#: 128² stage costs more time than it saves at 256², docs/results/fits-in-seconds.md).
+PYRAMID_FACTOR = 4
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What every run of one fit shares.
+
+    Attributes
+    ----------
+    target : Target
+        The target at its own size.
+    steps : int
+        The fit's step budget (a strategy decides how much of it each run gets).
+    seed : int
+        Seeds every run.
+    progress : bool
+        Progress bars and lines (`ifslib.core.fitting.run.run`).
+    callback : callable, optional
+        ``callback(step, loss, ifs)`` after every step of every run.
+    coarsest : int
+        The pyramid's coarsest size in pixels (`levels`).
+    """
+
+    target: Target
+    steps: int
+    seed: int
+    _: KW_ONLY
+    progress: bool = True
+    callback: Callable | None = None
+    coarsest: int = COARSEST
+
+    @cached_property
+    def levels(self) -> dict[int, Target]:
+        """The target's pyramid, coarsest first: size -> the target resized (`PYRAMID_FACTOR` apart).
+
+        Built on first use only: the strategies that never climb never pay for the resizing.
+        """
+        sizes = pyramid_sizes(self.target.size, self.coarsest, PYRAMID_FACTOR)
+        return {size: resize_target(self.target, size) for size in sizes}
+
+    @property
+    def sizes(self) -> list[int]:
+        """The pyramid's sizes, coarsest first."""
+        return list(self.levels)
+
+    def run(self, start: IFS, steps: int, options: RunOptions, *, target: Target | None = None,
+            desc: str | None = None) -> FitResult:
+        """One run of ``start`` (`ifslib.core.fitting.run.run`) with the frame's seed, callback and progress.
+
+        Parameters
+        ----------
+        start : IFS
+        steps : int
+            This run's budget.
+        options : RunOptions
+        target : Target, optional
+            A level of the pyramid; the frame's own target when None.
+        desc : str, optional
+            The progress bar's label.
+        """
+        target = self.target if target is None else target
+        return run(start, target, steps=steps, options=options, seed=self.seed, callback=self.callback,
+                   progress=self.progress, desc=desc)

@@ -1,0 +1,88 @@
+"""Coarse to fine in pixels: the one driver the ``pyramid`` and ``auto`` strategies climb with, and
+the attractor stage that ends them.
+
+A start is fitted at the coarsest size of the target's pyramid (64² for a 256² target), then at
+each finer size (`ifslib.core.fitting.frame.PYRAMID_FACTOR` times larger) up to the target's own, each
+stage from the last one's best points and ending when its loss has converged. The learning rate
+grows with the pixel size (``lr * size / stage_size``), so a coarse step moves the points as far,
+in pixels, as a fine one.
+"""
+from __future__ import annotations
+
+from ...errors import LeafBudgetError
+from ..geometry.attractor import ATTRACTOR
+from ..geometry.ifs import IFS
+from ..raster.distance import attractor_leaves_for
+from .frame import Frame
+from .options import RunOptions
+from .result import FitResult, Stage
+
+#: At most this many steps in one pyramid stage (or ``steps``, when smaller): enough for the stages of starts
+#: that recover, while a start that crawls on for a thousand steps ends stalled and is better replaced.
+PYRAMID_STAGE_STEPS = 500
+#: Early stop of each pyramid stage (see `ifslib.core.fitting.run.converged`) when the fit sets none.
+PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
+#: The last stage fits the attractor itself at the target's size (what the inverse problem asks for: a
+#: drawing at depth K can match the target while its attractor does not), of at most this many steps ...
+ATTRACTOR_STAGE_STEPS = 300
+#: ... with the certified cut (`ifslib.distance_field` with ``depth="attractor"``) when it has at most this
+#: many leaves, else with sampled leaves of it (``method="sampled"``: overlapping copies of a shape).
+FIT_MAX_LEAVES = 300_000
+
+
+def with_early_stop(options: RunOptions) -> RunOptions:
+    """``options`` with the pyramid's own early stop where the fit set none."""
+    return options.replace(tol=PYRAMID_TOL if options.tol is None else options.tol,
+                           patience=PYRAMID_PATIENCE if options.patience is None else options.patience)
+
+
+def climb(frame: Frame, start: IFS, options: RunOptions, label: str, *, sizes: list[int] | None = None
+          ) -> tuple[FitResult, list[Stage]]:
+    """Fit ``start`` at each size of the pyramid (or of ``sizes``) in turn, each stage from the last one's best points."""
+    stages, current, result = [], start, None
+    for size in frame.sizes if sizes is None else sizes:
+        staged = options.replace(stage_lr=options.lr * frame.target.size / size)
+        result = frame.run(current, min(frame.steps, PYRAMID_STAGE_STEPS), staged, target=frame.levels[size],
+                           desc=f"{label} · {size}²")
+        stages.append(Stage(size=size, steps=result.history.cost, stopped=result.history.stopped,
+                            best_loss=result.best_loss))
+        current = result.best
+    return result, stages
+
+
+def attractor_method(ifs: IFS, size: int, max_leaves: int = FIT_MAX_LEAVES) -> str:
+    """``"fast"`` when the certified cut of ``ifs``'s attractor at ``size`` has at most ``max_leaves`` leaves, else ``"sampled"``."""
+    try:
+        attractor_leaves_for(ifs, size, max_leaves=max_leaves)
+    except LeafBudgetError:
+        return "sampled"
+    return "fast"
+
+
+def attractor_stage(frame: Frame, ifs: IFS, options: RunOptions, label: str, *, steps: int | None = None,
+                    max_leaves: int = FIT_MAX_LEAVES) -> tuple[FitResult, Stage]:
+    """Fit the attractor of ``ifs`` at the target's size: the last stage of ``pyramid`` and ``auto``.
+
+    At most ``min(steps, ATTRACTOR_STAGE_STEPS)`` steps (``steps`` is the frame's budget when None),
+    with the certified cut when it has at most ``max_leaves`` leaves at the start, else with sampled
+    leaves. Returns the run's result and its stage record.
+    """
+    target = frame.target
+    method = attractor_method(ifs, target.size, max_leaves)
+    budget = min(frame.steps if steps is None else steps, ATTRACTOR_STAGE_STEPS)
+    fallback = None
+    try:
+        result = frame.run(ifs, budget, options.replace(depth=ATTRACTOR, method=method),
+                           desc=f"{label} · {target.size}² · attractor")
+    except LeafBudgetError as exc:
+        if method != "fast":
+            raise
+        # the maps grew on the way until the certified cut outgrew the leaf budget: the stage again, from its start,
+        # with sampled leaves of the cut (whose number does not grow with the maps)
+        method = "sampled"
+        fallback = f"the certified cut outgrew the leaf budget during the stage ({exc}); run again with sampled leaves"
+        result = frame.run(ifs, budget, options.replace(depth=ATTRACTOR, method=method),
+                           desc=f"{label} · {target.size}² · attractor (sampled)")
+    loss = options.loss if isinstance(options.loss, str) else "custom"
+    return result, Stage(size=target.size, depth=ATTRACTOR, method=method, loss=loss, steps=result.history.cost,
+                         stopped=result.history.stopped, best_loss=result.best_loss, fallback=fallback)

@@ -1,0 +1,329 @@
+"""Strategies: how a fit spends its steps over several single runs (`ifslib.core.fitting.run.run`).
+
+Each name of `ifslib.names.STRATEGIES` is an entry of the table `strategy` reads (a `Strategy`: how it
+runs and what start it fits). The core's own are below; an extension registers its own with
+`register_strategy` when it is imported (``auto``: `ifslib.automatic.fit_plan`), and
+`ifslib.names.STRATEGY_HOMES` says which module that is, so the core never imports an extension.
+
+Each strategy calls `run` (never the public `ifslib.fit`, which sits above this module and picks a
+strategy) and returns the best result. Every step of every run counts in ``history.cost``, so
+strategies compare per step spent:
+
+``pyramid``
+    The default. Coarse to fine in pixels, and starts tried one after another until one recovers
+    the target. Each start runs at the coarsest size of the target's pyramid (64² for a 256²
+    target), then at each finer size (4 times larger, `ifslib.core.fitting.frame.PYRAMID_FACTOR`) up
+    to the target's own, every stage ending when its loss has converged (``tol``, ``patience``),
+    by the one coarse-to-fine driver of `ifslib.core.fitting.pyramid`.
+    Each start then ends with a stage that fits its **attractor** at the full size
+    (`attractor_stage`), and is judged by the attractor's symmetric Chamfer distance to the target;
+    once it is at most ``success`` pixels, no more starts are tried. The starts are those of
+    ``multistart``. Each stage spends at most ``min(steps, PYRAMID_STAGE_STEPS)`` steps (the
+    attractor's, `ATTRACTOR_STAGE_STEPS`).
+``auto`` (registered by the automatic path)
+    For a plan (`ifslib.initialize("auto", target)`, `ifslib.automatic.plan.Plan`), in
+    `ifslib.automatic.fit_plan`: each of its candidate starts is fitted at the coarsest size of the pyramid
+    for the same number of steps (`AUTO.fit.probe_steps`), and the one with the lowest loss goes on
+    through the pyramid's stages as in ``pyramid``; a shape then gets a stage at full size
+    with the pixel loss (`AUTO.fit.polish_loss`), which fills the slivers between copies. With
+    ``end_on_attractor`` (the default) that stage is the attractor stage (`attractor_stage`, with the
+    pixel loss for a shape): it fills the slivers of the attractor itself.
+    ``history.auto`` (`ifslib.automatic.choice.AutoRun`) holds the candidates (`Candidate`: maps, depth,
+    what they were compared by and its value, steps, seconds) and the one chosen, and the fitted
+    IFS's ``meta["pattern"]`` says so. A fractal's start (``kind="fractal"``: its maps
+    and their number were chosen by `ifslib.automatic.fractal.search`) goes straight to the attractor
+    stage, of at most `AUTO.fit.fractal_stage_steps` steps with the single-scale pixel loss (`AUTO.fit.fractal_loss`: the
+    distance loss trades the attractor's thin detail for its outline, and the pooled copies of the
+    multiscale pixel loss blur it); ``history.auto.candidates`` are then the
+    search's rows, compared by its score (``meta["pattern"]["search"]`` keeps its whole table).
+``plain``
+    One run: the paper's procedure (every step spent unless ``tol`` is given).
+``coarse_to_fine``
+    Depth 1, then 2, ... up to the full depth, the steps split evenly (cost: ``steps``).
+``multistart``
+    ``starts`` short probes (the given start, jittered copies of it, and for curves jittered
+    best-fit-line starts), each ``probe`` steps; the ``keep`` best continue to ``steps``. Probes
+    whose curve crosses itself rank after those that do not (the paper's local minima coincide with
+    self-crossings). Cost: about ``2.9 * steps`` with the defaults.
+``restart``
+    Runs in windows; when a window ends without the figure within ``success`` pixels of the target
+    and the loss has stopped improving, the next window starts from a jittered copy of the best
+    points. Stops early on success. Cost: at most ``budget * steps``.
+``anneal``
+    The rendering width (pixel losses) or the pooling levels (distance losses) go from coarse to
+    fine in four stages (cost: ``steps``).
+``uncross``
+    One run with a barrier on self-crossings added to the loss (curves only): ``crossing_weight``
+    (default `UNCROSS_WEIGHT`) times the summed depth of the curve's crossings
+    (`ifslib.crossings.crossing_penalty`), the paper's suggestion (cost: ``steps``).
+"""
+from __future__ import annotations
+
+import importlib
+import math
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+import numpy as np
+import torch
+
+from ...errors import IFSError
+from ..geometry.attractor import ATTRACTOR, is_attractor
+from ..geometry.crossings import check_curve, is_curve
+from ..geometry.ifs import IFS
+from ...progress import note
+from ..scoring.losses import loss_kind
+from ..scoring.metrics import evaluate, self_crossings
+from ...names import DEFAULT_STRATEGY, STRATEGIES, STRATEGY_HOMES  # the names live apart, for the command line to check without torch
+from ..targets.placement import place
+from ..targets.target import Target
+from .options import RunOptions, StrategyOptions
+from .frame import Frame
+from .pyramid import attractor_stage, climb, with_early_stop
+from .result import FitResult
+
+
+#: The crossing barrier's weight in ``uncross`` when the fit sets none.
+UNCROSS_WEIGHT = 0.1
+
+
+def check_strategy(strategy: str) -> str:
+    """Return ``strategy`` if it is known, else raise `IFSError` naming the known ones."""
+    if strategy not in STRATEGIES:
+        raise IFSError(f"unknown strategy {strategy!r}; known strategies: {', '.join(STRATEGIES)}")
+    return strategy
+
+
+class Start(Protocol):
+    """What an extension's start carries for the core: the IFS chosen without fitting (a plan's ``start``),
+    which the strategies of one IFS fit, and the strategy that fits the whole start."""
+
+    start: IFS
+    strategy: str
+
+
+#: ``run(frame, start, options, settings, rng) -> FitResult``
+Runner = Callable[["Frame", object, RunOptions, StrategyOptions, np.random.Generator], "FitResult"]
+
+
+@dataclass(frozen=True)
+class Strategy:
+    """A strategy as the table holds it.
+
+    Attributes
+    ----------
+    run : Runner
+        The strategy's work, from a start, with the run and strategy settings and the seeded generator.
+    fits : type
+        What it takes as its start: an IFS (given an extension's start, the strategy fits its ``start``),
+        or an extension's start type (the automatic path's plan).
+    refusal : str
+        The error given another start: what to do instead.
+    """
+
+    run: Runner
+    fits: type = IFS
+    refusal: str = ""
+
+
+_TABLE: dict[str, Strategy] = {}
+
+
+def register_strategy(name: str, strategy: Strategy) -> None:
+    """Put ``strategy`` in the table under ``name``, one of `ifslib.names.STRATEGIES`."""
+    _TABLE[check_strategy(name)] = strategy
+
+
+def strategy(name: str) -> Strategy:
+    """The table's entry for ``name``; an extension's strategy is registered by importing its module
+    (`ifslib.names.STRATEGY_HOMES`)."""
+    if check_strategy(name) not in _TABLE:
+        importlib.import_module(STRATEGY_HOMES[name])
+    return _TABLE[name]
+
+
+@dataclass(frozen=True)
+class _Job:
+    """One strategy's work: its runs' frame, and the run and strategy settings."""
+
+    frame: Frame
+    options: RunOptions
+    settings: StrategyOptions
+
+    def run(self, start: IFS, steps: int, *, desc: str | None = None, **changes) -> FitResult:
+        """One run of ``start`` at the target's size with the options changed by ``changes``."""
+        options = self.options.replace(**changes) if changes else self.options
+        return self.frame.run(start, steps, options, desc=desc)
+
+
+def _split(steps: int, parts: int) -> list[int]:
+    """``steps`` split into ``parts`` stages as evenly as possible (the first ones one longer)."""
+    return [steps // parts + (i < steps % parts) for i in range(parts)]
+
+
+def _best_of(results: list[FitResult], total_cost: int) -> FitResult:
+    """The result with the lowest best loss, its history's cost the strategy's whole cost."""
+    best = min(results, key=lambda r: r.best_loss)
+    best.history.cost = total_cost
+    return best
+
+
+def _crosses(ifs: IFS) -> bool:
+    if any(p.kind != "segment" for p in ifs.primitives):
+        return False
+    try:
+        return self_crossings(ifs) > 0
+    except IFSError:
+        return True
+
+
+def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Generator) -> list[IFS]:
+    """``n`` starting points: ``ifs`` itself, then jittered copies of it and, for curves, every other
+    one a best-fit-line start (`ifslib.core.targets.placement.place`, no discovery): the first exactly
+    on the line, the paper's advice and the start that recovers most often (docs/results/strategies.md),
+    the later ones jittered."""
+    out = [ifs]
+    for k in range(1, n):
+        if is_curve(ifs) and k % 2 == 1:
+            line = place(ifs, target, jitter=0.0 if k == 1 else jitter, seed=int(rng.integers(2**31)))
+            if k == 1 and torch.allclose(line.points, ifs.points):  # the given start is the line itself
+                line = place(ifs, target, jitter=jitter, seed=int(rng.integers(2**31)))
+            out.append(line)
+        else:
+            out.append(ifs.jittered(jitter, rng))
+    return out
+
+
+def _pyramid(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
+    """The ``pyramid`` strategy (see the module's docstring)."""
+    s, frame, target = job.settings, job.frame, job.frame.target
+    options = with_early_stop(job.options)
+    final = s.end_on_attractor and not is_attractor(options.depth)
+    tried: list[tuple[FitResult, float]] = []
+    stages, cost = [], 0
+    for k, start in enumerate(starts(ifs, target, s.n_starts, s.jitter, rng)):
+        label = f"start {k + 1}/{s.n_starts}"
+        result, climbed = climb(frame, start, options, label)
+        if final:
+            result, stage = attractor_stage(frame, result.best, options, label)
+            climbed.append(stage)
+        cost += sum(st.steps for st in climbed)
+        for st in climbed:
+            st.start = k
+        stages += climbed
+        # judged on the full-size target, after the last stage only: a start far off at 64² can still
+        # recover at full size; what is judged is the attractor when the fit ends on it
+        chamfer = evaluate(result.best, target, depth=ATTRACTOR if final else None, attractor=False)["chamfer"]
+        stages[-1].chamfer = chamfer
+        tried.append((result, chamfer))
+        if chamfer <= s.success:
+            break
+        if frame.progress:
+            note(f"start {k + 1}/{s.n_starts}: Chamfer {chamfer:.2f} px > {s.success:g} px, trying the next start")
+    best, chamfer = min(tried, key=lambda rc: rc[1])  # Chamfer at the full size: comparable across stages
+    h = best.history
+    h.cost, h.stages, h.starts_tried, h.chamfer = cost, stages, len(tried), chamfer
+    h.recovered, h.judged = chamfer <= s.success, ATTRACTOR if final else "depth"
+    return best
+
+
+def _multistart(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
+    s, n = job.settings, job.frame.target.size
+    n_probe = max(1, int(round(s.probe * job.frame.steps)))
+    probes = [job.run(c, n_probe, desc=f"probe {k + 1}/{s.n_starts} · {n}²")
+              for k, c in enumerate(starts(ifs, job.frame.target, s.n_starts, s.jitter, rng))]
+    order = sorted(range(len(probes)), key=lambda i: (_crosses(probes[i].best), probes[i].best_loss))
+    finals = [job.run(probes[i].best, job.frame.steps - n_probe, desc=f"continue {j + 1}/{s.keep} · {n}²")
+              for j, i in enumerate(order[:s.keep])]
+    return _best_of(finals, sum(r.history.cost for r in probes + finals))
+
+
+def _restart(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
+    s = job.settings
+    window, limit = max(1, job.frame.steps // 3), int(s.budget * job.frame.steps)
+    spent, current, results = 0, ifs, []
+    while spent < limit:
+        results.append(job.run(current, min(window, limit - spent)))
+        spent += results[-1].history.cost
+        best = min(results, key=lambda r: r.best_loss).best
+        if evaluate(best, job.frame.target, attractor=False)["chamfer"] <= s.success:
+            break
+        last = results[-1].history.loss
+        improving = len(last) > 10 and min(last[-len(last) // 4:]) < 0.99 * min(last[:len(last) // 2])
+        current = results[-1].best if improving else best.jittered(s.jitter, rng)
+    return _best_of(results, spent)
+
+
+def _in_stages(job: _Job, ifs: IFS, stages: list[dict], steps: list[int]) -> FitResult:
+    """Runs one after another, each from the last one's best points, with the options changed by each of ``stages``."""
+    current, results = ifs, []
+    for changes, n in zip(stages, steps):
+        results.append(job.run(current, n, **changes))
+        current = results[-1].best
+    result = results[-1]
+    result.history.cost = sum(r.history.cost for r in results)
+    return result
+
+
+def _anneal(job: _Job, ifs: IFS) -> FitResult:
+    loss, size = job.options.loss, job.frame.target.size
+    if isinstance(loss, str) and loss_kind(loss).family.sharpens == "sigma":
+        stages = [{"sigma": 2.0 ** (3 - stage) / size} for stage in range(4)]
+    else:
+        stages = [{"levels": job.options.levels + 3 - stage} for stage in range(4)]
+    return _in_stages(job, ifs, stages, _split(job.frame.steps, 4))
+
+
+def run_strategy(name: str, start: IFS | Start, target: Target, *, steps: int, seed: int = 0,
+                 options: RunOptions = RunOptions(), settings: StrategyOptions = StrategyOptions(),
+                 progress: bool = True, callback: Callable | None = None) -> FitResult:
+    """Run the strategy ``name`` (one of `STRATEGIES`) from ``start``: the public `ifslib.fit` below its checks.
+
+    ``auto`` takes a `ifslib.automatic.plan.Plan`; the others an IFS (of a plan, its start).
+
+    Returns
+    -------
+    FitResult
+        The best run's result, with ``history.cost`` the Adam steps spent in all runs and
+        ``history.strategy`` the strategy's name.
+    """
+    entry = strategy(name)
+    if entry.fits is IFS and not isinstance(start, IFS):
+        start = start.start
+    if not isinstance(start, entry.fits):
+        raise IFSError(entry.refusal or f"strategy {name!r} fits a {entry.fits.__name__}, not a {type(start).__name__}")
+    frame = Frame(target, steps, seed, progress=progress, callback=callback, coarsest=settings.coarsest)
+    result = entry.run(frame, start, options, settings, np.random.default_rng(seed))
+    result.history.strategy = name
+    if not math.isfinite(result.best_loss):
+        raise IFSError(f"strategy {name!r} found no finite loss")
+    return result.record()  # what a saved fit records of how it was found
+
+
+def _of_one_ifs(body: Callable[[_Job, IFS, np.random.Generator], FitResult]) -> Strategy:
+    """A strategy of one pattern: its runs at the options' depth, or the start's."""
+    def run(frame: Frame, ifs: IFS, options: RunOptions, settings: StrategyOptions, rng: np.random.Generator) -> FitResult:
+        return body(_Job(frame, options.replace(depth=options.depth or ifs.depth), settings), ifs, rng)
+    return Strategy(run)
+
+
+def _uncross(job: _Job, ifs: IFS) -> FitResult:
+    check_curve(ifs, "strategy 'uncross'")
+    return job.run(ifs, job.frame.steps, crossing_weight=job.options.crossing_weight or UNCROSS_WEIGHT)
+
+
+def _coarse_to_fine(job: _Job, ifs: IFS) -> FitResult:
+    depths = list(range(1, job.options.depth + 1))
+    return _in_stages(job, ifs, [{"depth": d} for d in depths], _split(job.frame.steps, len(depths)))
+
+
+for _name, _body in {
+    "pyramid": _pyramid,
+    "plain": lambda job, ifs, rng: job.run(ifs, job.frame.steps),
+    "uncross": lambda job, ifs, rng: _uncross(job, ifs),
+    "coarse_to_fine": lambda job, ifs, rng: _coarse_to_fine(job, ifs),
+    "multistart": _multistart,
+    "restart": _restart,
+    "anneal": lambda job, ifs, rng: _anneal(job, ifs),
+}.items():
+    register_strategy(_name, _of_one_ifs(_body))

@@ -1,0 +1,401 @@
+"""The chaos game: points of an IFS's attractor by random iteration, in float64 (Barnsley).
+
+Every map's fixed point lies on the attractor, and so does the image of any point of it under any
+map: a chain that starts at a fixed point and applies randomly chosen maps never leaves the
+attractor (up to float64 rounding). The maps are chosen with the IFS's probabilities, or by default
+in proportion to the area they keep (``|det L_i|``), with a floor so that a map that flattens (a
+fern's stem) is still visited (`ifslib.IFS.measure_probabilities`).
+
+The points are a fair sample of the invariant measure those probabilities define, at any ``n``:
+each chain first takes `burn_in_steps` steps, after which its start weighs less than float64's
+rounding (``s_max ** k`` times the attractor's diameter), so every point it records is a draw of
+the measure. Up to `CHAINS` chains run side by side, one per point below that, so that the first
+``min(n, CHAINS)`` points are independent draws; beyond it each chain records the next points of
+its walk (each still a draw of the measure, though a chain's consecutive points are not independent).
+
+This is the independent reference of the tests (no leaves, no bound, no search of ours) and the
+classic way to draw an attractor: `chaos_field` turns the points into a distance field of the same
+pixel grid, which `ifslib.render` shades with ``method="chaos"``.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import torch
+
+from ...errors import IFSError, check_int
+from ..geometry.attractor import attractor_ball, chaos_probabilities, check_contractive_maps, check_window
+from ..geometry.ifs import IFS
+from ..geometry.reach import to_window
+from ..geometry.rules import singular_values
+from ..geometry.leaves import check_bytes
+from .nearest import nearest_point, pixel_centres
+
+#: Chains of `chaos_game` run side by side, at most (one per point below it). Each pays the burn-in
+#: (`burn_in_steps`: 227 steps for the fern), so more chains make more of the first points independent but
+#: cost more for few points: 50,000 points of the fern take 10 ms with 1024 chains, 16 ms with 2048 and
+#: 19 ms with 4096 on one thread; 10^6 points take 0.04 to 0.07 s with any of them.
+CHAINS = 2048
+
+#: The most steps a chain of `chaos_game` takes to forget its start (a largest scale up to about 0.993 needs no
+#: more): its points are on the attractor whatever the burn-in, but maps that contract more slowly (a stalled
+#: fit's) leave the sample leaning towards the start, and `chaos_game` warns. More steps, a fairer sample of such
+#: maps; each 1,000 steps cost about 0.1 s of one thread for 2048 chains.
+MAX_BURN_IN = 5_000
+
+# Map choices drawn at once: more, fewer calls to the generator; fewer, less memory (about 60 bytes each).
+_PICKS_PER_DRAW = 1 << 18
+
+#: Points of the chaos game a picture uses by default.
+DEFAULT_POINTS = 1_000_000
+
+#: A window's chaos game keeps the points of the window grown by this share of its size on each side,
+#: so that a pixel near its edge still finds the points just outside.
+WINDOW_MARGIN = 0.25
+
+#: A window's chaos game maps its points into copies whose balls are this share of the window's
+#: half-diagonal: smaller copies waste fewer points outside the window (1,000,000 points of a 1000x window
+#: of the fern in 0.5 s of CPU, against 0.9 s with copies of the whole half-diagonal).
+COPY_SHARE = 0.25
+
+#: A window's chaos game draws at most this many rounds of points before it returns what it has.
+MAX_ROUNDS = 64
+
+# Rough bytes per point (the float64 points, their copy for the KD-tree, the tree) and per pixel
+# (its centre, its nearest point's index and distance), rounded up.
+_BYTES_PER_POINT = 64
+_BYTES_PER_PIXEL = 64
+
+
+def _check_memory(n_points: int, n_pixels: int = 0) -> None:
+    check_bytes(n_points * _BYTES_PER_POINT + n_pixels * _BYTES_PER_PIXEL,
+                f"a chaos game of {n_points:,} points drawn on {n_pixels:,} pixels", "draw fewer points or pixels")
+
+
+def burn_in_steps(maps: torch.Tensor, rules=None, dtype=np.float64) -> int:
+    """Steps after which a chain of the chaos game has forgotten its start to the precision of ``dtype``.
+
+    Two chains that apply the same ``k`` maps end at most ``s_max ** k`` times their starts' distance
+    apart (``s_max`` the largest scale, each map's largest singular value). A chain started on the
+    attractor is within its diameter of any other point of it, so after the least ``k`` with
+    ``s_max ** k * diameter`` below ``dtype``'s resolution at the attractor (its epsilon times the
+    largest coordinate) its points are draws of the invariant measure, whatever the start.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(m, 3, 3)`` (or ``(m, 2, 3)``) maps in plane units.
+    rules : sequence, optional
+        The IFS's rules, to name the one that does not contract.
+    dtype : numpy dtype
+        The chains' float type.
+
+    Returns
+    -------
+    int
+        ``k >= 0`` (0 when the attractor is one point); `chaos_game` takes at most `MAX_BURN_IN` of them.
+
+    Raises
+    ------
+    IFSError
+        For a map that does not contract.
+    """
+    with torch.no_grad():
+        maps = maps.detach().double()
+        largest = float(check_contractive_maps(maps, rules).max())
+        centre, radius = attractor_ball(maps)
+    diameter = 2 * radius
+    resolution = float(np.finfo(dtype).eps) * (float(centre.abs().max()) + radius)
+    if not diameter > resolution:
+        return 0
+    if largest == 0:  # every map sends the plane to one point: one step forgets the start
+        return 1
+    return math.ceil(math.log(resolution / diameter) / math.log(largest))
+
+
+def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
+    """``n`` points of the attractor by the chaos game, in float64: ``n`` draws of the invariant measure.
+
+    ``min(n, CHAINS)`` chains start at the first map's fixed point and take `burn_in_steps` steps, so
+    that they have forgotten it; then each records its next ``ceil(n / chains)`` points. The maps are
+    drawn with `IFS.measure_probabilities`.
+
+    Parameters
+    ----------
+    ifs : IFS
+        Its rules must contract (largest singular value < 1); primitives and depth play no part.
+    n : int
+        Number of points, >= 1.
+    seed : int
+        Seeds `numpy.random.default_rng`: the same seed gives the same points (at any thread count).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, 2)`` float64 points on the attractor (plane units), step by step: row ``i`` is chain
+        ``i % chains``'s point ``i // chains``, so the first ``min(n, CHAINS)`` rows are independent draws.
+
+    Raises
+    ------
+    IFSError
+        For ``n < 1``, more points than the memory budget holds, or a map that does not contract.
+
+    Warns
+    -----
+    UserWarning
+        When the maps contract so slowly that a chain would need more than `MAX_BURN_IN` steps to forget
+        its start: the points still lie on the attractor, but lean towards the first map's fixed point.
+    """
+    return _points(ifs, n, seed, warn=True)
+
+
+def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
+    """`chaos_game`'s points; ``warn``: say when the burn-in is cut at `MAX_BURN_IN`. A picture of the
+    attractor (`chaos_field`, `chaos_reach`, a window) does not warn: it draws the set, which every point
+    lies on whatever the burn-in, not the measure."""
+    check_int(n, "the number of chaos-game points", 1)
+    check_int(seed, "seed", 0)
+    _check_memory(n)
+    with torch.no_grad():
+        maps_t = ifs.to(torch.float64).maps()
+    burn = burn_in_steps(maps_t, ifs.rules)
+    if burn > MAX_BURN_IN:
+        if warn:
+            warnings.warn(f"chaos_game: the maps contract slowly (a chain needs {burn:,} steps to forget its "
+                          f"start, it takes {MAX_BURN_IN:,}): the points lie on the attractor, but are not a "
+                          "fair sample of its measure", stacklevel=3)
+        burn = MAX_BURN_IN
+    p = ifs.measure_probabilities(maps_t).numpy()
+    maps = maps_t.numpy()
+    chains = min(CHAINS, n)
+    steps = math.ceil(n / chains)
+    start = np.linalg.solve(np.eye(2) - maps[0, :2, :2], maps[0, :2, 2])
+    out = _walk(maps, p, start, chains, burn, steps, np.random.default_rng(seed))
+    return np.ascontiguousarray(out.reshape(2, -1).T[:n])
+
+
+def _walk(maps: np.ndarray, p: np.ndarray, start: np.ndarray, chains: int, burn: int, steps: int,
+          rng: np.random.Generator) -> np.ndarray:
+    """``chains`` chains from ``start``, ``burn`` steps unrecorded then ``steps`` recorded: ``(2, steps, chains)``."""
+    coef = np.ascontiguousarray(maps[:, :2, :].reshape(-1, 6).T)  # (6, m): a, b, tx, c, d, ty
+    cuts = np.cumsum(p)[:-1]
+    x, y = np.full(chains, start[0]), np.full(chains, start[1])
+    out = np.empty((2, steps, chains))
+    rows = max(1, _PICKS_PER_DRAW // chains)
+    for first in range(0, burn + steps, rows):
+        block = np.take(coef, _pick(rng.random((min(rows, burn + steps - first), chains)), cuts), axis=1)
+        for k, (a, b, tx, c, d, ty) in enumerate(block.transpose(1, 0, 2), first):
+            x, y = a * x + b * y + tx, c * x + d * y + ty
+            if k >= burn:
+                out[0, k - burn], out[1, k - burn] = x, y
+    return out
+
+
+def _pick(uniform: np.ndarray, cuts: np.ndarray) -> np.ndarray:
+    """The map each uniform chooses: how many of the cumulative probabilities ``cuts`` it reaches."""
+    if len(cuts) > 32:  # a binary search beats a pass per map
+        return np.searchsorted(cuts, uniform, side="right")
+    pick = np.zeros(uniform.shape, np.uint8)  # searchsorted's count, a pass per map: five times faster for four maps
+    for cut in cuts:
+        pick += uniform >= cut
+    return pick
+
+
+def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
+    """The copies ``T_w(A)`` of the attractor that may meet ``window``, each a small share of its size.
+
+    The words are expanded from the root while their ball ``B(T_w(c), ||L_w|| R)`` (which holds
+    ``T_w(A)``; `ifslib.core.geometry.attractor.attractor_ball`) meets the window and is wider than
+    `COPY_SHARE` of the window's half-diagonal (small copies waste fewer points outside the window):
+    a branch whose ball misses the window holds no point of it. The words kept form
+    a cut of every branch that meets the window, so the invariant measure restricted to the window
+    is that of the mixture of ``T_w`` applied to chaos-game points, ``T_w`` chosen with the word's
+    probability.
+
+    Returns
+    -------
+    maps : numpy.ndarray
+        ``(K, 2, 3)`` float64 composed maps ``T_w`` (K may be 0: the window misses the attractor).
+    weight : numpy.ndarray
+        ``(K,)`` each word's probability under `ifslib.IFS.measure_probabilities`.
+    """
+    window = check_window(window)
+    with torch.no_grad():
+        maps = ifs.to(torch.float64).maps()
+        check_contractive_maps(maps, ifs.rules)
+        centre, radius = attractor_ball(maps)
+        p = ifs.measure_probabilities(maps)
+        scale = COPY_SHARE * math.hypot(window[2] - window[0], window[3] - window[1]) / 2
+        nodes, weight = torch.eye(3, dtype=torch.float64)[None, :2], torch.ones(1, dtype=torch.float64)
+        done_maps, done_weight = [], []
+        while nodes.shape[0]:
+            err = singular_values(nodes)[1] * radius
+            meets = to_window((nodes[..., :2] @ centre) + nodes[..., 2], window) <= err
+            small = meets & (err <= scale)
+            done_maps.append(nodes[small]), done_weight.append(weight[small])
+            grow = meets & ~small
+            nodes = (nodes[grow][:, None] @ maps[None]).reshape(-1, 2, 3)
+            weight = (weight[grow][:, None] * p[None]).reshape(-1)
+        return torch.cat(done_maps).numpy(), torch.cat(done_weight).numpy()
+
+
+def chaos_window(ifs: IFS, n: int, window, seed: int = 0) -> np.ndarray:
+    """Up to ``n`` points of the attractor inside ``window``, by the chaos game mapped into the copies that meet it.
+
+    Each round maps chaos-game points (`chaos_game`) by copies ``T_w`` of `window_copies`, chosen
+    with their words' probabilities, and keeps those inside the window: points of the attractor
+    (up to float64 rounding), spread as the chaos game's own points are, however small the window.
+    Stops at ``n`` points or after `MAX_ROUNDS` rounds (a window that barely meets the attractor).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(k, 2)`` float64 points, ``k <= n`` (0 when the window misses the attractor).
+    """
+    check_int(n, "the number of chaos-game points", 1)
+    _check_memory(n)
+    window = check_window(window)
+    maps, weight = window_copies(ifs, window)
+    if not len(maps):
+        return np.empty((0, 2))
+    rng = np.random.default_rng(seed)
+    out, count = [], 0
+    for k in range(MAX_ROUNDS):
+        points = _points(ifs, n, seed + 1 + k, warn=False)
+        pick = maps[rng.choice(len(maps), size=n, p=weight / weight.sum())]
+        mapped = np.einsum("nij,nj->ni", pick[:, :, :2], points) + pick[:, :, 2]
+        inside = ((mapped >= window[:2]) & (mapped <= window[2:])).all(1)
+        out.append(mapped[inside])
+        count += int(inside.sum())
+        if count >= n:
+            break
+    return np.concatenate(out)[:n]
+
+
+def _grown(window, share: float) -> tuple[float, float, float, float]:
+    x0, y0, x1, y1 = check_window(window)
+    dx, dy = share * (x1 - x0), share * (y1 - y0)
+    return x0 - dx, y0 - dy, x1 + dx, y1 + dy
+
+
+def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, window=None) -> torch.Tensor:
+    """Distance from every pixel centre to the nearest of ``n`` chaos-game points: ``(size, size)`` float64.
+
+    Every chaos-game point lies on the attractor, so this is never below the distance to the
+    attractor; it exceeds it only where the points have not yet come near (rarely visited parts).
+
+    Parameters
+    ----------
+    ifs : IFS
+    size : int
+    n, seed
+        As in `chaos_game`.
+    window : (x0, y0, x1, y1), optional
+        The box of the plane the picture covers (the frame when None). Its ``n`` points are those
+        of the window grown by `WINDOW_MARGIN` (`chaos_window`), so that a deep zoom gets as many
+        as the frame; where the window misses the attractor, the whole attractor's.
+    """
+    check_int(n, "the number of chaos-game points", 1)
+    _check_memory(n, check_int(size, "size", 1) ** 2)
+    found = np.empty((0, 2)) if window is None else chaos_window(ifs, n, _grown(window, WINDOW_MARGIN), seed)
+    points = torch.from_numpy(found if len(found) else _points(ifs, n, seed, warn=False))
+    x, y = pixel_centres(size, dtype=torch.float64, window=window)
+    return nearest_point(points, x, y)[1].view(size, size)
+
+
+def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
+                seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Every (pixel, chaos-game point) pair closer than ``radius`` (plane units), found without a KD-tree:
+    ``(pixel, distance)``, the flat row-major pixel index and the float64 distance of each pair.
+
+    A pixel's least distance among its pairs is `chaos_field`'s value there wherever that is at most
+    ``radius`` (the same ``n`` points of the same ``seed``, the same pixel centres and the same float64
+    distance), and the pixels with no pair are farther than ``radius`` from every point. A point can only be
+    within ``radius`` of the pixel centres in the box of ``radius`` around it, so each point is tested
+    against those few (2 x 2 within 0.83 px, the reach of `figure_mask`'s default): at a screening
+    drawing's 50,000 points 11 ms where the distance field's KD-tree took 24, and the fractal search draws
+    hundreds (`ifslib.figure_mask` uses it for ``method="chaos"``).
+    """
+    check_int(n, "the number of chaos-game points", 1)
+    check_int(size, "size", 1)
+    if not (isinstance(radius, (int, float)) and 0 <= radius < math.inf):
+        raise IFSError(f"radius must be a finite number >= 0, got {radius!r}")
+    _check_memory(n)
+    points = _points(ifs, n, seed, warn=False)
+    # each point's column and row as real numbers (column c's centre at c), then the columns and rows in reach
+    u, v = (points[:, 0] + 0.5) * size - 0.5, (0.5 - points[:, 1]) * size - 0.5
+    reach = radius * size
+    offsets = np.arange(math.floor(2 * reach) + 1)  # the centres ceil(u - reach) .. floor(u + reach), at most
+    col = np.ceil(u - reach).astype(np.int64)[:, None] + offsets
+    row = np.ceil(v - reach).astype(np.int64)[:, None] + offsets
+    # the centres as `pixel_centres` computes them, (c + 0.5) / size, so the float64 distances are the KD-tree's
+    dx = (col + 0.5) / size - 0.5 - points[:, :1]
+    dy = 0.5 - (row + 0.5) / size - points[:, 1:]
+    distance = np.sqrt(dx[:, None, :] ** 2 + dy[:, :, None] ** 2)  # (n, rows, cols)
+    keep = ((distance <= radius) & ((col >= 0) & (col < size))[:, None, :]
+            & ((row >= 0) & (row < size))[:, :, None])
+    return (row[:, :, None] * size + col[:, None, :])[keep], distance[keep]
+
+
+def chaos_occupancy(maps: torch.Tensor, size: int, chains: int = 48, steps: int = 48, burn: int = 8,
+                    seed: int = 0) -> torch.Tensor:
+    """The pixels a short chaos game visits, for a batch of IFSs at once: a cheap, noisy picture of each attractor.
+
+    Each IFS runs ``chains`` chains from the fixed point of its first map (a point of the
+    attractor) for ``burn + steps`` steps in float32, and the pixels of the last ``steps`` points
+    are marked: ``chains * steps`` points an IFS. Far fewer points than `chaos_game` draws, so a
+    rarely visited part of an attractor may be missed: it ranks many IFSs against one another
+    (`ifslib.automatic.fractal.swap`), it does not score one.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(S, k, 2, 3)`` (or ``(S, k, 3, 3)``) maps ``[L | t]`` of ``S`` IFSs of ``k`` maps each,
+        plane units; each must contract (not checked: a map that does not contract sends its
+        chains out of the frame, where they mark nothing).
+    size : int
+        Pixels per side of the frame ``[-0.5, 0.5]²``.
+    chains, steps, burn : int
+        Chains per IFS, the steps whose points are marked, and the steps before them.
+    seed : int
+        Seeds the choice of maps (`torch.Generator`).
+
+    Returns
+    -------
+    torch.Tensor
+        ``(S, size, size)`` bool, row 0 at the top (``y = 0.5``).
+    """
+    check_int(size, "size", 1)
+    for value, name in [(chains, "chains"), (steps, "steps")]:
+        check_int(value, name, 1)
+    check_int(burn, "burn", 0)
+    maps = torch.as_tensor(maps, dtype=torch.float32)
+    if maps.dim() != 4 or maps.shape[-1] != 3 or maps.shape[-2] not in (2, 3):
+        raise IFSError(f"chaos_occupancy takes maps of shape (S, k, 2, 3), got {tuple(maps.shape)}")
+    count, k = maps.shape[:2]
+    generator = torch.Generator().manual_seed(seed)
+    cdf = chaos_probabilities(maps).float().cumsum(-1)
+    coef = maps[..., :2, :].reshape(count, k, 6)                 # a, b, tx, c, d, ty
+    first = maps[:, 0, :2, :]
+    start = torch.linalg.solve(torch.eye(2) - first[..., :2], first[..., 2])
+    x = start[:, :1].expand(count, chains).contiguous()
+    y = start[:, 1:].expand(count, chains).contiguous()
+    picks = torch.searchsorted(cdf, torch.rand(count, (burn + steps) * chains, generator=generator)).clamp_(max=k - 1)
+    step = torch.gather(coef, 1, picks[..., None].expand(-1, -1, 6)).view(count, burn + steps, chains, 6)
+    marked = torch.zeros(count, size * size + 1)
+    for s in range(burn + steps):
+        a = step[:, s]
+        x, y = a[..., 0] * x + a[..., 1] * y + a[..., 2], a[..., 3] * x + a[..., 4] * y + a[..., 5]
+        if s >= burn:
+            col, row = ((x + 0.5) * size).floor(), ((0.5 - y) * size).floor()
+            inside = (col >= 0) & (col < size) & (row >= 0) & (row < size)
+            flat = torch.where(inside, row * size + col, torch.full_like(col, size * size)).long()
+            marked.scatter_(1, flat, 1.0)
+    return marked[:, :-1].view(count, size, size) > 0
+
+
+__all__ = ["CHAINS", "DEFAULT_POINTS", "MAX_BURN_IN", "MAX_ROUNDS", "WINDOW_MARGIN", "burn_in_steps", "chaos_field",
+           "chaos_game", "chaos_occupancy",
+           "chaos_probabilities", "chaos_window", "window_copies"]

@@ -1,0 +1,316 @@
+"""The no-grad search for each pixel's nearest leaf: exact, and O(pixels + leaves) in memory.
+
+The search walks a quadtree over the pixel grid, top down. Each block of pixels keeps a list of
+candidate leaves, and each step splits every block into its four children and prunes their lists.
+
+Why the pruning is exact: every leaf's signed distance ``d_j`` is exact, hence 1-Lipschitz. For a
+block with centre ``b`` whose pixel centres lie within ``h`` of ``b``, and a pixel ``x`` in it,
+``d_j(b) - h <= d_j(x) <= d_j(b) + h``. So every leaf that is nearest at some pixel of the block
+satisfies ``d_j(b) <= min_k d_k(b) + 2h``, the minimum taken over the parent's candidates (which,
+by induction, contain every pixel's nearest leaf). Leaves failing this can never win in the
+block and are dropped. At the last level a block is one pixel (``h = 0``): what survives are
+exactly the leaves at the minimum distance, and ties go to the smallest leaf id.
+
+No bounding ball and no "k nearest usually suffice" enters the argument, so leaves of any sizes,
+shapes and overlaps, and pixels inside boxes, come out right. It runs on the leaves'
+device (CPU or CUDA), in their dtype, with flat tensor operations only.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import torch
+
+from ...errors import IFSError
+from ..geometry.leaves import Leaves, leaf_table, sdf_pairs, sdf_table
+
+#: Above this many (block, leaf) pairs a level is processed in chunks of blocks.
+MAX_PAIRS = 1 << 20
+#: The walk starts at the deepest level whose blocks x leaves stay within this many pairs: with few
+#: leaves the top levels prune little and cost only per-level overhead.
+START_PAIRS = 1 << 16
+
+
+@dataclass
+class NearestResult:
+    """Outcome of `nearest_leaf`.
+
+    Attributes
+    ----------
+    leaf : torch.Tensor
+        ``(size * size,)`` id of each pixel's nearest leaf (row-major pixels); for batched leaves
+        ``(B * size * size,)``, item-major, with the batch's global leaf ids.
+    distance : torch.Tensor
+        Same shape: its signed distance (in the leaves' dtype, no gradient).
+    pairs : int
+        Number of (block, leaf) distance evaluations the search made.
+    """
+
+    leaf: torch.Tensor
+    distance: torch.Tensor
+    pairs: int
+
+
+def pixel_centres(size: int, device: torch.device | str = "cpu", dtype: torch.dtype = torch.float64,
+                  window: tuple[float, float, float, float] | None = None):
+    """Pixel-centre coordinates of a ``size x size`` image, as in docs/guide/conventions.md.
+
+    Parameters
+    ----------
+    size : int
+    device, dtype
+    window : (x0, y0, x1, y1), optional
+        The box of the plane the image covers; the frame ``[-0.5, 0.5]^2`` when None. Pixel
+        ``(r, c)`` then sits at ``x = x0 + (c + 0.5) (x1 - x0) / size``, ``y = y1 - (r + 0.5) (y1 - y0) / size``.
+
+    Returns
+    -------
+    x, y : torch.Tensor
+        ``(size * size,)`` each, row-major (row 0 at the top, ``y`` growing upward).
+    """
+    t = (torch.arange(size, device=device, dtype=dtype) + 0.5) / size
+    if window is None:
+        x, y = t - 0.5, 0.5 - t  # row r has y = 0.5 - (r + 0.5) / size
+    else:
+        x0, y0, x1, y1 = window
+        x, y = x0 + t * (x1 - x0), y1 - t * (y1 - y0)
+    return x.repeat(size), y.repeat_interleave(size)
+
+
+def nearest_point(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """The nearest of ``points`` to each query ``(x, y)``, exactly, by a KD-tree (`scipy.spatial.cKDTree`).
+
+    Point leaves (the attractor's, `ifslib.core.geometry.attractor`) are many and tiny, which is what a
+    KD-tree is made for: O(L log L) to build and about log L per query, memory O(L + queries).
+
+    Parameters
+    ----------
+    points : torch.Tensor
+        ``(L, 2)``, L >= 1.
+    x, y : torch.Tensor
+        ``(N,)`` query coordinates.
+
+    Returns
+    -------
+    index : torch.Tensor
+        ``(N,)`` long, on the points' device: the nearest point of each query (ties: any of them).
+    distance : torch.Tensor
+        ``(N,)`` its Euclidean distance, in the queries' dtype (no gradient).
+    """
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(points.detach().cpu().double().numpy(), balanced_tree=False, compact_nodes=False)
+    query = torch.stack([x.detach(), y.detach()], 1).cpu().double().numpy()
+    # the queries are independent: as many workers as torch has threads (`ifslib.threads`)
+    dist, index = tree.query(query, workers=max(1, torch.get_num_threads()))
+    return (torch.from_numpy(index).to(points.device), torch.from_numpy(dist).to(device=x.device, dtype=x.dtype))
+
+
+def _max_pyramid(upper: torch.Tensor, n_items: int, size: int, side: int, start: int, top: int) -> dict:
+    """Per level from ``start`` to ``top``: ``(items, blocks, blocks)``, the largest ``upper`` over each block's pixels."""
+    grid = torch.full((n_items, side, side), -math.inf, dtype=upper.dtype, device=upper.device)
+    grid[:, :size, :size] = upper.view(n_items, size, size)
+    levels = {top: grid}
+    for level in range(top - 1, start - 1, -1):
+        levels[level] = torch.nn.functional.max_pool2d(levels[level + 1][:, None], 2)[:, 0]
+    return levels
+
+
+@torch.no_grad()
+def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS,
+                 upper: torch.Tensor | None = None) -> NearestResult:
+    """Find the nearest leaf of every pixel centre, exactly.
+
+    Parameters
+    ----------
+    leaves : Leaves
+        The leaves (their gradients are not used), of one IFS or of a batch (`ifslib.leaves.expand_batch`:
+        each item's pixels then search only that item's leaves). The search runs in their dtype and on their
+        device; float32 rounding is absorbed by a small slack in the pruning test, so the
+        surviving candidates are always a superset of the true minimisers.
+    size : int
+        Image side in pixels.
+    max_pairs : int
+        Memory bound: a level with more (block, leaf) pairs is split into chunks of blocks.
+    upper : torch.Tensor, optional
+        A warm start: ``(size * size,)`` (item-major for a batch) upper bounds on each pixel's
+        nearest distance, such as each pixel's distance to its winner of the previous fit step.
+        A block's bound is then also the largest of its pixels' (a max pyramid), which can only
+        prune more; the result is the same. Fits do not use it: the pairs that remain are the
+        near-ties of the last two levels, which no bound removes, so it saves no time
+        (docs/results/fits-in-seconds.md).
+
+    Returns
+    -------
+    NearestResult
+
+    Raises
+    ------
+    IFSError
+        When some pixel ends with no leaf, which only a non-finite distance can cause.
+    """
+    leaves = leaves.detach()
+    tree = _quadtree(leaves, size, upper)
+    n_pixels = tree.n_items * size * size
+    best_leaf = torch.full((n_pixels,), -1, dtype=torch.long, device=tree.device)
+    best_dist = torch.full((n_pixels,), math.inf, dtype=tree.dtype, device=tree.device)
+    stack, evaluated = [_first_task(tree)], 0
+    while stack:
+        task = stack.pop()
+        d, dmin, best = _block_minimum(tree, task)
+        evaluated += d.numel()
+        if task.level == tree.top:
+            pix = (task.items * size + task.rows) * size + task.cols
+            best_leaf[pix], best_dist[pix] = best, dmin
+        else:
+            stack += _children(tree, task, d, best, max_pairs)
+    lost = ((best_leaf < 0) | (best_leaf >= tree.n_leaves)).sum().item()
+    if lost:
+        # only a distance that is not finite (or not 1-Lipschitz) can leave a pixel without a leaf
+        raise IFSError(f"the nearest-leaf search found no leaf for {lost} pixel(s): a leaf's distance is not "
+                       "finite there (a degenerate map?)")
+    return NearestResult(best_leaf, best_dist, evaluated)
+
+
+class _Task(NamedTuple):
+    """Blocks of one level of the quadtree and their candidate leaves, as (block, leaf) pairs."""
+
+    level: int
+    items: torch.Tensor  # (blocks,) the batch item each block belongs to
+    rows: torch.Tensor  # (blocks,) the block's row and column at its level
+    cols: torch.Tensor
+    pair_block: torch.Tensor  # (pairs,) each pair's block
+    pair_leaf: torch.Tensor  # (pairs,) each pair's leaf id
+
+
+@dataclass(frozen=True)
+class _Quadtree:
+    """What every step of the walk shares: the leaves, the image and the quadtree over it."""
+
+    leaves: Leaves
+    size: int
+    side: int  # the quadtree covers the next power of two
+    top: int  # the level whose blocks are single pixels
+    start: int  # the level the walk starts at
+    n_leaves: int
+    n_items: int
+    per_item: int
+    slack: float  # absorbs float32 rounding in the pruning test
+    quad_r: torch.Tensor  # (4,) each child's row and column offset in its parent
+    quad_c: torch.Tensor
+    table: torch.Tensor | None  # `leaf_table`, None for mixed primitives
+    ceiling: dict | None  # the warm start's max pyramid, per level
+
+    @property
+    def device(self) -> torch.device:
+        return self.leaves.inverse.device
+
+    @property
+    def dtype(self) -> torch.dtype:
+        return self.leaves.inverse.dtype
+
+
+def _quadtree(leaves: Leaves, size: int, upper: torch.Tensor | None) -> _Quadtree:
+    """The search's frame for ``leaves`` (detached) at ``size``, with the warm start ``upper`` if any."""
+    device, dtype = leaves.inverse.device, leaves.inverse.dtype
+    n_items = leaves.n_items
+    per_item = len(leaves) // n_items
+    side = 1 << max(size - 1, 0).bit_length()
+    top = side.bit_length() - 1
+    start = 0
+    while start < top and 4 ** (start + 1) * per_item <= START_PAIRS:
+        start += 1
+    ceiling = None if upper is None else _max_pyramid(upper.detach().to(dtype), n_items, size, side, start, top)
+    return _Quadtree(leaves=leaves, size=size, side=side, top=top, start=start, n_leaves=len(leaves),
+                     n_items=n_items, per_item=per_item, slack=1e-5 if dtype == torch.float32 else 1e-12,
+                     quad_r=torch.tensor([0, 0, 1, 1], device=device),
+                     quad_c=torch.tensor([0, 1, 0, 1], device=device),
+                     table=leaf_table(leaves), ceiling=ceiling)
+
+
+def _centres(tree: _Quadtree, rows: torch.Tensor, cols: torch.Tensor, block: int
+             ) -> tuple[torch.Tensor, torch.Tensor]:
+    """The plane coordinates ``x, y`` of the centres of the blocks ``(rows, cols)``, ``block`` pixels a side."""
+    off = (block - 1) / 2 + 0.5
+    size, dtype = tree.size, tree.dtype
+    return -0.5 + (cols.to(dtype) * block + off) / size, 0.5 - (rows.to(dtype) * block + off) / size
+
+
+def _distances(tree: _Quadtree, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
+    """The signed distance of leaf ``leaf[i]`` at ``(x[i], y[i])``."""
+    if tree.table is None:
+        return sdf_pairs(tree.leaves, x, y, leaf)
+    return sdf_table(tree.table, tree.leaves.kinds[0], x, y, leaf)
+
+
+def _first_task(tree: _Quadtree) -> _Task:
+    """The blocks of the starting level that overlap the image, each paired with every leaf of its item."""
+    device, start, side, size = tree.device, tree.start, tree.side, tree.size
+    grid = torch.arange(1 << start, device=device)
+    rows, cols = grid.repeat_interleave(1 << start), grid.repeat(1 << start)
+    inside = (rows * (side >> start) < size) & (cols * (side >> start) < size)
+    rows, cols = rows[inside].repeat(tree.n_items), cols[inside].repeat(tree.n_items)
+    # every block belongs to one item (one point set of a batch) and pairs only with its leaves
+    items = torch.arange(tree.n_items, device=device).repeat_interleave(rows.numel() // tree.n_items)
+    per_item = tree.per_item
+    return _Task(start, items, rows, cols, torch.arange(rows.numel(), device=device).repeat_interleave(per_item),
+                 (items[:, None] * per_item + torch.arange(per_item, device=device)).flatten())
+
+
+def _block_minimum(tree: _Quadtree, task: _Task) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    """The distances at the blocks' centres: each pair's ``(pairs,)``, and each block's least one and the
+    smallest leaf id at it ``(blocks,)``."""
+    n_blocks, device, dtype = task.rows.numel(), tree.device, tree.dtype
+    bx, by = _centres(tree, task.rows, task.cols, tree.side >> task.level)
+    d = _distances(tree, bx.index_select(0, task.pair_block), by.index_select(0, task.pair_block), task.pair_leaf)
+    dmin = torch.full((n_blocks,), math.inf, dtype=dtype, device=device)
+    dmin = dmin.scatter_reduce(0, task.pair_block, d, "amin")
+    # the smallest leaf id at the minimum of each block (at a pixel: its nearest leaf)
+    best = torch.full((n_blocks,), tree.n_leaves, dtype=torch.long, device=device)
+    at_min = torch.where(d <= dmin.index_select(0, task.pair_block), task.pair_leaf, tree.n_leaves)
+    best = best.scatter_reduce(0, task.pair_block, at_min, "amin")
+    return d, dmin, best
+
+
+def _children(tree: _Quadtree, task: _Task, d: torch.Tensor, best: torch.Tensor, max_pairs: int) -> list[_Task]:
+    """The next level's tasks: each block's children that overlap the image, with the pairs that pass the pruning."""
+    level, items, rows, cols, pair_block, pair_leaf = task
+    size, block = tree.size, tree.side >> level
+    # Children that overlap the image. For child c of block b, the block's best leaf j0 gives
+    # an upper bound U_c = d_j0(c) + h_c on every pixel's nearest distance in c, and any leaf's
+    # distance over c is at least d_j(b) - h_b (1-Lipschitz; h = centre-to-farthest-pixel
+    # distance). So (b, j) passes to c only if d_j(b) - h_b <= U_c.
+    child = block // 2
+    half_diag, child_half_diag = [(n - 1) / 2 * math.sqrt(2) / size for n in (block, child)]
+    child_items = items.repeat_interleave(4)
+    child_rows = (2 * rows[:, None] + tree.quad_r).flatten()
+    child_cols = (2 * cols[:, None] + tree.quad_c).flatten()
+    inside = (child_rows * child < size) & (child_cols * child < size)
+    cx, cy = _centres(tree, child_rows, child_cols, child)
+    bound = _distances(tree, cx, cy, best.repeat_interleave(4)) + child_half_diag
+    if tree.ceiling is not None:
+        bound = torch.minimum(bound, tree.ceiling[level + 1][child_items, child_rows, child_cols])
+    bound = torch.where(inside, bound, -math.inf).view(-1, 4)
+    lower = d - half_diag - tree.slack
+    passes = lower[:, None] <= bound.index_select(0, pair_block)  # (pairs, 4)
+    child_id = torch.where(inside, torch.cumsum(inside.long(), 0) - 1, -1).view(-1, 4)
+    hit = passes.view(-1).nonzero().squeeze(1)  # pair * 4 + quadrant of every pair that passes
+    pair = torch.div(hit, 4, rounding_mode="floor")
+    new_block = child_id.view(-1).index_select(0, pair_block.index_select(0, pair) * 4 + (hit - pair * 4))
+    new_leaf = pair_leaf.index_select(0, pair)
+    children = _Task(level + 1, child_items[inside], child_rows[inside], child_cols[inside], new_block, new_leaf)
+    return _chunks(children, max_pairs)
+
+
+def _chunks(task: _Task, max_pairs: int) -> list[_Task]:
+    """``task`` split into runs of consecutive blocks when it has more than ``max_pairs`` pairs (bounds memory)."""
+    level, items, rows, cols, new_block, new_leaf = task
+    n_chunks = max(1, math.ceil(new_block.numel() / max_pairs))
+    bounds = torch.linspace(0, rows.numel(), n_chunks + 1).round().long().tolist()
+    out = []
+    for lo, hi in zip(bounds[:-1], bounds[1:]):
+        sel = ((new_block >= lo) & (new_block < hi)) if n_chunks > 1 else slice(None)
+        out.append(_Task(level, items[lo:hi], rows[lo:hi], cols[lo:hi], new_block[sel] - lo, new_leaf[sel]))
+    return out

@@ -1,0 +1,168 @@
+"""Losses between a rendered IFS and a target: pixel or distance, fine or multiscale.
+
+Each name of `ifslib.names.LOSSES` is an entry of `LOSS_KINDS`, which carries what the code branches on:
+its `Family` (the two images it compares, how a pyramid pools them, what a schedule sharpens) and whether
+it is summed over a pyramid. A new loss is a line in `ifslib.names.LOSSES` and an entry here.
+
+``pixel``
+    MSE between the rendered pixels ``exp(-relu(d)^2 / sigma^2)`` and the target's mask.
+``distance``
+    MSE between ``relu(d)`` and the target's distance transform (both in plane units).
+``multiscale_*``
+    The same MSE summed over the full image and ``levels`` pooled copies (2 x 2 pooling each
+    time; average pooling for pixels, min pooling for distances, as in the paper's repository), the
+    multiscale MSE the paper borrows from Mihai et al.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import torch
+import torch.nn.functional as F
+
+from ...errors import IFSError
+from ...names import DEFAULT_LOSS, LOSSES  # the names live apart, for the command line to check without torch
+from ..raster.render import default_sigma, shade
+from ..targets.target import Target
+
+
+def _pixel_images(distance: torch.Tensor, target: Target, sigma: float | None) -> tuple[torch.Tensor, torch.Tensor]:
+    """The rendered pixels ``exp(-relu(d)^2 / sigma^2)`` and the target's mask."""
+    drawn = shade(distance, sigma or default_sigma(distance.shape[-1]))
+    return drawn, target.image.to(drawn.device, drawn.dtype)
+
+
+def _distance_images(distance: torch.Tensor, target: Target, sigma: float | None) -> tuple[torch.Tensor, torch.Tensor]:
+    """``relu(d)`` and the target's distance transform (plane units)."""
+    drawn = torch.relu(distance)
+    return drawn, target.distance.to(drawn.device, drawn.dtype)
+
+
+@dataclass(frozen=True)
+class Family:
+    """What a family of losses compares.
+
+    Attributes
+    ----------
+    images : callable
+        ``(distance, target, sigma) -> (drawn, wanted)``, two images of the target's shape.
+    pool : {"avg", "min"}
+        How `pyramid` pools them: a mask averages, a distance keeps its least.
+    sharpens : {"sigma", "levels"}
+        What a coarse-to-fine schedule (the ``anneal`` strategy) narrows: the rendering width, or the
+        pooling levels (a distance has no width).
+    """
+
+    images: Callable[[torch.Tensor, Target, float | None], tuple[torch.Tensor, torch.Tensor]]
+    pool: str
+    sharpens: str
+
+
+PIXEL = Family(_pixel_images, "avg", "sigma")
+DISTANCE = Family(_distance_images, "min", "levels")
+
+
+@dataclass(frozen=True)
+class LossKind:
+    """A named loss: its family, and whether it is summed over the images' pyramids (the paper's multiscale MSE)."""
+
+    family: Family
+    multiscale: bool
+
+
+#: Every loss of `ifslib.names.LOSSES` (a test says the two agree).
+LOSS_KINDS = {
+    "pixel": LossKind(PIXEL, multiscale=False),
+    "multiscale_pixel": LossKind(PIXEL, multiscale=True),
+    "distance": LossKind(DISTANCE, multiscale=False),
+    "multiscale_distance": LossKind(DISTANCE, multiscale=True),
+}
+
+
+def check_loss(kind) -> str | Callable:
+    """Return ``kind`` if it is a callable or one of `LOSSES`, else raise `IFSError` naming them."""
+    if not callable(kind) and kind not in LOSSES:
+        raise IFSError(f"unknown loss {kind!r}; known losses: {', '.join(LOSSES)} (or a function f(distance, target))")
+    return kind
+
+
+def loss_kind(kind: str) -> LossKind:
+    """The `LossKind` of a loss's name (`IFSError` for an unknown one)."""
+    return LOSS_KINDS[check_loss(kind)]
+
+
+def mse(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """Mean squared error of two images ``(h, w)`` (a scalar), or per image of a batch ``(B, h, w)`` (``(B,)``)."""
+    # Row means first, then their mean: torch splits one reduction of a whole image between its
+    # threads (so the last bits follow the thread count), but reduces each of many outputs in one.
+    err = (a - b).square().mean(-1).mean(-1)
+    return err
+
+
+def pyramid(image: torch.Tensor, levels: int, mode: str = "avg") -> list[torch.Tensor]:
+    """The image and ``levels`` copies, each 2 x 2 pooled from the previous.
+
+    Parameters
+    ----------
+    image : torch.Tensor
+        ``(h, w)``, or ``(B, h, w)``.
+    levels : int
+        Number of pooled copies (stops early when a copy reaches 1 x 1).
+    mode : {"avg", "min"}
+
+    Returns
+    -------
+    list of torch.Tensor
+        ``[image, pooled_1, ...]``.
+    """
+    out = [image]
+    lead = image.shape[:-2]
+    x = image.reshape(-1, 1, *image.shape[-2:])
+    for _ in range(levels):
+        if min(x.shape[-2:]) <= 1:
+            break
+        x = F.avg_pool2d(x, 2, ceil_mode=True) if mode == "avg" else -F.max_pool2d(-x, 2, ceil_mode=True)
+        out.append(x.reshape(*lead, *x.shape[-2:]))
+    return out
+
+
+def multiscale_mse(a: torch.Tensor, b: torch.Tensor, levels: int = 5, mode: str = "avg") -> torch.Tensor:
+    """MSE summed over the two images' pyramids (see `pyramid`)."""
+    return sum(mse(x, y) for x, y in zip(pyramid(a, levels, mode), pyramid(b, levels, mode)))
+
+
+def loss(distance: torch.Tensor, target: Target, kind: str | Callable = "multiscale_pixel",
+         sigma: float | None = None, levels: int = 5) -> torch.Tensor:
+    """The loss of a distance field against a target.
+
+    Parameters
+    ----------
+    distance : torch.Tensor
+        ``(size, size)`` signed distance field of the fractal (`ifslib.distance_field`), or a batch
+        ``(B, size, size)`` (`ifslib.distance.distance_fields`).
+    target : Target
+        Same size.
+    kind : str or callable
+        One of ``pixel``, ``multiscale_pixel``, ``distance``, ``multiscale_distance``, or a function
+        ``f(distance, target) -> scalar``.
+    sigma : float, optional
+        Rendering width for pixel losses (one pixel by default).
+    levels : int
+        Pooled copies for the multiscale losses.
+
+    Returns
+    -------
+    torch.Tensor
+        A scalar (``(B,)`` for a batch: a callable is then called on each item), differentiable in the
+        distance field.
+    """
+    if callable(kind):
+        if distance.ndim == 3:
+            return torch.stack([kind(d, target) for d in distance])
+        return kind(distance, target)
+    named = loss_kind(kind)
+    if distance.shape[-2:] != target.mask.shape or distance.ndim not in (2, 3):
+        raise IFSError(f"the distance field is {tuple(distance.shape)} but the target is {target.mask.shape}")
+    a, b = named.family.images(distance, target, sigma)
+    return multiscale_mse(a, b, levels, named.family.pool) if named.multiscale else mse(a, b)

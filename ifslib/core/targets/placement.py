@@ -1,0 +1,63 @@
+"""A pattern placed on a target (paper, "Initial Conditions"): a curve's points evenly spaced along the
+target's best-fit line, any other pattern stretched onto its bounding box, with optional seeded jitter.
+
+It reads the target's pixels alone (no search), so a fit may place its own starts with it.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ...errors import MAX_SEED, IFSError, check_int
+from ..geometry.crossings import is_curve
+from ..geometry.ifs import IFS
+from .target import Target, foreground_points
+
+
+def best_fit_line(target: Target) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """The principal axis of the foreground.
+
+    Returns
+    -------
+    centre : numpy.ndarray
+        ``(2,)`` mean of the foreground.
+    direction : numpy.ndarray
+        ``(2,)`` unit vector of largest variance (sign chosen so that it points right, or up).
+    lo, hi : float
+        Extreme projections of the foreground on the axis, relative to ``centre``.
+    """
+    pts = foreground_points(target)
+    centre = pts.mean(0)
+    _, _, vt = np.linalg.svd(pts - centre, full_matrices=False)
+    direction = vt[0]
+    if direction[0] < -1e-12 or (abs(direction[0]) <= 1e-12 and direction[1] < 0):
+        direction = -direction
+    proj = (pts - centre) @ direction
+    return centre, direction, float(proj.min()), float(proj.max())
+
+
+def check_jitter(jitter: float, seed: int | None) -> None:
+    """Raise `IFSError` unless ``jitter`` is a number from 0 to 1 and ``seed`` None or an int from 0 to ``MAX_SEED``."""
+    if isinstance(jitter, bool) or not isinstance(jitter, (int, float)) or not 0 <= jitter <= 1:
+        raise IFSError(f"jitter must be a number from 0 to 1 (plane units: the frame is 1 wide), got {jitter!r}")
+    if seed is not None:
+        check_int(seed, "seed", 0, maximum=MAX_SEED)
+
+
+def place(pattern: IFS, target: Target, jitter: float = 0.0, seed: int | None = None) -> IFS:
+    """A copy of ``pattern`` with its points on ``target`` (`placed_points`), each coordinate then jittered by
+    ``U(-jitter, jitter)`` plane units (seeded by ``seed``)."""
+    check_jitter(jitter, seed)
+    return pattern.clone(placed_points(pattern, target)).jittered(jitter, np.random.default_rng(seed))
+
+
+def placed_points(ifs: IFS, target: Target) -> np.ndarray:
+    """``(n, 2)`` the pattern's points on the target: along its best-fit line (curves) or on its bounding box."""
+    n = ifs.n_points
+    if not is_curve(ifs):
+        fg = foreground_points(target)
+        lo, hi = fg.min(0), fg.max(0)
+        pts = ifs.points.detach().double().numpy()
+        plo, phi = pts.min(0), pts.max(0)
+        return lo + (pts - plo) / np.where(phi > plo, phi - plo, 1) * (hi - lo)
+    centre, direction, lo, hi = best_fit_line(target)
+    return centre + np.linspace(lo, hi, n)[:, None] * direction

@@ -1,0 +1,33 @@
+"""`ifslib.core.targets.placement`: a curve on the best-fit line, evenly spaced; any other pattern on the bounding box."""
+import numpy as np
+import pytest
+
+import ifslib
+from ifslib.core.targets.placement import place
+
+SIZE, DEPTH = 48, 2
+
+
+@pytest.fixture(scope="module")
+def koch_target():
+    return ifslib.load_target(ifslib.patterns.koch(depth=DEPTH), SIZE)
+
+
+def test_best_fit_line_initialization(koch_target):
+    centre, direction, lo, hi = ifslib.best_fit_line(koch_target)
+    assert abs(direction[1]) < 0.2  # the Koch curve lies along x
+    start = ifslib.initialize(ifslib.patterns.koch(), koch_target)
+    pts = start.points.detach().numpy()
+    assert np.allclose(np.diff(pts[:, 0]), (hi - lo) / 4 * direction[0], atol=1e-6)  # evenly spaced on the line
+    carpet = ifslib.initialize(ifslib.patterns.sierpinski_carpet(), ifslib.load_target(np.pad(np.ones((10, 10)), 3), 16))
+    p = carpet.points.detach().numpy()
+    assert p.min() == pytest.approx(-0.5 + 3.5 / 16) and p.max() == pytest.approx(-0.5 + 12.5 / 16)
+
+
+def test_place_is_initialize_for_a_pattern_and_refuses_a_bad_jitter(koch_target):
+    pattern = ifslib.patterns.koch(depth=DEPTH)
+    placed = place(pattern, koch_target, jitter=0.05, seed=3)
+    assert np.array_equal(placed.points.detach().numpy(),
+                          ifslib.initialize(pattern, koch_target, jitter=0.05, seed=3).points.detach().numpy())
+    with pytest.raises(ifslib.IFSError, match="jitter must be a number from 0 to 1"):
+        place(pattern, koch_target, jitter=2.0)
