@@ -89,3 +89,37 @@ def test_the_order_names_every_folder():
     folders = (folders - {"core"}) | {f"core.{p.name}" for p in (PACKAGE / "core").iterdir() if (p / "__init__.py").exists()}
     # an extension's folder may be still to come; every folder there is must have its place
     assert folders <= set(ORDER) - {"cli"} and set(CORE) <= folders
+
+
+def _module_name(path: Path) -> str:
+    return ".".join(path.relative_to(PACKAGE.parent).with_suffix("").parts).removesuffix(".__init__")
+
+
+def test_no_import_circle():
+    # every import counts, those inside functions too: a circle there is a knot however it is loaded
+    known = {_module_name(p) for p in PACKAGE.rglob("*.py")}
+    graph = {}
+    for path in PACKAGE.rglob("*.py"):
+        found = set()
+        for name in imports(path):
+            while name and name not in known:  # `from .x import name` names a module or an attribute of one
+                name = name.rpartition(".")[0]
+            if name and name != _module_name(path) and not name.endswith(("ifslib", ".threads")):
+                found.add(name)
+        graph[_module_name(path)] = found
+    state = {}
+
+    def visit(node, trail):
+        state[node] = "open"
+        for other in graph.get(node, ()):
+            if other in graph.get(node, ()) and other.startswith(node + "."):
+                continue  # a package's __init__ naming its own modules is not a circle
+            if state.get(other) == "open":
+                raise AssertionError(" -> ".join(trail[trail.index(other):] + [other]) if other in trail else other)
+            if other not in state:
+                visit(other, trail + [other])
+        state[node] = "done"
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [module])

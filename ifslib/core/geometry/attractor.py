@@ -70,9 +70,6 @@ DEFAULT_MAX_LEAVES = int(os.environ.get("IFSLIB_MAX_LEAVES", 4_000_000))
 #: Depth of the words that tighten the invariant ball's radius (step 2 of the module docstring).
 BALL_WORDS = 4096
 
-#: The chaos game (`ifslib.core.raster.chaos`) and `sample_attractor` choose map ``i`` in proportion to
-#: ``max(|det L_i|, CHAOS_FLOOR * max_j |det L_j|)`` (`chaos_probabilities`).
-CHAOS_FLOOR = 0.02
 
 #: Leaves `sample_attractor` draws by default (``method="sampled"``).
 DEFAULT_SAMPLES = 65536
@@ -140,19 +137,6 @@ def apply_maps(maps: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
     # a product and a sum over the last axis, not a matrix-vector product: the point's gradient is
     # then a reduction to two outputs, each in one thread, where mv's splits the N rows by thread count
     return (maps[..., :2] * point).sum(-1) + maps[..., 2]
-
-
-def chaos_probabilities(maps: torch.Tensor) -> torch.Tensor:
-    """The chaos game's choice of maps: ``(..., m)`` float64 probabilities for ``(..., m, 3, 3)`` (or ``(..., m, 2, 3)``) maps.
-
-    In proportion to the area each map keeps, ``|det L_i|``, with a floor of `CHAOS_FLOOR` times the
-    largest, so that a map that flattens the figure (a fern's stem) is still chosen. Leading
-    dimensions are a batch of IFSs, each normalised on its own.
-    """
-    lin = maps.detach()[..., :2, :2]
-    det = (lin[..., 0, 0] * lin[..., 1, 1] - lin[..., 0, 1] * lin[..., 1, 0]).abs().double()
-    weight = torch.maximum(det, CHAOS_FLOOR * det.amax(-1, keepdim=True).clamp_min(1e-300))
-    return weight / weight.sum(-1, keepdim=True)
 
 
 def prepare_maps(maps: torch.Tensor, rules=None) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, float]:
@@ -357,6 +341,6 @@ def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
     return apply_maps(word_maps(leaves.maps, digits), leaves.centre)
 
 
-__all__ = ["ATTRACTOR", "AttractorLeaves", "CHAOS_FLOOR", "chaos_probabilities", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
+__all__ = ["ATTRACTOR", "AttractorLeaves", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
            "attractor_ball", "attractor_leaves", "check_contractive_maps", "check_depth_or_attractor",
            "check_tolerance", "check_window", "is_attractor", "leaf_points"]

@@ -14,7 +14,7 @@ import torch
 
 from ...errors import IFSError, check_int, check_positive
 from .primitives import Primitive
-from .rules import MIN_SINGULAR, Rule, check_gradient_mode, check_rule_lengths, rule_maps, singular_values
+from .rules import MIN_SINGULAR, Rule, chaos_probabilities, check_gradient_mode, check_rule_lengths, rule_maps, singular_values
 
 
 def _as_rule(rule: Rule | dict) -> Rule:
@@ -56,7 +56,7 @@ class IFS:
         One probability per rule, each > 0, summing to 1: how often the chaos game picks each map,
         and so the invariant measure (the gray levels) of the attractor. None (the default) means
         in proportion to ``|det L_i|`` with a floor for nearly singular maps
-        (`ifslib.core.geometry.attractor.chaos_probabilities`); `measure_probabilities` says which.
+        (`ifslib.core.geometry.rules.chaos_probabilities`); `measure_probabilities` says which.
 
     Raises
     ------
@@ -158,13 +158,12 @@ class IFS:
         """Each map's probability, ``(m,)`` float64 (no gradient): the given ``probabilities``, or the default.
 
         The default is in proportion to ``|det L_i|`` with a floor of
-        `ifslib.core.geometry.attractor.CHAOS_FLOOR` times the largest, so a flattening map (a fern's
-        stem) is still chosen: `ifslib.core.geometry.attractor.chaos_probabilities` of ``maps`` (these
+        `ifslib.core.geometry.rules.CHAOS_FLOOR` times the largest, so a flattening map (a fern's
+        stem) is still chosen: `ifslib.core.geometry.rules.chaos_probabilities` of ``maps`` (these
         rules' maps when None).
         """
         if self.probabilities is not None:
             return torch.tensor(self.probabilities, dtype=torch.float64)
-        from .attractor import chaos_probabilities  # attractor imports this module
 
         return chaos_probabilities(self.maps().detach() if maps is None else maps)
 

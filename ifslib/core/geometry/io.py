@@ -34,6 +34,7 @@ from typing import Any
 
 from ...errors import IFSError
 from .ifs import IFS
+from .shapes import SHAPES
 
 FORMAT = "ifslib/1"
 KNOWN_FORMATS = (FORMAT,)
@@ -144,7 +145,7 @@ def ifs_to_dict(ifs: IFS) -> dict:
                            "primitives": [], "depth": ifs.depth}
     for p in ifs.primitives:
         entry: dict[str, Any] = {"kind": p.kind, "points": list(p.points)}
-        if p.radius or p.kind == "disk":
+        if p.radius or SHAPES[p.kind].radius == "required":
             entry["radius"] = p.radius
         doc["primitives"].append(entry)
     if ifs.fixed:

@@ -20,7 +20,7 @@ import torch
 
 from ...errors import IFSError
 from .ifs import IFS, check_depth
-from .primitives import affine_sdf, local_sdf, primitive_params
+from .primitives import PARAM_WIDTH, affine_sdf, local_sdf, primitive_params
 from .rules import map_scales, rule_maps, singular_values
 
 #: Default memory budget in bytes for one distance field (override with ``IFSLIB_MEMORY_BUDGET_GB``).
@@ -44,13 +44,13 @@ class Leaves:
     scale : torch.Tensor
         ``(W,)`` scale of each word's map (its smallest singular value when ``forward`` is given).
     params : torch.Tensor
-        ``(p, 5)`` packed primitive geometry (see `ifslib.primitives.primitive_params`).
+        ``(p, PARAM_WIDTH)`` packed primitive geometry (see `ifslib.primitives.primitive_params`).
     kinds : tuple of str
         ``(p,)`` kind of each primitive.
     words_per_item : int
         0 for the leaves of one IFS. For a batch of ``B`` point sets of one pattern (see
         `expand_batch`), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
-        ``(B * p, 5)``, and leaf ids run over the whole batch, item ``b`` owning the ids
+        ``(B * p, PARAM_WIDTH)``, and leaf ids run over the whole batch, item ``b`` owning the ids
         ``b * m**K * p`` to ``(b + 1) * m**K * p - 1``.
     forward : torch.Tensor or None
         ``(W, 6)`` each word's forward map ``(a, b, tx, c, d, ty)``, for an IFS with ``affine``
@@ -246,7 +246,7 @@ def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gr
     words = compose_words(rule_maps(points, ifs.rules, gradient), depth)  # (B, W, 3, 3)
     inverse, scale, forward = word_geometry(words, ifs.is_similarity)
     n_items, per_item = words.shape[:2]
-    return Leaves(inverse.reshape(-1, 2, 3), scale.reshape(-1), primitive_params(points, ifs.primitives).reshape(-1, 5),
+    return Leaves(inverse.reshape(-1, 2, 3), scale.reshape(-1), primitive_params(points, ifs.primitives).reshape(-1, PARAM_WIDTH),
                   tuple(p.kind for p in ifs.primitives), per_item, None if forward is None else forward.reshape(-1, 6))
 
 
@@ -333,14 +333,18 @@ def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tens
     return out
 
 
+#: The rows of a `leaf_table` before a word's forward map: 6 inverse-map entries, the scale, the packed primitive.
+_GEOMETRY = 7 + PARAM_WIDTH
+
+
 def leaf_table(leaves: Leaves) -> torch.Tensor | None:
     """Every leaf's inverse map, scale and primitive geometry in one row, for fast no-grad lookups.
 
     Returns
     -------
     torch.Tensor or None
-        ``(12, L)``: the 6 inverse-map entries, the scale and the 5 packed primitive numbers of each
-        leaf id, then (affine leaves only) the 6 entries of the word's forward map: ``(18, L)``;
+        ``(12, L)``: the 6 inverse-map entries, the scale and the `PARAM_WIDTH` (5) packed primitive numbers
+        of each leaf id, then (affine leaves only) the 6 entries of the word's forward map: ``(18, L)``;
         None when the primitives are of several kinds (use `sdf_pairs` then). One row per quantity
         (not per leaf), so that a gather gives each quantity as a contiguous vector: the distance
         arithmetic then runs about twice as fast on CPU as on the columns of an ``(N, 12)`` gather.
@@ -349,7 +353,7 @@ def leaf_table(leaves: Leaves) -> torch.Tensor | None:
         return None
     leaf = torch.arange(len(leaves), device=leaves.inverse.device)
     inv, scale, forward, _, row = _gather_words(leaves, leaf)
-    params = leaves.params[0].expand(len(leaf), 5) if row is None else leaves.params.index_select(0, row)
+    params = leaves.params[0].expand(len(leaf), PARAM_WIDTH) if row is None else leaves.params.index_select(0, row)
     return torch.cat([inv, scale[:, None], params] + ([] if forward is None else [forward]), 1).detach().T.contiguous()
 
 
@@ -371,7 +375,8 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
         ``(N,)``.
     """
     row = table.index_select(1, leaf)  # (12 or 18, N): each quantity contiguous
-    return leaf_sdf(kind, x, y, row[:6].T, row[6], row[7:12].T, row[12:].T if table.shape[0] > 12 else None)
+    forward = row[_GEOMETRY:].T if table.shape[0] > _GEOMETRY else None
+    return leaf_sdf(kind, x, y, row[:6].T, row[6], row[7:_GEOMETRY].T, forward)
 
 
 def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:

@@ -257,3 +257,21 @@ def singular_values(maps: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
     n1 = ((a + d) ** 2 + (b - c) ** 2).clamp_min(tiny).sqrt()
     n2 = ((a - d) ** 2 + (b + c) ** 2).clamp_min(tiny).sqrt()
     return (n1 - n2).abs() / 2, (n1 + n2) / 2
+
+
+#: The chaos game (`ifslib.core.raster.chaos`) and `sample_attractor` choose map ``i`` in proportion to
+#: ``max(|det L_i|, CHAOS_FLOOR * max_j |det L_j|)`` (`chaos_probabilities`).
+CHAOS_FLOOR = 0.02
+
+
+def chaos_probabilities(maps: torch.Tensor) -> torch.Tensor:
+    """The chaos game's choice of maps: ``(..., m)`` float64 probabilities for ``(..., m, 3, 3)`` (or ``(..., m, 2, 3)``) maps.
+
+    In proportion to the area each map keeps, ``|det L_i|``, with a floor of `CHAOS_FLOOR` times the
+    largest, so that a map that flattens the figure (a fern's stem) is still chosen. Leading
+    dimensions are a batch of IFSs, each normalised on its own.
+    """
+    lin = maps.detach()[..., :2, :2]
+    det = (lin[..., 0, 0] * lin[..., 1, 1] - lin[..., 0, 1] * lin[..., 1, 0]).abs().double()
+    weight = torch.maximum(det, CHAOS_FLOOR * det.amax(-1, keepdim=True).clamp_min(1e-300))
+    return weight / weight.sum(-1, keepdim=True)

@@ -10,8 +10,8 @@ import torch
 
 from ...errors import IFSError
 from .attractor import (AttractorLeaves, apply_maps, check_plane_tolerance, prepare_maps, word_maps, attractor_leaves,
-                        check_window, chaos_probabilities)
-from .rules import singular_values
+                        check_window)
+from .rules import chaos_probabilities, singular_values
 from .words import DenseWords
 
 

@@ -26,7 +26,8 @@ import numpy as np
 import torch
 
 from ...errors import IFSError, check_int
-from ..geometry.attractor import attractor_ball, chaos_probabilities, check_contractive_maps, check_window
+from ..geometry.attractor import attractor_ball, check_contractive_maps, check_window
+from ..geometry.rules import chaos_probabilities
 from ..geometry.ifs import IFS
 from ..geometry.reach import to_window
 from ..geometry.rules import singular_values
@@ -397,5 +398,4 @@ def chaos_occupancy(maps: torch.Tensor, size: int, chains: int = 48, steps: int 
 
 
 __all__ = ["CHAINS", "DEFAULT_POINTS", "MAX_BURN_IN", "MAX_ROUNDS", "WINDOW_MARGIN", "burn_in_steps", "chaos_field",
-           "chaos_game", "chaos_occupancy",
-           "chaos_probabilities", "chaos_window", "window_copies"]
+           "chaos_game", "chaos_occupancy", "chaos_window", "window_copies"]

@@ -8,6 +8,8 @@ import torch
 import ifslib
 from ifslib.core.geometry.leaves import expand, sdf_dense
 from ifslib.core.raster.nearest import pixel_centres
+from ifslib.core.geometry.primitives import Primitive
+from ifslib.errors import IFSError
 
 from common_testing import point_segment as _point_segment, polygon_sdf as _polygon_sdf, random_affine as _random_affine
 
@@ -72,3 +74,20 @@ def test_nearly_flat_maps_keep_float32_distances_accurate():
         fast32 = ifslib.distance_field(narrow, 40).double()
         torch.testing.assert_close(fast32, ifslib.distance_field(wide, 40), rtol=0, atol=1e-5)
         torch.testing.assert_close(fast32, ifslib.distance_field(narrow, 40, method="brute").double(), rtol=0, atol=1e-6)
+
+
+def test_each_kind_carries_its_points_radius_and_packing():
+    # what the code branches on comes from the table, one module a kind (ifslib/core/geometry/shapes/)
+    from ifslib.core.geometry.primitives import PARAM_WIDTH, PRIMITIVE_KINDS, primitive_params
+    from ifslib.core.geometry.shapes import SHAPES
+
+    assert set(PRIMITIVE_KINDS) == {"segment", "box", "disk"} == set(SHAPES)
+    points = torch.tensor([[0.1, -0.2], [0.3, 0.4]])
+    for kind, shape in SHAPES.items():
+        prim = Primitive(kind, tuple(range(shape.points)), radius=0.05)
+        assert primitive_params(points, [prim]).shape == (1, PARAM_WIDTH)
+        with pytest.raises(IFSError, match=f"needs {shape.points} point"):
+            Primitive(kind, tuple(range(shape.points + 1)), radius=0.05)
+    assert [k for k, s in SHAPES.items() if s.radius == "required"] == ["disk"]
+    with pytest.raises(IFSError, match="radius > 0"):
+        Primitive("disk", (0,))

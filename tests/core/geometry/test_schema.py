@@ -248,7 +248,8 @@ def test_the_schema_knows_the_library_kinds():
 
     defs = io.schema()["$defs"]
     assert defs["rule"]["properties"]["kind"]["enum"] == list(RULE_KINDS)
-    assert defs["primitive"]["properties"]["kind"]["enum"] == list(PRIMITIVE_KINDS)
+    # the table of shapes (one module a kind) and the schema name the same kinds
+    assert sorted(defs["primitive"]["properties"]["kind"]["enum"]) == sorted(PRIMITIVE_KINDS)
     for kind, need in RULE_POINTS.items():
         for other in range(1, 5):
             doc = _rule(kind=kind, **{"from": list(range(other)), "to": list(range(other))})

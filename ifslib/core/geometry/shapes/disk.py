@@ -1,0 +1,27 @@
+"""The disk: one centre and a ``radius`` > 0."""
+from __future__ import annotations
+
+import torch
+
+from .shape import PARAM_WIDTH, Shape, safe_norm
+
+
+def pack(corners: list[torch.Tensor], radius: float) -> torch.Tensor:
+    """``(cx, cy, radius, 0, 0)``."""
+    (c,) = corners
+    return torch.cat([c, c.new_tensor([radius] + [0.0] * (PARAM_WIDTH - 3)).expand(*c.shape[:-1], PARAM_WIDTH - 2)], -1)
+
+
+def local(qx, qy, params):
+    cx, cy, r = params[:3]
+    return safe_norm(qx - cx, qy - cy) - r
+
+
+def affine(x, y, qx, qy, forward, smallest, params):
+    """``smallest * d_disk(q)``: a lower bound of the distance to the ellipse ``T(disk)`` (exact for a similarity),
+    with the ellipse itself as its zero set. It is 1-Lipschitz, because ``T^-1`` stretches distances by at most
+    ``1 / smallest``, which is what the nearest-leaf search needs."""
+    return smallest * local(qx, qy, params)
+
+
+SHAPE = Shape("disk", points=1, radius="required", pack=pack, local=local, affine=affine)

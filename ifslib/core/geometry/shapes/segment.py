@@ -1,0 +1,31 @@
+"""The segment: two control points and an optional thickness ``radius`` (a capsule; 0 is the bare segment)."""
+from __future__ import annotations
+
+import torch
+
+from .shape import Shape, linear_image, segment_distance
+
+
+def pack(corners: list[torch.Tensor], radius: float) -> torch.Tensor:
+    """``(ax, ay, bx, by, radius)``."""
+    a, b = corners
+    return torch.cat([a, b, a.new_tensor([radius]).expand(*a.shape[:-1], 1)], -1)
+
+
+def local(qx, qy, params):
+    ax, ay, bx, by, r = params[:5]
+    return segment_distance(qx - ax, qy - ay, bx - ax, by - ay) - r
+
+
+def affine(x, y, qx, qy, forward, smallest, params):
+    """The exact distance to the image segment ``[T a, T b]``, less ``smallest * radius``: a thick segment under
+    a shear is drawn as the capsule of radius ``smallest * radius`` around its image (for a similarity, exactly
+    its image)."""
+    image, tx, ty = linear_image(forward)
+    ax, ay, bx, by, r = params[:5]
+    sx, sy = image(ax, ay)
+    ux, uy = image(bx - ax, by - ay)
+    return segment_distance(x - sx - tx, y - sy - ty, ux, uy) - smallest * r
+
+
+SHAPE = Shape("segment", points=2, radius="optional", pack=pack, local=local, affine=affine)
