@@ -1,18 +1,21 @@
-"""Fractal image compression against JPEG, WebP and JPEG 2000, per image and rate, at no more bytes.
+"""Fractal image compression against JPEG, WebP, JPEG 2000 and AVIF, per image and rate, at no more bytes.
 
 For scikit-image's six photographs as gray (``--size`` pixels a side, default 256: a square crop of
 the original, resized with anti-aliasing), at each ``--bpp``: the collage coder and attractor coding
-(`ifslib.compression`), the file's bytes, PSNR and SSIM of the decoded image, encode seconds (attractor:
-the collage search included) and decode seconds (median of 3); then the best quality of JPEG
-(Pillow, ``optimize=True``), WebP (``method=6``) and JPEG 2000 (Pillow's OpenJPEG, a rate layer) whose
-file is no larger than the attractor coder's. A dash: the codec cannot get that small. Then, per image,
+(`ifslib.compression`, range-coded fields: file version 2), the file's bytes, PSNR and SSIM of the
+decoded image, encode seconds (attractor: the collage search included), decode seconds (median of 3)
+and the seconds to read the file's fields back (``from_bytes``); attractor coding with version 1's
+fixed-length fields at the same rate (what the range coder brings); then the best quality of JPEG
+(Pillow, ``optimize=True``), WebP (``method=6``), JPEG 2000 (Pillow's OpenJPEG, a rate layer) and
+AVIF (Pillow's libavif, its default speed 6) whose file is no larger than the attractor coder's.
+A dash: the codec cannot get that small. Then, per image,
 attractor coding at the lowest rate JPEG reaches (quality 1), decoding at 2x against bicubic
 upscaling of the 1x decoding (both against the 2x crop; for a photograph under twice the size,
 that reference is itself enlarged, and the table says so), and what a 512² image costs. The load
 average is printed first: the cores are shared, so times are upper bounds.
 
     python benchmarks/compression.py [--size 256] [--bpp 0.15 0.25 0.5] [--images camera coins]
-                                      [--s-bits 5 --m-bits 7] [--rates-only]
+                                      [--s-bits 5 --m-bits 7] [--rates-only] [--no-fixed]
 """
 from __future__ import annotations
 
@@ -21,6 +24,7 @@ import io
 import os
 import statistics
 import time
+from dataclasses import replace
 
 import numpy as np
 import torch
@@ -28,9 +32,7 @@ from PIL import Image, features
 from skimage import color, data, transform
 from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
-from ifslib.compression import CodeOptions, RefineOptions, compress, decode, refine, to_bytes
-from ifslib.compression.encode import pad
-from ifslib.compression.repartition import repartition
+from ifslib.compression import CodeOptions, RefineOptions, compress, decode, from_bytes, refine, to_bytes
 
 IMAGES = ("camera", "astronaut", "coffee", "coins", "chelsea", "rocket")
 
@@ -64,12 +66,14 @@ def codec(gray: np.ndarray, name: str, quality: float) -> tuple[int, np.ndarray]
         return _pillow(gray, "JPEG", quality=int(quality), optimize=True)
     if name == "WebP":
         return _pillow(gray, "WEBP", quality=int(quality), method=6)
+    if name == "AVIF":
+        return _pillow(gray, "AVIF", quality=int(quality))
     return _pillow(gray, "JPEG2000", quality_mode="rates", quality_layers=[100 / quality], irreversible=True)
 
 
 def best_under(gray: np.ndarray, name: str, limit: int):
     """The codec's best ``(bytes, decoded)`` no larger than ``limit`` bytes, or None."""
-    lo, hi = (1, 95) if name != "WebP" else (0, 100)
+    lo, hi = (1, 95) if name == "JPEG" else (0, 100)
     best = None
     if name == "JPEG2000":
         lo, hi = 0.05, 100.0  # quality = 100 / compression ratio
@@ -103,57 +107,71 @@ def timed(fn, repeat: int = 1):
 def fractal(gray: np.ndarray, bpp: float, method: str, options: CodeOptions = CodeOptions()) -> dict:
     code, t_enc = timed(lambda: compress(gray, bpp=bpp, method=method, options=options))
     decoded, t_dec = timed(lambda: decode(code), 3)
+    data = to_bytes(code)
+    _, t_read = timed(lambda: from_bytes(data), 3)
     image = decoded.image.numpy()
-    return {"code": code, "bytes": len(to_bytes(code)), "psnr": psnr(image, gray), "ssim": ssim(image, gray),
-            "enc": t_enc, "dec": t_dec, "image": image}
+    return {"code": code, "bytes": len(data), "psnr": psnr(image, gray), "ssim": ssim(image, gray),
+            "enc": t_enc, "dec": t_dec, "read": t_read, "image": image}
 
 
-def controls(gray: np.ndarray, collage_code) -> tuple[float, float]:
-    """PSNR of the two halves of attractor coding alone: ``(maps refined on the collage's partition,
-    the collage coder with the same rate-distortion pruning scored by the collage, no decoder)``."""
-    held = refine(collage_code, gray, RefineOptions(repartitions=0))
-    target = pad(torch.as_tensor(gray, dtype=torch.float32), collage_code.options)
-    pruned = repartition(collage_code, target, target)
-    assert pruned.bits() <= collage_code.bits()
-    return psnr(decode(held).image, gray), psnr(decode(pruned).image, gray)
+def held(gray: np.ndarray, collage_code) -> float:
+    """PSNR of attractor coding's moves (1) and (2) alone, on the collage's partition, in no more bytes."""
+    return psnr(decode(refine(collage_code, gray, RefineOptions(repartitions=0))).image, gray)
 
 
 def cell(result) -> str:
     return "—" if result is None else f"{result[0]} B {psnr(result[1], result[2]):.2f} / {ssim(result[1], result[2]):.3f}"
 
 
-def rate_table(names, rates, size, codecs, options: CodeOptions = CodeOptions()) -> list[tuple]:
+def rate_table(names, rates, size, codecs, options: CodeOptions = CodeOptions(), fixed: bool = True) -> list[tuple]:
     print(f"\n## {size}² gray: PSNR (dB) / SSIM at no more bytes than attractor coding"
-          f" ({options.s_bits}-bit s, {options.m_bits}-bit m)\n")
-    print("| image | bpp | collage | attractor | gain dB | gain, partition held | collage, RD partition | "
-          + " | ".join(codecs) + " | encode s (collage / attractor) | decode s |")
-    print("|" + "---|" * (9 + len(codecs)))
+          f" ({options.s_bits}-bit s, {options.m_bits}-bit m, range-coded fields)\n")
+    print("| image | bpp | collage | attractor | gain dB | gain, partition held | attractor, fixed fields | "
+          + " | ".join(codecs) + " | encode s (collage / attractor) | decode s | read s |")
+    print("|" + "---|" * (10 + len(codecs)))
     rows = []
     for name in names:
         gray = photo(name, size)
         for bpp in rates:
             col, att = fractal(gray, bpp, "collage", options), fractal(gray, bpp, "attractor", options)
-            held, pruned = controls(gray, col["code"])
+            kept = held(gray, col["code"])
+            v1 = fractal(gray, bpp, "attractor", replace(options, coder="fixed")) if fixed else None
             others = []
             for c in codecs:
                 got = best_under(gray, c, att["bytes"])
-                others.append(cell(None if got is None else (got[0], got[1], gray)))
+                others.append(None if got is None else (got[0], got[1], gray))
+            v1_cell = "—" if v1 is None else f"{v1['bytes']} B {v1['psnr']:.2f} ({att['psnr'] - v1['psnr']:+.2f})"
             print(f"| {name} | {bpp} | {col['bytes']} B {col['psnr']:.2f} / {col['ssim']:.3f} | {att['bytes']} B "
-                  f"{att['psnr']:.2f} / {att['ssim']:.3f} | {att['psnr'] - col['psnr']:+.2f} | {held - col['psnr']:+.2f} | "
-                  f"{pruned:.2f} ({pruned - col['psnr']:+.2f}) | " + " | ".join(others)
-                  + f" | {col['enc']:.1f} / {att['enc']:.1f} | {att['dec']:.3f} |", flush=True)
-            rows.append((name, bpp, col, att, held, pruned))
-    gains = [a["psnr"] - c["psnr"] for _, _, c, a, _, _ in rows]
+                  f"{att['psnr']:.2f} / {att['ssim']:.3f} | {att['psnr'] - col['psnr']:+.2f} | {kept - col['psnr']:+.2f} | "
+                  f"{v1_cell} | " + " | ".join(cell(o) for o in others)
+                  + f" | {col['enc']:.1f} / {att['enc']:.1f} | {att['dec']:.3f} | {att['read']:.3f} |", flush=True)
+            rows.append({"name": name, "bpp": bpp, "col": col, "att": att, "held": kept, "v1": v1,
+                         "codecs": {c: (None if o is None else psnr(o[1], gray)) for c, o in zip(codecs, others)}})
+    summary(rows, codecs)
+    return rows
+
+
+def summary(rows, codecs) -> None:
+    gains = [r["att"]["psnr"] - r["col"]["psnr"] for r in rows]
     print(f"\nattractor - collage: mean {np.mean(gains):+.2f} dB, smallest {min(gains):+.2f} dB, "
           f"{sum(g >= 0.5 for g in gains)} of {len(gains)} cells at +0.5 dB or more")
-    for label, k in (("partition held", 4), ("collage with the RD partition", 5)):
-        other = [r[k] - r[2]["psnr"] for r in rows]
-        print(f"{label} - collage: mean {np.mean(other):+.2f} dB, from {min(other):+.2f} to {max(other):+.2f}")
-    print(f"attractor - collage with the RD partition: mean "
-          f"{np.mean([r[3]['psnr'] - r[5] for r in rows]):+.2f} dB")
-    print(f"attractor encode: {min(r[3]['enc'] for r in rows):.1f} to {max(r[3]['enc'] for r in rows):.1f} s; "
-          f"decode {min(r[3]['dec'] for r in rows):.3f} to {max(r[3]['dec'] for r in rows):.3f} s")
-    return rows
+    other = [r["held"] - r["col"]["psnr"] for r in rows]
+    print(f"partition held - collage: mean {np.mean(other):+.2f} dB, from {min(other):+.2f} to {max(other):+.2f}")
+    if rows[0]["v1"] is not None:
+        coder = [r["att"]["psnr"] - r["v1"]["psnr"] for r in rows]
+        print(f"range-coded - fixed fields (attractor): mean {np.mean(coder):+.2f} dB, from {min(coder):+.2f} "
+              f"to {max(coder):+.2f}")
+    for bpp in sorted({r["bpp"] for r in rows}):
+        at = [r for r in rows if r["bpp"] == bpp]
+        gaps = []
+        for c in codecs:
+            d = [r["att"]["psnr"] - r["codecs"][c] for r in at if r["codecs"][c] is not None]
+            gaps.append(f"{c} {np.mean(d):+.2f} dB ({len(d)} of {len(at)} reach it, ahead in "
+                        f"{sum(x > 0 for x in d)})" if d else f"{c} —")
+        print(f"at {bpp} bpp, attractor - codec, mean: " + "; ".join(gaps))
+    print(f"attractor encode: {min(r['att']['enc'] for r in rows):.1f} to {max(r['att']['enc'] for r in rows):.1f} s; "
+          f"decode {min(r['att']['dec'] for r in rows):.3f} to {max(r['att']['dec'] for r in rows):.3f} s; "
+          f"read {min(r['att']['read'] for r in rows):.3f} to {max(r['att']['read'] for r in rows):.3f} s")
 
 
 def jpeg_floor(names, size) -> None:
@@ -204,12 +222,14 @@ def main() -> None:
     parser.add_argument("--s-bits", type=int, default=CodeOptions().s_bits, help="bits of s, both coders (rate table)")
     parser.add_argument("--m-bits", type=int, default=CodeOptions().m_bits, help="bits of m, both coders (rate table)")
     parser.add_argument("--rates-only", action="store_true", help="the rate table alone")
+    parser.add_argument("--no-fixed", action="store_true", help="skip the fixed-length fields' column")
     args = parser.parse_args()
     options = CodeOptions(s_bits=args.s_bits, m_bits=args.m_bits)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; torch threads {torch.get_num_threads()}; "
-          f"Pillow JPEG 2000: {features.check('jpg_2000')}, WebP: {features.check('webp')}")
-    codecs = ["JPEG", "WebP"] + (["JPEG2000"] if features.check("jpg_2000") else [])
-    rate_table(args.images, args.bpp, args.size, codecs, options)
+          f"Pillow JPEG 2000: {features.check('jpg_2000')}, WebP: {features.check('webp')}, "
+          f"AVIF: {features.check('avif')}")
+    codecs = ["JPEG", "WebP"] + [c for c, f in (("JPEG2000", "jpg_2000"), ("AVIF", "avif")) if features.check(f)]
+    rate_table(args.images, args.bpp, args.size, codecs, options, not args.no_fixed)
     if args.rates_only:
         return
     jpeg_floor(args.images, args.size)

@@ -2,17 +2,22 @@
 
 The pipeline, one module a stage::
 
-    config     CodeOptions (the file's layout), RefineOptions, the tuned numbers
+    config     CodeOptions (the file's layout and coder), RefineOptions, the tuned numbers
     partition  the quadtree of range blocks: grown where a split buys the most error per bit, or pruned
                at a price per bit bisected to fit a budget (rate-distortion)
     domains    the domain pool (blocks twice as large, averaged down) and the 8 isometries
     quantize   contrast s and mean m to the integers the file stores
-    encode     the collage coder: least squares for every domain at once -> Code
+    collage    least squares for every domain at once: each block's best map
+    entropy    adaptive models and constriction's range coder, one face for encoding and decoding
+    fields     the fields in the range coder's order and contexts (file version 2)
+    fixedformat the fixed-length fields of file version 1
+    rates      what each field costs; the partition whose coded file fits a budget
+    repartition every block fitted with a domain or flat, the partition chosen by rate-distortion
+    encode     the collage coder: a code of the image at a rate -> Code
     code       Code: the blocks and their quantized maps
-    fileformat the compact binary file (header, quadtree flags, maps)
+    fileformat the file: a header naming the version, then the fields (range-coded, or fixed in version 1)
     decode     iterate the maps from any start, at any multiple of 0.5 -> the attractor
-    repartition the quadtree and flat blocks chosen again for the decoded image, in no more bits
-    refine     attractor coding: the code refined through the decoder's fixed point
+    refine     attractor coding: the code refined through the decoder's fixed point, in no more bits
     method     compress(image, bpp, method="collage" | "attractor")
 
 Typical use::

@@ -1,121 +1,102 @@
-"""The compact binary file of a code: a 15-byte header, then the quadtree and the maps bit by bit.
+"""The compact binary file of a code: a header naming the version and the layout, then the fields.
 
-Header (big-endian): ``b"IFSC"``, version (1 byte), height and width (2 bytes each), log2 of the
-smallest and largest blocks, s_bits and m_bits (1 byte each), s_max x 10000 (2 bytes). Then, depth
-first over the quadtree: a split flag for every node larger than the smallest block and, at each leaf,
-s (s_bits), m (m_bits) and, unless s = 0, the isometry (3 bits) and the domain (`domains.domain_bits`).
-The last byte is padded with zeros.
+Version 2 (written by default): ``b"IFSC"``, version (1 byte), height and width (2 bytes each), the
+partition (1 byte: 0, the quadtree), log2 of the smallest and largest blocks (4 bits each), s_bits and
+m_bits (4 bits each), s_max x 10000 (2 bytes), a CRC-32 of the header's bytes before it and of the
+payload (4 bytes), then the range-coded fields (`fields`). A wrong, truncated or altered file fails
+the CRC and is refused, never decoded into a wrong image.
+
+Version 1 (``CodeOptions(coder="fixed")``, and every file before version 2): ``b"IFSC"``, version,
+height and width, log2 of the smallest and largest blocks, s_bits and m_bits (1 byte each), s_max x
+10000 (2 bytes); then the fixed-length fields (`fixedformat`). All big-endian.
 """
 from __future__ import annotations
 
 import struct
+import zlib
 from pathlib import Path
-
-import numpy as np
-import torch
 
 from ..errors import IFSError
 from .code import Code
 from .config import CodeOptions
-from .domains import ISOMETRY_BITS, domain_bits, domain_count
-from .partition import walk
-from .quantize import zero_s
+from .fields import decode_fields, encode_fields
+from .fixedformat import fixed_payload, read_fixed
 
 MAGIC = b"IFSC"
-VERSION = 1
-HEADER = struct.Struct(">4sBHHBBBBH")
+VERSION = 2
+HEADER = struct.Struct(">4sBHHBBBBH")  # version 1
+HEADER_2 = struct.Struct(">4sBHHBBBHI")
+#: the partitions a version 2 header names, by their byte
+PARTITIONS = ("quadtree",)
 
 
-class BitWriter:
-    """Unsigned integers of given widths, most significant bit first."""
-
-    def __init__(self):
-        self.bits: list[int] = []
-
-    def put(self, value: int, width: int) -> None:
-        self.bits.extend((value >> (width - 1 - i)) & 1 for i in range(width))
-
-    def bytes(self) -> bytes:
-        return np.packbits(np.array(self.bits, dtype=np.uint8)).tobytes()
-
-
-class BitReader:
-    """Reads what `BitWriter` wrote; a read past the end is a truncated file."""
-
-    def __init__(self, data: bytes):
-        self.bits = np.unpackbits(np.frombuffer(data, dtype=np.uint8))
-        self.at = 0
-
-    def get(self, width: int) -> int:
-        if self.at + width > len(self.bits):
-            raise IFSError("the compressed file is truncated (it ends inside the code); copy it again")
-        value = 0
-        for bit in self.bits[self.at:self.at + width]:
-            value = (value << 1) | int(bit)
-        self.at += width
-        return value
+def header_bytes(options: CodeOptions) -> int:
+    """Bytes of the header a code with ``options`` is written with."""
+    return HEADER.size if options.coder == "fixed" else HEADER_2.size
 
 
 def to_bytes(code: Code) -> bytes:
-    """The file's bytes for ``code``."""
+    """The file's bytes for ``code``: version 1 for ``coder="fixed"``, else version 2."""
     o = code.options
-    H, W = code.padded
-    header = HEADER.pack(MAGIC, VERSION, code.height, code.width, o.min_block.bit_length() - 1,
-                         o.max_block.bit_length() - 1, o.s_bits, o.m_bits, round(o.s_max * 10000))
-    leaf = {(int(s), int(y), int(x)): i for i, (s, y, x) in enumerate(zip(code.size, code.y, code.x))}
-    out, zero = BitWriter(), zero_s(o)
-    for node, split in walk(H, W, o, lambda n: n not in leaf):
-        if node[0] > o.min_block:
-            out.put(int(split), 1)
-        if not split:
-            i = leaf[node]
-            out.put(int(code.s_idx[i]), o.s_bits)
-            out.put(int(code.m_idx[i]), o.m_bits)
-            if int(code.s_idx[i]) != zero:
-                out.put(int(code.iso[i]), ISOMETRY_BITS)
-                out.put(int(code.domain[i]), domain_bits(H, W, node[0]))
-    return header + out.bytes()
+    lo, hi = o.min_block.bit_length() - 1, o.max_block.bit_length() - 1
+    if o.coder == "fixed":
+        return HEADER.pack(MAGIC, 1, code.height, code.width, lo, hi, o.s_bits, o.m_bits,
+                           round(o.s_max * 10000)) + fixed_payload(code)
+    payload = encode_fields(code).payload
+    head = HEADER_2.pack(MAGIC, VERSION, code.height, code.width, 0, lo << 4 | hi, o.s_bits << 4 | o.m_bits,
+                         round(o.s_max * 10000), 0)[:-4]
+    return head + struct.pack(">I", zlib.crc32(payload, zlib.crc32(head))) + payload
 
 
-def _header(data: bytes) -> tuple[int, int, CodeOptions]:
-    if len(data) < len(MAGIC) or data[:4] != MAGIC:
-        raise IFSError("not a fractal-compressed file (it does not start with IFSC); "
-                       "give a file written by `ifslib compress`")
-    if len(data) < HEADER.size:
-        raise IFSError("the compressed file is truncated (it ends inside its header); copy it again")
-    _, version, height, width, lo, hi, s_bits, m_bits, s_max = HEADER.unpack_from(data)
-    if version != VERSION:
-        raise IFSError(f"this file is format version {version}; this ifslib reads version {VERSION} only")
+def _options(height: int, width: int, make) -> tuple[int, int, CodeOptions]:
     if height < 8 or width < 8:
         raise IFSError(f"the file's header is corrupt (an image of {height} x {width} pixels)")
     try:
-        return height, width, CodeOptions(1 << lo, 1 << hi, s_bits, m_bits, s_max / 10000)
+        return height, width, make()
     except IFSError as exc:
         raise IFSError(f"the file's header is corrupt ({exc})") from None
 
 
+def _version(data: bytes) -> int:
+    if data[:4] != MAGIC and not (len(data) < len(MAGIC) and MAGIC.startswith(data)):
+        raise IFSError("not a fractal-compressed file (it does not start with IFSC); "
+                       "give a file written by `ifslib compress`")
+    if len(data) < len(MAGIC) + 1:
+        raise IFSError("the compressed file is truncated (it ends inside its header); copy it again")
+    version = data[4]
+    if version not in (1, 2):
+        raise IFSError(f"this file is format version {version}; this ifslib reads versions 1 and 2")
+    size = HEADER.size if version == 1 else HEADER_2.size
+    if len(data) < size:
+        raise IFSError("the compressed file is truncated (it ends inside its header); copy it again")
+    return version
+
+
+def _read_1(data: bytes) -> Code:
+    _, _, height, width, lo, hi, s_bits, m_bits, s_max = HEADER.unpack_from(data)
+    height, width, o = _options(height, width, lambda: CodeOptions(1 << lo, 1 << hi, s_bits, m_bits, s_max / 10000,
+                                                                   coder="fixed"))
+    H, W = -(-height // o.max_block) * o.max_block, -(-width // o.max_block) * o.max_block
+    return Code(o, height, width, **read_fixed(data[HEADER.size:], H, W, o))
+
+
+def _read_2(data: bytes) -> Code:
+    _, _, height, width, partition, blocks, bits, s_max, crc = HEADER_2.unpack_from(data)
+    payload = data[HEADER_2.size:]
+    if zlib.crc32(payload, zlib.crc32(data[:HEADER_2.size - 4])) != crc:
+        raise IFSError("the compressed file is corrupt or truncated (its CRC-32 does not match); copy it again")
+    if partition >= len(PARTITIONS):
+        raise IFSError(f"the file's header is corrupt (partition {partition}; this ifslib knows "
+                       f"{', '.join(PARTITIONS)})")
+    height, width, o = _options(height, width, lambda: CodeOptions(1 << (blocks >> 4), 1 << (blocks & 15), bits >> 4,
+                                                                   bits & 15, s_max / 10000))
+    H, W = -(-height // o.max_block) * o.max_block, -(-width // o.max_block) * o.max_block
+    return Code(o, height, width, **decode_fields(payload, H, W, o))
+
+
 def from_bytes(data: bytes) -> Code:
-    """The code in a file's bytes, or `IFSError` for a wrong, truncated or corrupt file."""
-    height, width, o = _header(data)
-    code = Code(o, height, width, *(torch.empty(0, dtype=torch.long) for _ in range(7)))
-    H, W = code.padded
-    bits, zero, rows = BitReader(data[HEADER.size:]), zero_s(o), []
-    for node, split in walk(H, W, o, lambda n: bits.get(1) == 1):
-        if split:
-            continue
-        s_idx, m_idx = bits.get(o.s_bits), bits.get(o.m_bits)
-        iso = domain = 0
-        if s_idx != zero:
-            iso, domain = bits.get(ISOMETRY_BITS), bits.get(domain_bits(H, W, node[0]))
-            if domain >= domain_count(H, W, node[0]):
-                raise IFSError(f"the file is corrupt: domain {domain} of a {node[0]} px block is past the pool's "
-                               f"{domain_count(H, W, node[0])}")
-        rows.append((node[2], node[1], node[0], domain, iso, s_idx, m_idx))
-    if len(data) - HEADER.size != (bits.at + 7) // 8:
-        raise IFSError(f"the file has {len(data) - HEADER.size - (bits.at + 7) // 8} bytes after its code; "
-                       "it is not one compressed image")
-    x, y, size, domain, iso, s_idx, m_idx = (torch.tensor(c, dtype=torch.long) for c in zip(*rows))
-    return Code(o, height, width, y, x, size, domain, iso, s_idx, m_idx)
+    """The code in a file's bytes (version 1 or 2), or `IFSError` for a wrong, truncated or corrupt file."""
+    return _read_1(data) if _version(data) == 1 else _read_2(data)
 
 
 def write(code: Code, path) -> int:

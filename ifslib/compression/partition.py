@@ -141,15 +141,16 @@ class LeafChoice:
 class Pruned:
     """A quadtree chosen by `prune`: ``split``, the nodes split where reached (`leaves_in_order` walks them);
     ``flat``, ``{size: (rows, cols) bool}``, which blocks are stored flat when leaves; its ``bits`` (flags and
-    maps) and ``err`` (total squared error)."""
+    maps, as priced: whole for fixed fields, estimated for coded ones) and ``err`` (total squared error)."""
 
     split: set
     flat: dict
-    bits: int
+    bits: float
     err: float
+    lam: float = 0.0
 
 
-def prune(options: CodeOptions, choices: dict[int, LeafChoice], lam: float) -> Pruned:
+def prune(options: CodeOptions, choices: dict[int, LeafChoice], lam: float, flags: dict | None = None) -> Pruned:
     """The quadtree and flat blocks of least ``err + lam * bits``, exactly, by dynamic programming from the leaves up.
 
     Greedy growth (`grow`) splits the best ratio first and never undoes a split or stores a block flat
@@ -163,34 +164,38 @@ def prune(options: CodeOptions, choices: dict[int, LeafChoice], lam: float) -> P
         ``{size: LeafChoice}`` for every block size, each on its size's grid of the padded image.
     lam : float
         The price of a bit, in squared error.
+    flags : dict, optional
+        ``{size: (bits of "leaf", bits of "split")}``, the split flag's price at each size above
+        min_block (default: 1 bit either way, as version 1 stores it).
     """
     best: dict[int, tuple] = {}
     leaf_flat: dict[int, np.ndarray] = {}
     splits: dict[int, np.ndarray] = {}
     for size in reversed(options.sizes):  # smallest first
         c = choices[size]
-        flag = 1 if size > options.min_block else 0
+        leaf_flag, split_flag = (flags or {}).get(size, (1, 1)) if size > options.min_block else (0, 0)
         total = c.err + lam * c.bits
         flat = total[1] < total[0]
         cost, err, bits = (np.where(flat, a[1], a[0]) for a in (total, c.err, c.bits))
-        cost, bits = cost + lam * flag, bits + flag
+        cost, bits = cost + lam * leaf_flag, bits + leaf_flag
         leaf_flat[size] = flat
         if size > options.min_block:
             rows, cols = cost.shape
             k_cost, k_err, k_bits = (a.reshape(rows, 2, cols, 2).sum((1, 3)) for a in best[size // 2])
-            split = k_cost + lam * flag < cost
+            split = k_cost + lam * split_flag < cost
             splits[size] = split
-            cost = np.where(split, k_cost + lam * flag, cost)
+            cost = np.where(split, k_cost + lam * split_flag, cost)
             err = np.where(split, k_err, err)
-            bits = np.where(split, k_bits + flag, bits)
+            bits = np.where(split, k_bits + split_flag, bits)
         best[size] = (cost, err, bits)
     _, err, bits = best[options.max_block]
     split_nodes = {(size, int(i) * size, int(j) * size)
                    for size, grid in splits.items() for i, j in zip(*np.nonzero(grid))}
-    return Pruned(split_nodes, leaf_flat, int(bits.sum()), float(err.sum()))
+    return Pruned(split_nodes, leaf_flat, float(bits.sum()), float(err.sum()), lam)
 
 
-def prune_to_budget(options: CodeOptions, choices: dict[int, LeafChoice], budget_bits: float) -> Pruned:
+def prune_to_budget(options: CodeOptions, choices: dict[int, LeafChoice], budget_bits: float,
+                    flags: dict | None = None) -> Pruned:
     """The `prune` of the smallest multiplier (bisected) whose tree fits in ``budget_bits``.
 
     Each `prune` is exact for its price of a bit, so the tree returned has the least error of any tree
@@ -202,13 +207,13 @@ def prune_to_budget(options: CodeOptions, choices: dict[int, LeafChoice], budget
     """
     lo, hi = 0.0, 1e-3
     for _ in range(60):
-        if prune(options, choices, hi).bits <= budget_bits:
+        if prune(options, choices, hi, flags).bits <= budget_bits:
             break
         lo, hi = hi, hi * 4
-    best = prune(options, choices, hi)
+    best = prune(options, choices, hi, flags)
     for _ in range(PRUNE_ROUNDS):
         mid = (lo + hi) / 2
-        tree = prune(options, choices, mid)
+        tree = prune(options, choices, mid, flags)
         if tree.bits <= budget_bits:
             hi, best = mid, tree
         else:

@@ -27,7 +27,8 @@ from .decode import Plan, fixed_point, iterate, plan, start_image
 from .domains import pool_with_isometries
 from .encode import check_image, pad, search
 from .quantize import dequantize_m, dequantize_s, zero_s
-from .repartition import repartition
+from .rates import Choice, domain_cost
+from .repartition import partition
 
 
 def implicit_fixed_point(p: Plan, s: torch.Tensor, m: torch.Tensor, start: torch.Tensor,
@@ -70,9 +71,11 @@ def decoded_error(code: Code, target: torch.Tensor, p: Plan | None = None, start
     return float(((x[:h, :w].clamp(0, 1) - target) ** 2).mean()), x
 
 
-def search_again(code: Code, target: torch.Tensor, decoded: torch.Tensor) -> Code:
-    """Every non-flat block's domain, isometry, s and m searched with the pool cut from ``decoded`` ``(H, W)``."""
+def search_again(code: Code, target: torch.Tensor, decoded: torch.Tensor, price: Choice | None = None) -> Code:
+    """Every non-flat block's domain, isometry, s and m searched with the pool cut from ``decoded`` ``(H, W)``;
+    with ``price`` (`rates.Choice`), each domain's coded bits at its price of a bit added to its error."""
     fields = {name: getattr(code, name).clone() for name in ("domain", "iso", "s_idx", "m_idx")}
+    H, W = target.shape
     for size in code.options.sizes:
         at = torch.nonzero((code.size == size) & ~code.flat)[:, 0]
         if len(at) == 0:
@@ -80,7 +83,11 @@ def search_again(code: Code, target: torch.Tensor, decoded: torch.Tensor) -> Cod
         a = torch.arange(size)
         rows = (code.y[at, None, None] + a[:, None]) * target.shape[1] + code.x[at, None, None] + a
         blocks = target.reshape(-1)[rows.reshape(len(at), -1)]
-        fit = search(blocks, pool_with_isometries(decoded, size), code.options, torch.ones(len(at), dtype=torch.bool))
+        penalty = None
+        if price is not None and price.models is not None and price.lam > 0:
+            penalty = price.lam * domain_cost(price.models, H, W, size, code.y[at].numpy(), code.x[at].numpy())
+        fit = search(blocks, pool_with_isometries(decoded, size), code.options, torch.ones(len(at), dtype=torch.bool),
+                     penalty)
         for name in fields:
             fields[name][at] = getattr(fit, name)
     return code.with_maps(**fields)
@@ -119,8 +126,10 @@ class Adam:
             p.grad = None
 
 
-def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: bool = False) -> Code:
-    """Adam on the blocks' s and m levels through the fixed point; the best quantized code seen is returned."""
+def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: bool = False,
+            budget: float = float("inf")) -> Code:
+    """Adam on the blocks' s and m levels through the fixed point; the best quantized code seen whose
+    fields fit in ``budget`` bits is returned (``code`` itself if none closer does)."""
     o, p = code.options, plan(code)
     h, w = target.shape
     zero, flat = zero_s(o), code.flat
@@ -128,7 +137,7 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
     m_lat = code.m_idx.to(target.dtype).requires_grad_()
     opt = Adam([s_lat, m_lat], lr=lr)
     best_err, x = decoded_error(code, target, p)
-    best = code
+    closer = []  # each code closer than all before it: the last that fits in the budget is returned
     for _ in tqdm(range(steps), desc="attractor descent", disable=not progress, leave=False):
         s_level = _levels(s_lat, 0, 2 * zero - 1)
         # a non-flat block keeps a non-zero s (its domain's bits stay in the file); a flat one stays flat
@@ -141,30 +150,39 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
         err = float(((x[:h, :w].detach().clamp(0, 1) - target) ** 2).mean())
         if err < best_err:
             best_err = err
-            best = code.with_maps(s_idx=s_level.detach().round().long(), m_idx=m_level.detach().round().long())
+            closer.append(code.with_maps(s_idx=s_level.detach().round().long(), m_idx=m_level.detach().round().long()))
         opt.zero_grad()
         loss.backward()
         opt.step()
-    return best
+    # coding a code to count its bits costs as much as a step: only the closest few are coded
+    return next((c for c in reversed(closer) if _fits(c, budget)), code)
+
+
+def _fits(code: Code, budget: float) -> bool:
+    """Whether ``code``'s fields take at most ``budget`` bits (coded ones are coded to know)."""
+    return budget == float("inf") or code.bits() <= budget
 
 
 def refine_maps(code: Code, target: torch.Tensor, padded: torch.Tensor, options: RefineOptions,
-                progress: bool = False) -> tuple[Code, float, torch.Tensor]:
-    """Moves 1 and 2 on a fixed partition: ``(code, its decoded mean squared error, its padded fixed point)``."""
+                progress: bool = False, budget: float = float("inf"),
+                price: Choice | None = None) -> tuple[Code, float, torch.Tensor]:
+    """Moves 1 and 2 on a fixed partition, each kept only within ``budget`` bits: ``(code, its decoded mean
+    squared error, its padded fixed point)``."""
     best_err, x = decoded_error(code, target)
     for _ in range(options.searches):
-        candidate = search_again(code, padded, x)
+        candidate = search_again(code, padded, x, price)
         err, new_x = decoded_error(candidate, target)
-        if err >= best_err:
+        if err >= best_err or not _fits(candidate, budget):
             break
         code, best_err, x = candidate, err, new_x
     if options.steps:
-        code = descend(code, target, options.steps, options.lr, progress)
+        code = descend(code, target, options.steps, options.lr, progress, budget)
         best_err, x = decoded_error(code, target)
     return code, best_err, x
 
 
-def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress: bool = False) -> Code:
+def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress: bool = False,
+           price: Choice | None = None) -> Code:
     """Attractor coding: ``code`` improved for its decoded image's distance to ``image``, in no more bits.
 
     Parameters
@@ -176,6 +194,9 @@ def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress
     options : RefineOptions
     progress : bool
         Show bars over the steps.
+    price : rates.Choice, optional
+        What chose ``code`` (`encode.collage`): its price of a bit and models price the domains searched
+        again; without it they are chosen by error alone (and kept only if the file does not grow).
 
     Returns
     -------
@@ -188,10 +209,10 @@ def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress
         raise IFSError(f"the image is {tuple(target.shape)} but the code is of a {code.height} x {code.width} image")
     padded = pad(target, code.options)
     budget = code.bits()
-    code, best_err, x = refine_maps(code, target, padded, options, progress)
+    code, best_err, x = refine_maps(code, target, padded, options, progress, budget, price)
     for _ in range(options.repartitions):
-        candidate = repartition(code, padded, x, budget, progress)
-        candidate, err, new_x = refine_maps(candidate, target, padded, options, progress)
+        chosen = partition(padded, x, code.height, code.width, code.options, budget, progress)
+        candidate, err, new_x = refine_maps(chosen.code, target, padded, options, progress, budget, chosen)
         if err >= best_err:
             break
         code, best_err, x = candidate, err, new_x

@@ -1,57 +1,57 @@
-"""The partition chosen again for the decoder: quadtree and flat blocks by rate and decoded distortion.
+"""The partition chosen by rate and distortion: quadtree and flat blocks for a domain pool, within a budget.
 
-The collage coder grows its quadtree by the collage's error. Here every aligned block of every size
-is fitted again with its domain pool cut from the *decoded* image x* of the current code: a block's
-map applied to x* is what the decoder will draw there, so its error against the original estimates
-the block's share of the decoded error (exact but for the change it makes to other blocks' domains).
-Each block may also be stored flat (its mean alone, 13 bits fewer for a 4 px block of a 256² image).
-`partition.prune_to_budget` then chooses the tree and the flat blocks: the tree of least
-``err + lam * bits``, exact for that price ``lam`` of a bit, at the smallest price (bisected) whose tree
-fits in the budget. That tree has the least error of any tree of at most its own bits; it is close to,
-but not always, the least error within the budget, since a price reaches only the trees on the lower
-convex hull of (bits, error) and a few bits may go unspent. The caller decodes the result and keeps it
-only if it decodes closer.
+Every aligned block of every size is fitted with its domain pool cut from a pool image, and also
+stored flat (its mean alone). With the original as the pool this is the collage coder's partition;
+with the *decoded* image x* of the current code (attractor coding) a block's map applied to x* is
+what the decoder will draw there, so its error against the original estimates the block's share of
+the decoded error (exact but for the change it makes to other blocks' domains). `rates.choose` then
+picks the tree and the flat blocks by Lagrangian pruning (`partition.prune_to_budget`) at each
+field's price, coded bits for version 2: the tree of least ``err + lam * bits`` for a price ``lam`` of
+a bit, at the smallest price whose file fits. That tree has the least error of any tree of at most
+its own bits; close to, but not always, the least error within the budget (a price reaches only the
+trees on the lower convex hull of (bits, error)). The attractor coder decodes the result and keeps
+it only if it decodes closer.
 """
 from __future__ import annotations
 
-import numpy as np
 import torch
 from tqdm.auto import tqdm
 
 from .code import Code
+from .collage import Fit, ranges, search
 from .config import CodeOptions
-from .domains import ISOMETRY_BITS, domain_bits, pool_with_isometries
-from .encode import Fit, assemble, ranges, search
-from .partition import LeafChoice, leaves_in_order, prune_to_budget
+from .domains import pool_with_isometries
 from .quantize import dequantize_m, quantize_m, zero_s
+from .rates import Choice, choose
 
 
 def level_choices(target: torch.Tensor, pool_image: torch.Tensor, options: CodeOptions,
-                  progress: bool = False) -> tuple[dict[int, Fit], dict[int, Fit], dict[int, LeafChoice]]:
+                  progress: bool = False) -> tuple[dict[int, Fit], dict[int, Fit]]:
     """Every aligned block of ``target`` ``(H, W)`` fitted with a domain from ``pool_image`` ``(H, W)`` and flat.
 
     Returns
     -------
     tuple
-        ``({size: Fit with a domain}, {size: flat Fit}, {size: LeafChoice})``.
+        ``({size: Fit with a domain}, {size: flat Fit})``, each over its size's grid in raster order.
     """
-    H, W = target.shape
-    mapped, flat, choices = {}, {}, {}
+    mapped, flat = {}, {}
     for size in tqdm(options.sizes, desc="partition search", unit="size", disable=not progress, leave=False):
         blocks = ranges(target, size)
-        fit = search(blocks, pool_with_isometries(pool_image, size), options,
-                     torch.ones(len(blocks), dtype=torch.bool))
+        mapped[size] = search(blocks, pool_with_isometries(pool_image, size), options,
+                              torch.ones(len(blocks), dtype=torch.bool))
         m_idx = quantize_m(blocks.mean(1), options)
         err = ((blocks - dequantize_m(m_idx, options, blocks.dtype)[:, None]) ** 2).sum(1).double()
         zeros = torch.zeros_like(m_idx)
         flat[size] = Fit(err=err, domain=zeros, iso=zeros, s_idx=torch.full_like(m_idx, zero_s(options)), m_idx=m_idx)
-        mapped[size] = fit
-        grid = (H // size, W // size)
-        with_domain = options.s_bits + options.m_bits + ISOMETRY_BITS + domain_bits(H, W, size)
-        choices[size] = LeafChoice(
-            err=np.stack([fit.err.reshape(grid).numpy(), err.reshape(grid).numpy()]),
-            bits=np.stack([np.full(grid, with_domain), np.full(grid, options.s_bits + options.m_bits)]))
-    return mapped, flat, choices
+    return mapped, flat
+
+
+def partition(target: torch.Tensor, pool_image: torch.Tensor, height: int, width: int, options: CodeOptions,
+              budget_bits: float, progress: bool = False) -> Choice:
+    """The code of ``target`` ``(H, W)`` (padded; the image is ``height x width``) whose blocks map domains
+    of ``pool_image`` ``(H, W)``, partition and flat blocks chosen by rate-distortion in ``budget_bits``
+    (`rates.Choice`: the code and the price of a bit that chose it)."""
+    return choose(level_choices(target, pool_image, options, progress), height, width, options, budget_bits)
 
 
 def repartition(code: Code, target: torch.Tensor, decoded: torch.Tensor, budget_bits: int | None = None,
@@ -73,17 +73,7 @@ def repartition(code: Code, target: torch.Tensor, decoded: torch.Tensor, budget_
     Returns
     -------
     Code
-        ``bits() <= budget_bits``: the least estimated error of any code of at most its own bits,
-        not always the least within ``budget_bits`` (`partition.prune_to_budget`).
+        ``bits() <= budget_bits``.
     """
-    o = code.options
-    H, W = target.shape
-    mapped, flat, choices = level_choices(target, decoded, o, progress)
-    tree = prune_to_budget(o, choices, code.bits() if budget_bits is None else budget_bits)
-    fits = {}
-    for size in o.sizes:
-        f = torch.as_tensor(tree.flat[size].reshape(-1))
-        a, b = mapped[size], flat[size]
-        fits[size] = Fit(*(torch.where(f, getattr(b, name), getattr(a, name))
-                           for name in ("err", "domain", "iso", "s_idx", "m_idx")))
-    return assemble(code.height, code.width, o, fits, leaves_in_order(H, W, o, tree.split))
+    budget = code.bits() if budget_bits is None else budget_bits
+    return partition(target, decoded, code.height, code.width, code.options, budget, progress).code

@@ -5,8 +5,8 @@ import torch
 
 from ifslib.compression.config import CodeOptions
 from ifslib.compression.domains import ISOMETRIES, isometry, pool
-from ifslib.compression.encode import HEADER_BYTES, encode, ranges, search
-from ifslib.compression.fileformat import to_bytes
+from ifslib.compression.encode import encode, ranges, search
+from ifslib.compression.fileformat import header_bytes, to_bytes
 from ifslib.compression.quantize import dequantize_m, dequantize_s, zero_s
 from ifslib.errors import IFSError
 from compression_images import photo
@@ -96,9 +96,11 @@ def test_bad_input_says_what_to_do(image, kwargs, words):
         encode(image, O, **kwargs)
 
 
-def test_the_header_is_counted():
-    code = encode(photo(32), O, bpp=1.0)
-    assert len(to_bytes(code)) == HEADER_BYTES + -(-code.bits() // 8)
+@pytest.mark.parametrize("coder", ["fixed", "adaptive"])
+def test_the_header_is_counted(coder):
+    options = CodeOptions(min_block=4, max_block=16, coder=coder)
+    code = encode(photo(32), options, bpp=1.0)
+    assert len(to_bytes(code)) == header_bytes(options) + -(-code.bits() // 8) <= 32 * 32 / 8
 
 
 def test_a_rate_below_the_coarsest_code_is_refused_with_the_rate_it_needs():
