@@ -3,14 +3,13 @@ of each chain replayed differentiably (a hand-written backward pass: one bincoun
 autograd's gather would scatter-add into the few maps point by point, three times slower)."""
 from __future__ import annotations
 
-import numpy as np
 import torch
 
 from ..core.geometry import patterns
 from ..core.raster.chaos import CHAINS, chaos_game
 
 
-def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int, seed: int) -> tuple[torch.Tensor, torch.Tensor]:
     """``rows`` consecutive points of each of `CHAINS` chains, and the map that made each from the one before.
 
     `chaos_game` does not return its picks, so each is read back as the map whose image of a chain's point is that
@@ -18,26 +17,27 @@ def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int, see
 
     Returns
     -------
-    points : numpy.ndarray
-        ``(rows, CHAINS, 2)`` float64 (burned in by `chaos_game`: every point a draw of the measure).
-    picks : numpy.ndarray
+    points : torch.Tensor
+        ``(rows, CHAINS, 2)`` float64 on ``maps``' device (burned in by `chaos_game`: every point a draw of the measure).
+    picks : torch.Tensor
         ``(rows, CHAINS)`` int64: ``picks[k]`` sent ``points[k - 1]`` to ``points[k]`` (row 0's is -1, unknown).
     """
     work = maps.detach().double().cpu()
     ifs = patterns.affine(work, depth=1, dtype=torch.float64)
     p = probabilities.detach().double().cpu()
     ifs.probabilities = tuple((p / p.sum()).tolist())
-    points = chaos_game(ifs, rows * CHAINS, seed).reshape(rows, CHAINS, 2)
+    found = chaos_game(ifs, rows * CHAINS, seed).reshape(rows, CHAINS, 2)
+    points = torch.from_numpy(found).to(maps.device)
     x, y = points[:-1, :, 0], points[:-1, :, 1]
     nx, ny = points[1:, :, 0], points[1:, :, 1]
-    coef = work[:, :2, :].reshape(-1, 6).numpy()
-    best = np.full(x.shape, np.inf)
-    picks = np.full(points.shape[:2], -1, dtype=np.int64)
-    for i, (a, b, tx, c, d, ty) in enumerate(coef):  # a pass per map: memory stays at a few copies of the points
-        miss = np.abs(a * x + b * y + tx - nx) + np.abs(c * x + d * y + ty - ny)
+    best = torch.full(x.shape, torch.inf, dtype=torch.float64, device=maps.device)
+    picks = torch.full(points.shape[:2], -1, dtype=torch.int64, device=maps.device)
+    for i, (a, b, tx, c, d, ty) in enumerate(work[:, :2, :].reshape(-1, 6).tolist()):
+        # a pass per map: memory stays at a few copies of the points
+        miss = (a * x + b * y + tx - nx).abs_() + (c * x + d * y + ty - ny).abs_()
         closer = miss < best
-        best[closer] = miss[closer]
-        picks[1:][closer] = i
+        best = torch.where(closer, miss, best)
+        picks[1:] = torch.where(closer, i, picks[1:])
     return points, picks
 
 
@@ -80,7 +80,7 @@ class Replay(torch.autograd.Function):
         return gcoef.t().to(coef.dtype), glog.to(coef.dtype), None, None, None
 
 
-def replay(maps: torch.Tensor, probabilities: torch.Tensor, points: np.ndarray, picks: np.ndarray,
+def replay(maps: torch.Tensor, probabilities: torch.Tensor, points: torch.Tensor, picks: torch.Tensor,
            depth: int) -> tuple[torch.Tensor, torch.Tensor]:
     """The chains' last ``rows - depth`` points rebuilt from their points ``depth`` steps before, with their weights.
 
@@ -101,10 +101,9 @@ def replay(maps: torch.Tensor, probabilities: torch.Tensor, points: np.ndarray, 
         ``(n,)`` ones, whose gradient in ``probabilities`` is the score of each point's ``depth`` picks.
     """
     kept = points.shape[0] - depth
-    dtype, device = maps.dtype, maps.device
-    start = torch.as_tensor(points[:kept].reshape(-1, 2), dtype=dtype, device=device)
-    pick = torch.as_tensor(picks, device=device)
-    steps = torch.stack([pick[j:j + kept].reshape(-1) for j in range(1, depth + 1)])
+    dtype = maps.dtype
+    start = points[:kept].reshape(-1, 2).to(dtype)
+    steps = torch.stack([picks[j:j + kept].reshape(-1) for j in range(1, depth + 1)])
     coef = maps[:, :2, :].reshape(-1, 6)
     xy, score = Replay.apply(coef, probabilities.to(dtype).log(), start[:, 0].contiguous(),
                              start[:, 1].contiguous(), steps)

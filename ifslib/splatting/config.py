@@ -32,7 +32,7 @@ PROBABILITY_LR = 0.02
 #: Annealing: Gaussian noise added to the raw parameters at each step of the first ``ANNEAL_SHARE`` of the steps, its
 #: scale ``ANNEAL_NOISE`` times the learning rate falling linearly to 0 (escape from a local minimum, then settle).
 ANNEAL_SHARE = 0.5
-ANNEAL_NOISE = 2.0
+ANNEAL_NOISE = 0.25
 
 #: Reselection: every ``RESEED_EVERY`` steps within the first ``RESEED_SHARE`` of the steps, the map that covers least
 #: of the figure on its own is placed anew where the figure is least covered; more often, more tries, less settling.
@@ -53,4 +53,19 @@ POINTS_PER_PIXEL = 8.0
 
 #: Reselection moves a map only while at least this share of the figure is uncovered (a fit that covers it all
 #: has nothing to gain from moving a map, and much to lose).
-RESEED_UNCOVERED = 0.02
+RESEED_UNCOVERED = 0.05
+
+#: The learning rates fall by a cosine to this share of theirs at the last step: lower, finer settling at the end
+#: but less movement in the last levels.
+FINAL_LR_SHARE = 0.05
+
+#: Random starts screened before a fit from random maps, each for ``SCREEN_STEPS`` steps at a quarter of the size, the
+#: best (mean loss of its last ``SCREEN_TAIL`` steps) kept: more starts, fewer fits stuck from the start, each costing
+#: about a fifth of a 256 px step per screening step.
+STARTS = 6
+SCREEN_STEPS = 150
+SCREEN_TAIL = 10
+
+#: Reselection's coverage is counted on this many times a step's points: fewer, and a sparse part of a good fit reads
+#: uncovered by chance and a good map is moved.
+RESEED_POINTS = 4

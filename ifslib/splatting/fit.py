@@ -9,6 +9,8 @@ set, say), topped up with random ones to the number asked for.
 """
 from __future__ import annotations
 
+import dataclasses
+import math
 import time
 from dataclasses import dataclass
 
@@ -54,6 +56,13 @@ class SplatFitOptions:
         Chain steps the gradient runs through (`SplatOptions.depth`).
     seed : int
         Seeds the start, the noise and the chains.
+    starts, screen_steps : int
+        From a random start: this many random starts are each fitted ``screen_steps`` steps on the image pooled to a
+        quarter of its size, and the fit goes on from the one of least loss (a reselection of whole starts: one
+        random start of ten maps often lands in a local minimum that no step leaves).
+    device : str
+        Where the replay, the splat and Adam run ("cpu", or "cuda" where torch has it); the chains are drawn on the
+        CPU either way.
     progress : bool
         A progress bar (tqdm.auto) where someone watches.
     """
@@ -69,6 +78,9 @@ class SplatFitOptions:
     reseed_share: float = config.RESEED_SHARE
     depth: int = config.GRADIENT_DEPTH
     seed: int = 0
+    starts: int = config.STARTS
+    screen_steps: int = config.SCREEN_STEPS
+    device: str = "cpu"
     progress: bool = False
 
     def __post_init__(self) -> None:
@@ -79,6 +91,8 @@ class SplatFitOptions:
         check_int(self.reseed_every, "reseed_every", 0)
         check_int(self.depth, "depth", 1, maximum=256)
         check_int(self.seed, "seed", 0)
+        check_int(self.starts, "starts", 1, maximum=1000)
+        check_int(self.screen_steps, "screen_steps", 1)
         if self.kind not in KINDS:
             raise IFSError(f"kind must be one of {KINDS}, got {self.kind!r}")
         for name in ("map_lr", "probability_lr"):
@@ -92,6 +106,8 @@ class SplatFitOptions:
         if isinstance(self.anneal_noise, bool) or not isinstance(self.anneal_noise, (int, float)) \
                 or not 0 <= self.anneal_noise < 1e3:
             raise IFSError(f"anneal_noise must be a number >= 0, got {self.anneal_noise!r}")
+        if self.device not in ("cpu", "cuda") or (self.device == "cuda" and not torch.cuda.is_available()):
+            raise IFSError(f"device must be 'cpu', or 'cuda' where torch has CUDA, got {self.device!r}")
         if not isinstance(self.progress, bool):
             raise IFSError(f"progress must be True or False, got {self.progress!r}")
 
@@ -199,11 +215,14 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
         raise IFSError(f"options must be a SplatFitOptions, got {type(options).__name__}")
     t0 = time.perf_counter()
     array, kind = read_image(image, options.kind)
+    if start is None and options.starts > 1:
+        start = _screen(array, kind, maps, options)
     generator = torch.Generator().manual_seed(options.seed)
     params = start_maps(start, maps, array > 0, generator)
+    params.raw = params.raw.detach().to(options.device).requires_grad_(True)
     p0 = start.measure_probabilities() if isinstance(start, IFS) and len(start.rules) == len(params) else \
         torch.full((len(params),), 1.0 / len(params), dtype=torch.float64)
-    logits = p0.log().float().clone().requires_grad_(True)
+    logits = p0.log().float().to(options.device).requires_grad_(True)
     optimizer = torch.optim.Adam([{"params": [params.raw], "lr": options.map_lr},
                                   {"params": [logits], "lr": options.probability_lr}])
     losses, reseeds, step = [], 0, 0
@@ -212,11 +231,11 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
     total_share = sum(share for _, share in plan)
     bar = tqdm(total=options.steps, desc="fit splat", disable=not (options.progress and draw_bars()))
     for index, (factor, share) in enumerate(plan):
-        target = level_image(array, factor, kind)
+        target = level_image(array, factor, kind).to(options.device)
         level_size = target.shape[0]
         count = options.steps - step if index == len(plan) - 1 else round(options.steps * share / total_share)
         points = max(CHAIN_FLOOR, round(options.points_per_pixel * level_size ** 2))
-        mask = target.numpy() > 0
+        mask = target.cpu().numpy() > 0
         for _ in range(count):
             optimizer.zero_grad()
             p = logits.softmax(0)
@@ -224,6 +243,8 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
                                     SplatOptions(points, options.depth, seed=options.seed * 100_003 + step))
             loss = image_loss(density, target, kind)
             loss.backward()
+            for group, lr in zip(optimizer.param_groups, (options.map_lr, options.probability_lr)):
+                group["lr"] = lr * _decay(step / options.steps)
             optimizer.step()
             value = float(loss.detach())
             if not np.isfinite(value):
@@ -232,7 +253,7 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
             step += 1
             _anneal(params, options, step, generator)
             if options.reseed_every and step % options.reseed_every == 0 and step < options.reseed_share * options.steps:
-                moved = reselect(params, logits.detach().softmax(0), mask, points // 4,
+                moved = reselect(params, logits.detach().cpu().softmax(0), mask, points * config.RESEED_POINTS,
                                  options.seed * 100_003 + step, generator, config.RESEED_UNCOVERED)
                 if moved is not None:
                     reseeds += 1
@@ -242,8 +263,25 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
     return SplatFit(_result(params, logits), tuple(losses), reseeds, time.perf_counter() - t0)
 
 
+def _screen(array: np.ndarray, kind: str, maps: int | None, options: SplatFitOptions) -> IFS:
+    """The best of ``options.starts`` random starts, each fitted ``screen_steps`` steps at a quarter of the size."""
+    small = level_image(array, 4, kind).numpy() if array.shape[0] >= 64 else array
+    fits = [fit_splat(small > 0 if kind == "support" else small, maps, None,
+                      dataclasses.replace(options, steps=options.screen_steps, starts=1, seed=options.seed * 1000 + k,
+                                          progress=False, kind=kind))
+            for k in range(options.starts)]
+    return min(fits, key=lambda f: float(np.mean(f.losses[-config.SCREEN_TAIL:]))).ifs
+
+
 #: The fewest points a level splats (one step of every chain).
 CHAIN_FLOOR = 2048
+
+
+def _decay(progress: float) -> float:
+    """The learning rate's share at ``progress`` (0 to 1) of the steps: a cosine from 1 to `config.FINAL_LR_SHARE`,
+    so the last steps settle the maps to a pixel's precision instead of jittering by the first steps' size."""
+    low = config.FINAL_LR_SHARE
+    return low + (1 - low) * 0.5 * (1 + math.cos(math.pi * min(1.0, progress)))
 
 
 def _anneal(params: ContractiveMaps, options: SplatFitOptions, step: int, generator: torch.Generator) -> None:
@@ -253,7 +291,7 @@ def _anneal(params: ContractiveMaps, options: SplatFitOptions, step: int, genera
         return
     scale = options.anneal_noise * options.map_lr * (1 - step / end)
     with torch.no_grad():
-        params.raw += scale * torch.randn(params.raw.shape, generator=generator).to(params.raw.dtype)
+        params.raw += scale * torch.randn(params.raw.shape, generator=generator).to(params.raw)
 
 
 def _forget(optimizer: torch.optim.Adam, raw: torch.Tensor, row: int) -> None:
@@ -266,8 +304,8 @@ def _forget(optimizer: torch.optim.Adam, raw: torch.Tensor, row: int) -> None:
 
 def _result(params: ContractiveMaps, logits: torch.Tensor) -> IFS:
     """The fitted maps as affine rules with their probabilities (float64, summing to 1)."""
-    maps = params.maps().detach().double()
+    maps = params.maps().detach().double().cpu()
     ifs = patterns.affine(maps, depth=2, name="splat", dtype=torch.float64)
-    p = logits.detach().double().softmax(0)
+    p = logits.detach().double().cpu().softmax(0)
     ifs.probabilities = tuple((p / p.sum()).tolist())
     return ifs

@@ -43,8 +43,8 @@ def coverage_by_map(maps: torch.Tensor, probabilities: torch.Tensor, size: int, 
                     seed: int) -> np.ndarray:
     """``(m, size, size)`` how many of ``points`` chaos-game points each map put in each pixel (no gradient)."""
     rows = max(2, -(-points // CHAINS))
-    xy, picks = chain_points(maps, probabilities, rows, seed)
-    xy, picks = xy[1:].reshape(-1, 2), picks[1:].reshape(-1)
+    xy, picks = chain_points(maps.cpu(), probabilities.cpu(), rows, seed)
+    xy, picks = xy[1:].reshape(-1, 2).numpy(), picks[1:].reshape(-1).numpy()
     col, row = np.floor((xy[:, 0] + 0.5) * size), np.floor((0.5 - xy[:, 1]) * size)
     inside = (col >= 0) & (col < size) & (row >= 0) & (row < size)
     flat = picks[inside] * size * size + (row[inside] * size + col[inside]).astype(np.int64)
@@ -65,7 +65,7 @@ def reselect(params: ContractiveMaps, probabilities: torch.Tensor, mask: np.ndar
         The index of the map moved, or None.
     """
     size = mask.shape[0]
-    maps = params.maps().detach()
+    maps = params.maps().detach().cpu()
     hits = coverage_by_map(maps, probabilities.detach(), size, points, seed) > 0
     covered = hits.any(0)
     uncovered = mask & ~covered

@@ -12,7 +12,7 @@ from ifslib.splatting import SplatFitOptions, fit_splat
 THREE = torch.tensor([[[0.5, 0.0, -0.2], [0.0, 0.5, -0.2], [0, 0, 1]],
                       [[0.5, 0.0, 0.2], [0.0, 0.5, -0.2], [0, 0, 1]],
                       [[0.5, 0.0, 0.0], [0.0, 0.5, 0.2], [0, 0, 1]]], dtype=torch.float64)
-QUICK = SplatFitOptions(steps=40, points_per_pixel=4.0, reseed_every=10, seed=0)
+QUICK = SplatFitOptions(steps=40, points_per_pixel=4.0, reseed_every=10, seed=0, starts=1)
 
 
 def sierpinski(size: int, p=(1 / 3, 1 / 3, 1 / 3)) -> np.ndarray:
@@ -40,6 +40,27 @@ def test_gray_levels_give_the_probabilities():
                               reseed_every=0)
     fit = fit_splat(image, start=start, options=options)
     assert np.abs(np.array(fit.ifs.probabilities) - truth).max() < 0.08
+
+
+def test_screened_starts_keep_the_least_loss(monkeypatch):
+    import ifslib.splatting.fit as fit_module
+    screens, starts = [], []
+    real_fit, real_start = fit_module.fit_splat, fit_module.start_maps
+
+    def spy_fit(image, maps=None, start=None, options=QUICK):
+        out = real_fit(image, maps, start, options)
+        screens.append((float(np.mean(out.losses[-10:])), out.ifs))
+        return out
+
+    def spy_start(start, m, mask, generator):
+        starts.append(start)
+        return real_start(start, m, mask, generator)
+
+    monkeypatch.setattr(fit_module, "fit_splat", spy_fit)
+    monkeypatch.setattr(fit_module, "start_maps", spy_start)
+    real_fit(sierpinski(32) > 0, 3, None, SplatFitOptions(steps=3, starts=3, screen_steps=12, points_per_pixel=2.0))
+    assert len(screens) == 3 and len(starts) == 4 and starts[:3] == [None] * 3
+    assert starts[3] is min(screens, key=lambda s: s[0])[1]  # the fit goes on from the screen of least loss
 
 
 def test_a_start_is_topped_up_to_the_maps_asked_for():
