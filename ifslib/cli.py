@@ -268,7 +268,7 @@ def _render_parser(sub) -> None:
 
 def _fit_parser(sub) -> None:
     """``fit``'s options."""
-    from .names import DEFAULT_LOSS, LOSSES, STRATEGIES
+    from .names import DEFAULT_LOSS, DEFAULT_LR, DEFAULT_STEPS, LOSSES, STRATEGIES
 
     f = sub.add_parser("fit", help="fit an IFS pattern to a target image")
     f.add_argument("target", help="target image (its figure found from its border: the background is the colour "
@@ -281,13 +281,13 @@ def _fit_parser(sub) -> None:
     f.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     f.add_argument("--depth", type=_depth, help="render depth (default: the pattern's, 3), or 'attractor' to fit the "
                    "attractor at every stage (the default fits end on it anyway)")
-    f.add_argument("--steps", type=int, default=1500,
-                   help="step budget of each run (default 1500, the paper's run); the default strategy stops each "
+    f.add_argument("--steps", type=int, default=DEFAULT_STEPS,
+                   help=f"step budget of each run (default {DEFAULT_STEPS}, the paper's run); the default strategy stops each "
                         "stage once its loss has converged")
     f.add_argument("--tol", type=float, default=None,
                    help="early stop: end a run when its best loss improved by at most this fraction over the last "
                         "steps (default: the strategy's; off for plain)")
-    f.add_argument("--lr", type=float, default=0.003, help="learning rate (default 0.003, as the paper)")
+    f.add_argument("--lr", type=float, default=DEFAULT_LR, help=f"learning rate (default {DEFAULT_LR:g}, as the paper)")
     f.add_argument("--loss", default=None, choices=LOSSES, metavar="LOSS",
                    help=f"{', '.join(LOSSES)} (default {DEFAULT_LOSS}, as the library's)")
     f.add_argument("--jitter", type=float, default=0.0, help="uniform jitter of the initial points (plane units)")

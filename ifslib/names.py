@@ -5,6 +5,11 @@ refuses a misspelt name (``ifslib fit IMAGE --loss typo``) before torch is loade
 and `ifslib.core.fitting.strategies` take their lists from here and implement each name.
 """
 
+#: A fit's step budget and learning rate when none is given: the paper's run (1500 Adam steps at 0.003),
+#: for the library, the command line and the sweep alike.
+DEFAULT_STEPS = 1500
+DEFAULT_LR = 0.003
+
 #: The losses `ifslib.core.scoring.losses.loss` computes, by name.
 LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
 

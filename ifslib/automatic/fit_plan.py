@@ -23,7 +23,7 @@ from ..core.scoring.metrics import evaluate
 from .choice import AutoRun, Candidate, Kind
 from ..core.fitting.options import RunOptions
 from ..core.fitting.frame import Frame
-from ..core.fitting.pyramid import FIT_MAX_LEAVES, PYRAMID_STAGE_STEPS, attractor_stage, climb, with_early_stop
+from ..core.fitting.pyramid import attractor_stage, climb, with_early_stop
 from ..core.fitting.result import FitResult, Stage
 from ..core.fitting.strategies import Strategy, register_strategy
 
@@ -41,7 +41,7 @@ def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor:
     if options.depth not in (None, plan.depth):
         raise IFSError("an automatic start's candidates have depths of their own: fix the depth with "
                        "ifslib.initialize('auto', target, depth=...)")
-    options = with_early_stop(options.replace(depth=None))
+    options = with_early_stop(options.replace(depth=None), frame.settings)
     if plan.rivals:
         results, ious = zip(*(_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)))
         return choose_kind(list(results), frame, why=plan.why, ious=list(ious))
@@ -90,13 +90,13 @@ def _fit_one(plan: Plan, frame: Frame, options: RunOptions, end_on_attractor: bo
         # The distance loss brings the copies over the figure from afar, but it hardly sees the
         # one-pixel slivers left between them; the pixel loss counts each uncovered pixel fully.
         target = frame.target
-        result = frame.run(result.best, min(frame.steps, PYRAMID_STAGE_STEPS), options.replace(loss=FIT.polish_loss),
+        result = frame.run(result.best, min(frame.steps, frame.settings.stage_steps), options.replace(loss=FIT.polish_loss),
                            desc=f"{label} · {target.size}² · {FIT.polish_loss}")
         stages.append(Stage(size=target.size, loss=FIT.polish_loss, steps=result.history.cost,
                             stopped=result.history.stopped, best_loss=result.best_loss))
     if end_on_attractor:
         result, stage = attractor_stage(frame, result.best, options.replace(loss=FIT.polish_loss) if shape else options,
-                                        label, max_leaves=FIT.shape_max_leaves if shape else FIT_MAX_LEAVES)
+                                        label, max_leaves=FIT.shape_max_leaves if shape else None)
         stages.append(stage)
     # the chosen candidate's own description is the file's (it decides nothing here)
     run = AutoRun(plan.kind, chosen.maps, tuple(c for _, c in tried), dict(winner.best.meta["pattern"]))

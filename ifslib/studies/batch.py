@@ -26,6 +26,7 @@ from tqdm.auto import tqdm
 
 from ..core.raster.distance import distance_fields, resolve_device
 from ..errors import IFSError, check_int
+from ..names import DEFAULT_STEPS
 from ..threads import refresh as refresh_threads
 from ..core.fitting.options import RunOptions, split_settings
 from ..core.fitting.result import FitResult, History
@@ -72,7 +73,7 @@ def _valid(pattern: IFS, points: torch.Tensor, depth: int, gradient: str) -> tor
 
 
 def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, *, seeds: Sequence[int] = range(8),
-             steps: int = 1500, options: RunOptions | None = None, jitter: float = 0.0, progress: bool = True,
+             steps: int = DEFAULT_STEPS, options: RunOptions | None = None, jitter: float = 0.0, progress: bool = True,
              **settings) -> list[FitResult]:
     """Fit many seeded starts of one pattern at once, with a leading batch dimension.
 

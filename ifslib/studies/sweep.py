@@ -33,6 +33,7 @@ from typing import Callable
 from tqdm.auto import tqdm
 
 from ..errors import IFSError, check_int
+from ..names import DEFAULT_LR, DEFAULT_STEPS
 from ..core.geometry import patterns
 from ..progress import draw_bars, note
 from ..core.geometry.rules import check_gradient_mode
@@ -82,8 +83,8 @@ class Setup:
     target: str = "koch"
     size: int = 128
     depth: int = 3
-    steps: int = 1500
-    lr: float = 0.003
+    steps: int = DEFAULT_STEPS
+    lr: float = DEFAULT_LR
     success_chamfer: float = 1.0
     tol: float | None = None
     patience: int | None = None

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Callable
 
 from ...errors import MAX_SEED, IFSError, check_int
+from ...names import DEFAULT_STEPS
 from ..geometry.ifs import IFS
 from ..targets.target import Target
 from .options import Checkpoint, RunOptions, StrategyOptions, split_settings
@@ -40,7 +41,7 @@ def _check(start, target, steps: int, seed: int, options: RunOptions) -> None:
                        f"got a {type(start).__name__}")
 
 
-def fit(ifs: IFS | Start, target: Target, *, steps: int = 1500, strategy: str | None = None, seed: int = 0,
+def fit(ifs: IFS | Start, target: Target, *, steps: int = DEFAULT_STEPS, strategy: str | None = None, seed: int = 0,
         options: RunOptions | StrategyOptions | tuple | None = None, progress: bool = True,
         callback: Callable | None = None, checkpoint: Checkpoint | str | Path | None = None,
         **settings) -> FitResult:

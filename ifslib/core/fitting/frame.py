@@ -9,15 +9,9 @@ from typing import Callable
 
 from ..geometry.ifs import IFS
 from ..targets.target import Target, pyramid_sizes, resize_target
-from .options import RunOptions
+from .options import RunOptions, StrategyOptions
 from .result import FitResult
 from .run import run
-
-#: The pyramid's coarsest size in pixels: below it a Koch curve of depth 3 blurs into its own gaps.
-COARSEST = 64
-#: Each pyramid stage is this many times the size of the one before (4: 64² then 256²; a middle
-#: 128² stage costs more time than it saves at 256², docs/results/fits-in-seconds.md).
-PYRAMID_FACTOR = 4
 
 
 @dataclass(frozen=True)
@@ -36,8 +30,8 @@ class Frame:
         Progress bars and lines (`ifslib.core.fitting.run.run`).
     callback : callable, optional
         ``callback(step, loss, ifs)`` after every step of every run.
-    coarsest : int
-        The pyramid's coarsest size in pixels (`levels`).
+    settings : StrategyOptions
+        The strategy's settings: the pyramid's sizes (`levels`) and its stages' budgets.
     """
 
     target: Target
@@ -46,15 +40,15 @@ class Frame:
     _: KW_ONLY
     progress: bool = True
     callback: Callable | None = None
-    coarsest: int = COARSEST
+    settings: StrategyOptions = StrategyOptions()
 
     @cached_property
     def levels(self) -> dict[int, Target]:
-        """The target's pyramid, coarsest first: size -> the target resized (`PYRAMID_FACTOR` apart).
+        """The target's pyramid, coarsest first: size -> the target resized (``settings.pyramid_factor`` apart).
 
         Built on first use only: the strategies that never climb never pay for the resizing.
         """
-        sizes = pyramid_sizes(self.target.size, self.coarsest, PYRAMID_FACTOR)
+        sizes = pyramid_sizes(self.target.size, self.settings.coarsest, self.settings.pyramid_factor)
         return {size: resize_target(self.target, size) for size in sizes}
 
     @property

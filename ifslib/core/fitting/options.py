@@ -12,14 +12,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from ...names import DEFAULT_LR
 from ...errors import IFSError, check_int
 from ..geometry.attractor import check_depth_or_attractor
 from ..geometry.rules import check_gradient_mode
 from ..raster.distance import METHODS, resolve_device
 from ..scoring.losses import DEFAULT_LOSS, check_loss
 
-#: The paper's learning rate (plane units a step at the target's size).
-DEFAULT_LR = 0.003
 #: The largest learning rate a fit takes: Adam's step is about ``lr`` plane units, and the frame is 1 wide.
 MAX_LR = 1.0
 #: The window of early stopping (`ifslib.core.fitting.run.converged`) when ``tol`` is set and ``patience`` is not.
@@ -134,7 +133,28 @@ class StrategyOptions:
     budget : float
         The most steps, in multiples of ``steps`` [restart].
     coarsest : int
-        The pyramid's coarsest size in pixels [pyramid, auto].
+        The pyramid's coarsest size in pixels: below 64 a Koch curve of depth 3 blurs into its own gaps [pyramid, auto].
+    pyramid_factor : int
+        Each pyramid stage is this many times the size of the one before (4: 64² then 256²; a middle 128²
+        stage costs more time than it saves at 256², docs/results/fits-in-seconds.md) [pyramid, auto].
+    stage_steps : int
+        At most this many steps in one pyramid stage (or ``steps``, when smaller): enough for the stages of
+        starts that recover, while a start that crawls on for a thousand steps ends stalled and is better
+        replaced [pyramid, auto].
+    stage_tol, stage_patience : float, int
+        Each pyramid stage's early stop (`ifslib.core.fitting.run.converged`) where the run options set none
+        [pyramid, auto].
+    attractor_steps : int
+        At most this many steps in the last stage, which fits the attractor itself at the target's size
+        (what the inverse problem asks for: a drawing at depth K can match the target while its attractor
+        does not) [pyramid, auto].
+    max_leaves : int
+        The attractor stage draws the certified cut (`ifslib.distance_field` with ``depth="attractor"``) when
+        it has at most this many leaves, else sampled leaves of it (``method="sampled"``: overlapping copies
+        of a shape): more is exact on more figures, and slower and larger per step [pyramid, auto].
+    uncross_weight : float
+        The crossing barrier's weight when the run options set none: larger pushes crossings apart sooner
+        and distorts the curve's fit more [uncross].
     end_on_attractor : bool
         End each start with a stage that fits the attractor itself and judge it; False keeps the
         fit on the drawing at depth K, the paper's question [pyramid, auto].
@@ -147,12 +167,25 @@ class StrategyOptions:
     success: float = 1.0
     budget: float = 3.0
     coarsest: int = 64
+    pyramid_factor: int = 4
+    stage_steps: int = 500
+    stage_tol: float = 1e-3
+    stage_patience: int = 30
+    attractor_steps: int = 300
+    max_leaves: int = 300_000
+    uncross_weight: float = 0.1
     end_on_attractor: bool = True
 
     def __post_init__(self) -> None:
         check_int(self.n_starts, "n_starts", 1)
         check_int(self.keep, "keep", 1)
         check_int(self.coarsest, "coarsest", 1)
+        check_int(self.pyramid_factor, "pyramid_factor", 2)
+        for name in ("stage_steps", "stage_patience", "attractor_steps", "max_leaves"):
+            check_int(getattr(self, name), name, 1)
+        for name in ("stage_tol", "uncross_weight"):
+            if not _finite(getattr(self, name)):
+                raise IFSError(f"{name} must be a finite number > 0, got {getattr(self, name)!r}")
         if not (_finite(self.probe) and self.probe < 1):
             raise IFSError(f"probe must be a share of the steps, above 0 and below 1, got {self.probe!r}")
         for name in ("jitter", "success", "budget"):

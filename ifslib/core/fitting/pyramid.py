@@ -2,7 +2,7 @@
 the attractor stage that ends them.
 
 A start is fitted at the coarsest size of the target's pyramid (64² for a 256² target), then at
-each finer size (`ifslib.core.fitting.frame.PYRAMID_FACTOR` times larger) up to the target's own, each
+each finer size (`StrategyOptions.pyramid_factor` times larger) up to the target's own, each
 stage from the last one's best points and ending when its loss has converged. The learning rate
 grows with the pixel size (``lr * size / stage_size``), so a coarse step moves the points as far,
 in pixels, as a fine one.
@@ -14,26 +14,13 @@ from ..geometry.attractor import ATTRACTOR
 from ..geometry.ifs import IFS
 from ..raster.distance import attractor_leaves_for
 from .frame import Frame
-from .options import RunOptions
+from .options import RunOptions, StrategyOptions
 from .result import FitResult, Stage
 
-#: At most this many steps in one pyramid stage (or ``steps``, when smaller): enough for the stages of starts
-#: that recover, while a start that crawls on for a thousand steps ends stalled and is better replaced.
-PYRAMID_STAGE_STEPS = 500
-#: Early stop of each pyramid stage (see `ifslib.core.fitting.run.converged`) when the fit sets none.
-PYRAMID_TOL, PYRAMID_PATIENCE = 1e-3, 30
-#: The last stage fits the attractor itself at the target's size (what the inverse problem asks for: a
-#: drawing at depth K can match the target while its attractor does not), of at most this many steps ...
-ATTRACTOR_STAGE_STEPS = 300
-#: ... with the certified cut (`ifslib.distance_field` with ``depth="attractor"``) when it has at most this
-#: many leaves, else with sampled leaves of it (``method="sampled"``: overlapping copies of a shape).
-FIT_MAX_LEAVES = 300_000
-
-
-def with_early_stop(options: RunOptions) -> RunOptions:
-    """``options`` with the pyramid's own early stop where the fit set none."""
-    return options.replace(tol=PYRAMID_TOL if options.tol is None else options.tol,
-                           patience=PYRAMID_PATIENCE if options.patience is None else options.patience)
+def with_early_stop(options: RunOptions, settings: StrategyOptions) -> RunOptions:
+    """``options`` with the pyramid's own early stop (``settings.stage_tol``, ``stage_patience``) where the fit set none."""
+    return options.replace(tol=settings.stage_tol if options.tol is None else options.tol,
+                           patience=settings.stage_patience if options.patience is None else options.patience)
 
 
 def climb(frame: Frame, start: IFS, options: RunOptions, label: str, *, sizes: list[int] | None = None
@@ -42,7 +29,7 @@ def climb(frame: Frame, start: IFS, options: RunOptions, label: str, *, sizes: l
     stages, current, result = [], start, None
     for size in frame.sizes if sizes is None else sizes:
         staged = options.replace(stage_lr=options.lr * frame.target.size / size)
-        result = frame.run(current, min(frame.steps, PYRAMID_STAGE_STEPS), staged, target=frame.levels[size],
+        result = frame.run(current, min(frame.steps, frame.settings.stage_steps), staged, target=frame.levels[size],
                            desc=f"{label} · {size}²")
         stages.append(Stage(size=size, steps=result.history.cost, stopped=result.history.stopped,
                             best_loss=result.best_loss))
@@ -50,7 +37,7 @@ def climb(frame: Frame, start: IFS, options: RunOptions, label: str, *, sizes: l
     return result, stages
 
 
-def attractor_method(ifs: IFS, size: int, max_leaves: int = FIT_MAX_LEAVES) -> str:
+def attractor_method(ifs: IFS, size: int, max_leaves: int) -> str:
     """``"fast"`` when the certified cut of ``ifs``'s attractor at ``size`` has at most ``max_leaves`` leaves, else ``"sampled"``."""
     try:
         attractor_leaves_for(ifs, size, max_leaves=max_leaves)
@@ -60,16 +47,16 @@ def attractor_method(ifs: IFS, size: int, max_leaves: int = FIT_MAX_LEAVES) -> s
 
 
 def attractor_stage(frame: Frame, ifs: IFS, options: RunOptions, label: str, *, steps: int | None = None,
-                    max_leaves: int = FIT_MAX_LEAVES) -> tuple[FitResult, Stage]:
+                    max_leaves: int | None = None) -> tuple[FitResult, Stage]:
     """Fit the attractor of ``ifs`` at the target's size: the last stage of ``pyramid`` and ``auto``.
 
-    At most ``min(steps, ATTRACTOR_STAGE_STEPS)`` steps (``steps`` is the frame's budget when None),
-    with the certified cut when it has at most ``max_leaves`` leaves at the start, else with sampled
-    leaves. Returns the run's result and its stage record.
+    At most ``min(steps, frame.settings.attractor_steps)`` steps (``steps`` is the frame's budget when None),
+    with the certified cut when it has at most ``max_leaves`` leaves at the start (``frame.settings.max_leaves``
+    when None), else with sampled leaves. Returns the run's result and its stage record.
     """
     target = frame.target
-    method = attractor_method(ifs, target.size, max_leaves)
-    budget = min(frame.steps if steps is None else steps, ATTRACTOR_STAGE_STEPS)
+    method = attractor_method(ifs, target.size, frame.settings.max_leaves if max_leaves is None else max_leaves)
+    budget = min(frame.steps if steps is None else steps, frame.settings.attractor_steps)
     fallback = None
     try:
         result = frame.run(ifs, budget, options.replace(depth=ATTRACTOR, method=method),

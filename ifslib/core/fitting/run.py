@@ -20,6 +20,7 @@ import torch
 from tqdm.auto import tqdm
 
 from ...errors import IFSError, LeafBudgetError, check_int
+from ...names import DEFAULT_STEPS
 from ..geometry.crossings import check_curve, crossing_penalty
 from ..geometry.ifs import IFS
 from ..geometry.io import ifs_to_dict, load_ifs, save_ifs
@@ -167,7 +168,7 @@ class _Run:
         return FitResult(best, self.work.clone(), self.history, self.best_loss, self.best_step).record()
 
 
-def run(ifs: IFS, target: Target, *, steps: int = 1500, options: RunOptions = RunOptions(), seed: int = 0,
+def run(ifs: IFS, target: Target, *, steps: int = DEFAULT_STEPS, options: RunOptions = RunOptions(), seed: int = 0,
         callback: Callable | None = None, checkpoint: Checkpoint | None = None, progress: bool = True,
         desc: str | None = None) -> FitResult:
     """One Adam run on the control points at the target's size.

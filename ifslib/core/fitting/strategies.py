@@ -12,14 +12,14 @@ strategies compare per step spent:
 ``pyramid``
     The default. Coarse to fine in pixels, and starts tried one after another until one recovers
     the target. Each start runs at the coarsest size of the target's pyramid (64² for a 256²
-    target), then at each finer size (4 times larger, `ifslib.core.fitting.frame.PYRAMID_FACTOR`) up
+    target), then at each finer size (4 times larger, ``StrategyOptions.pyramid_factor``) up
     to the target's own, every stage ending when its loss has converged (``tol``, ``patience``),
     by the one coarse-to-fine driver of `ifslib.core.fitting.pyramid`.
     Each start then ends with a stage that fits its **attractor** at the full size
     (`attractor_stage`), and is judged by the attractor's symmetric Chamfer distance to the target;
     once it is at most ``success`` pixels, no more starts are tried. The starts are those of
-    ``multistart``. Each stage spends at most ``min(steps, PYRAMID_STAGE_STEPS)`` steps (the
-    attractor's, `ATTRACTOR_STAGE_STEPS`).
+    ``multistart``. Each stage spends at most ``min(steps, stage_steps)`` steps (the
+    attractor's, ``attractor_steps``: fields of `StrategyOptions`).
 ``auto`` (registered by the automatic path)
     For a plan (`ifslib.initialize("auto", target)`, `ifslib.automatic.plan.Plan`), in
     `ifslib.automatic.fit_plan`: each of its candidate starts is fitted at the coarsest size of the pyramid
@@ -54,7 +54,7 @@ strategies compare per step spent:
     fine in four stages (cost: ``steps``).
 ``uncross``
     One run with a barrier on self-crossings added to the loss (curves only): ``crossing_weight``
-    (default `UNCROSS_WEIGHT`) times the summed depth of the curve's crossings
+    (default ``StrategyOptions.uncross_weight``) times the summed depth of the curve's crossings
     (`ifslib.crossings.crossing_penalty`), the paper's suggestion (cost: ``steps``).
 """
 from __future__ import annotations
@@ -81,10 +81,6 @@ from .options import RunOptions, StrategyOptions
 from .frame import Frame
 from .pyramid import attractor_stage, climb, with_early_stop
 from .result import FitResult
-
-
-#: The crossing barrier's weight in ``uncross`` when the fit sets none.
-UNCROSS_WEIGHT = 0.1
 
 
 def check_strategy(strategy: str) -> str:
@@ -197,7 +193,7 @@ def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Gener
 def _pyramid(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
     """The ``pyramid`` strategy (see the module's docstring)."""
     s, frame, target = job.settings, job.frame, job.frame.target
-    options = with_early_stop(job.options)
+    options = with_early_stop(job.options, s)
     final = s.end_on_attractor and not is_attractor(options.depth)
     tried: list[tuple[FitResult, float]] = []
     stages, cost = [], 0
@@ -292,7 +288,7 @@ def run_strategy(name: str, start: IFS | Start, target: Target, *, steps: int, s
         start = start.start
     if not isinstance(start, entry.fits):
         raise IFSError(entry.refusal or f"strategy {name!r} fits a {entry.fits.__name__}, not a {type(start).__name__}")
-    frame = Frame(target, steps, seed, progress=progress, callback=callback, coarsest=settings.coarsest)
+    frame = Frame(target, steps, seed, progress=progress, callback=callback, settings=settings)
     result = entry.run(frame, start, options, settings, np.random.default_rng(seed))
     result.history.strategy = name
     if not math.isfinite(result.best_loss):
@@ -309,7 +305,7 @@ def _of_one_ifs(body: Callable[[_Job, IFS, np.random.Generator], FitResult]) -> 
 
 def _uncross(job: _Job, ifs: IFS) -> FitResult:
     check_curve(ifs, "strategy 'uncross'")
-    return job.run(ifs, job.frame.steps, crossing_weight=job.options.crossing_weight or UNCROSS_WEIGHT)
+    return job.run(ifs, job.frame.steps, crossing_weight=job.options.crossing_weight or job.settings.uncross_weight)
 
 
 def _coarse_to_fine(job: _Job, ifs: IFS) -> FitResult:

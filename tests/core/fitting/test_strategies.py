@@ -8,7 +8,7 @@ import pytest
 import ifslib
 from ifslib.core.fitting import pyramid, strategies
 from ifslib.core.fitting.frame import Frame
-from ifslib.core.fitting.strategies import DEFAULT_STRATEGY, STRATEGIES, UNCROSS_WEIGHT
+from ifslib.core.fitting.strategies import DEFAULT_STRATEGY, STRATEGIES
 
 SIZE, STEPS = 32, 12
 
@@ -36,7 +36,7 @@ def test_strategy_runs_and_counts_its_cost(strategy, target):
         assert 0 < cost <= 3 * STEPS
     else:
         assert cost == STEPS
-    weight = UNCROSS_WEIGHT if strategy == "uncross" else 0.0  # its loss includes the crossing barrier
+    weight = ifslib.StrategyOptions().uncross_weight if strategy == "uncross" else 0.0  # its loss includes the crossing barrier
     depth = "attractor" if strategy in ("pyramid", "auto") else None  # those end on the attractor
     start_loss = ifslib.fit(start, target, steps=1, loss="multiscale_distance", progress=False, strategy="plain",
                             crossing_weight=weight, depth=depth).best_loss
@@ -86,9 +86,9 @@ def test_attractor_stage_falls_back_to_sampled_leaves_when_the_cut_outgrows_the_
 
     ifs = ifslib.patterns.koch(depth=3)
     target = ifslib.load_target(ifslib.render(ifs, 64).detach().numpy(), 64)
-    assert pyramid.attractor_method(ifs, 64) == "fast"
+    assert pyramid.attractor_method(ifs, 64, ifslib.StrategyOptions().max_leaves) == "fast"
     monkeypatch.setattr(attractor, "DEFAULT_MAX_LEAVES", 16)  # the stage's own cut: far over this budget at once
-    frame = Frame(target, 2, 0, progress=False, coarsest=64)
+    frame = Frame(target, 2, 0, progress=False)
     result, record = pyramid.attractor_stage(frame, ifs, ifslib.RunOptions(lr=1e-3), "test")
     assert record.method == "sampled" and "outgrew the leaf budget" in record.fallback
     assert math.isfinite(result.best_loss)
