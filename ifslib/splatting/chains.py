@@ -9,7 +9,8 @@ from ..core.geometry import patterns
 from ..core.raster.chaos import CHAINS, chaos_game
 
 
-def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int, seed: int) -> tuple[torch.Tensor, torch.Tensor]:
+def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int,
+                 seed: int) -> tuple[torch.Tensor, torch.Tensor]:
     """``rows`` consecutive points of each of `CHAINS` chains, and the map that made each from the one before.
 
     `chaos_game` does not return its picks, so each is read back as the map whose image of a chain's point is that
@@ -18,7 +19,7 @@ def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int, see
     Returns
     -------
     points : torch.Tensor
-        ``(rows, CHAINS, 2)`` float64 on ``maps``' device (burned in by `chaos_game`: every point a draw of the measure).
+        ``(rows, CHAINS, 2)`` float64 on ``maps``' device (burned in by `chaos_game`: each point a draw of the measure).
     picks : torch.Tensor
         ``(rows, CHAINS)`` int64: ``picks[k]`` sent ``points[k - 1]`` to ``points[k]`` (row 0's is -1, unknown).
     """
@@ -68,7 +69,8 @@ class Replay(torch.autograd.Function):
         gx, gy = grad_xy[:, 0].contiguous(), grad_xy[:, 1].contiguous()
         gcoef = torch.zeros(6, m, dtype=torch.float64, device=coef.device)
         glog = torch.zeros(m, dtype=torch.float64, device=coef.device)
-        count = lambda s, w: torch.bincount(s, w, minlength=m).double()  # noqa: E731 - serial: same bits at any thread count
+        # bincount sums serially: the same bits at any thread count
+        count = lambda s, w: torch.bincount(s, w, minlength=m).double()  # noqa: E731
         for j in range(len(picks) - 1, -1, -1):
             s, x, y = picks[j], xs[j], ys[j]
             for k, w in enumerate((gx * x, gx * y, gx, gy * x, gy * y, gy)):

@@ -252,7 +252,8 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
             losses.append(value)
             step += 1
             _anneal(params, options, step, generator)
-            if options.reseed_every and step % options.reseed_every == 0 and step < options.reseed_share * options.steps:
+            due = options.reseed_every and step % options.reseed_every == 0
+            if due and step < options.reseed_share * options.steps:
                 moved = reselect(params, logits.detach().cpu().softmax(0), mask, points * config.RESEED_POINTS,
                                  options.seed * 100_003 + step, generator, config.RESEED_UNCOVERED)
                 if moved is not None:

@@ -22,7 +22,7 @@ from ..core.geometry.attractor import check_contractive_maps
 from ..core.geometry.leaves import check_bytes
 from ..core.raster.chaos import CHAINS
 from .chains import chain_points, replay
-from .config import BYTES_PER_CORNER, BYTES_PER_POINT_STEP, GRADIENT_DEPTH, POINTS
+from .config import BYTES_PER_CORNER, BYTES_PER_POINT, BYTES_PER_POINT_STEP, GRADIENT_DEPTH, POINTS
 
 
 @dataclass(frozen=True)
@@ -121,7 +121,7 @@ def splat_measure(maps: torch.Tensor, probabilities: torch.Tensor, size: int,
     rows = -(-options.points // CHAINS) + options.depth
     n = (rows - options.depth) * CHAINS
     fine = size * options.supersample
-    check_bytes(n * (options.depth * BYTES_PER_POINT_STEP + 4 * BYTES_PER_CORNER) + fine * fine * 16,
+    check_bytes(n * (BYTES_PER_POINT + options.depth * BYTES_PER_POINT_STEP + 4 * BYTES_PER_CORNER) + fine * fine * 16,
                 f"a splat of {n:,} points at depth {options.depth} on {fine}² cells", "splat fewer points")
     points, picks = chain_points(maps, probabilities, rows, options.seed)
     xy, weight = replay(maps, probabilities.to(maps.device), points, picks, options.depth)

@@ -96,3 +96,9 @@ def test_bad_inputs_are_refused(image, kwargs, message):
 def test_bad_options_are_refused(field, value):
     with pytest.raises(IFSError, match=field):
         SplatFitOptions(**{field: value})
+
+
+@pytest.mark.skipif(torch.cuda.is_available(), reason="where CUDA is there, 'cuda' is a device to fit on")
+def test_cuda_is_refused_where_torch_has_none():
+    with pytest.raises(IFSError, match="device"):
+        SplatFitOptions(device="cuda")
