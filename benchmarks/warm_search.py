@@ -19,7 +19,8 @@ import time
 import torch
 
 import ifslib
-from ifslib.core.geometry.leaves import expand, sdf_pairs
+from ifslib.core.geometry.leaves import expand
+from ifslib.core.raster.leaf_distance import sdf_pairs
 
 CONFIGS = [(64, 3), (256, 3), (512, 5)]
 

@@ -9,7 +9,8 @@ from ifslib.errors import IFSError
 
 def test_chaos_occupancy_marks_the_pixels_of_the_float64_chaos_game_for_a_batch():
     from ifslib.core.geometry.rules import chaos_probabilities
-    from ifslib.core.raster.chaos import chaos_game, chaos_occupancy
+    from ifslib.automatic.fractal.judge import chaos_occupancy
+    from ifslib.core.raster.chaos import chaos_game
 
     systems = [ifslib.patterns.random_ifs(3, 1), ifslib.patterns.random_ifs(3, 5)]
     maps = torch.stack([s.maps().detach() for s in systems])

@@ -5,7 +5,8 @@ import torch
 import ifslib
 from ifslib.studies.batch import fit_many
 from ifslib.core.raster.distance import distance_fields
-from ifslib.core.geometry.leaves import expand, expand_batch, leaf_table, sdf_pairs, sdf_table
+from ifslib.core.geometry.leaves import expand, expand_batch
+from ifslib.core.raster.leaf_distance import leaf_table, sdf_pairs, sdf_table
 from ifslib.core.raster.nearest import nearest_leaf, pixel_centres
 
 from conftest import PATTERNS, perturbed

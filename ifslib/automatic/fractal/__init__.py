@@ -39,7 +39,7 @@ field of `SearchConfig` (`DEFAULT`: the tuned ones), read as ``fractal.DEFAULT.m
 7. **Swapped** (`swap`, `phases.swaps`), when still no number of maps reoriented draws an
    attractor of IoU ``swap_below``: the collage places the large copies well and often misses a
    thin or small one, so each map in turn is replaced by each copy of a pool, every such IFS
-   drawn at once by a short chaos game (`ifslib.core.raster.chaos.chaos_occupancy`), and the best
+   drawn at once by a short chaos game (`ifslib.automatic.fractal.judge.chaos_occupancy`), and the best
    replacements refined and kept when the attractor's IoU rises.
 8. **Run again** (`driver.search`), when after all that no attractor reaches ``swap_below``: the
    whole search from the next seed (other random starts and pixel samples send the moves down

@@ -32,7 +32,8 @@ from ..geometry.attractor import (DEFAULT_SAMPLES, DEFAULT_TOLERANCE, AttractorL
                                   check_tolerance, check_window, is_attractor, leaf_points)
 from ..geometry.expand import expand_attractor
 from ..geometry.ifs import IFS
-from ..geometry.leaves import Leaves, check_budget, expand, expand_batch, sdf_dense, sdf_pairs
+from ..geometry.leaves import Leaves, check_budget, expand, expand_batch
+from .leaf_distance import sdf_dense, sdf_pairs
 from .nearest import nearest_leaf, nearest_point, pixel_centres
 
 #: The frame of a picture: the image plane ``[-0.5, 0.5]^2`` as a window ``(x0, y0, x1, y1)``.

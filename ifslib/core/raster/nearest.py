@@ -24,7 +24,8 @@ from typing import NamedTuple
 import torch
 
 from ...errors import IFSError
-from ..geometry.leaves import Leaves, leaf_table, sdf_pairs, sdf_table
+from ..geometry.leaves import Leaves
+from .leaf_distance import leaf_table, sdf_pairs, sdf_table
 
 #: Above this many (block, leaf) pairs a level is processed in chunks of blocks.
 MAX_PAIRS = 1 << 20

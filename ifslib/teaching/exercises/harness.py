@@ -16,6 +16,7 @@ import numpy as np
 import torch
 
 from ...errors import IFSError
+from .library import LIBRARY
 
 
 class WriteItYourself(RuntimeError):
@@ -28,64 +29,6 @@ class WriteItYourself(RuntimeError):
         super().__init__(f"{name} is switched off while this test runs: write it yourself")
         self.name = name
 
-
-#: For each exercise that asks for a function a library has: where it is kept (module, attribute; a
-#: method or property as ``Class.attribute``). Each is switched off however it is reached while the
-#: student's function runs (see `library_off`), the ifslib functions that compute the same thing too.
-LIBRARY = {
-    "chaos game": [("ifslib", "chaos_game"), ("ifslib.core.raster.chaos", "chaos_game"),
-                   ("ifslib.core.raster.chaos", "chaos_window"), ("ifslib.core.raster.chaos", "_points"),
-                   ("ifslib.core.geometry.sampled", "sample_attractor"),
-                   ("ifslib.core.geometry.expand", "sample_attractor"),
-                   ("ifslib.core.geometry.attractor", "attractor_leaves")],
-    "Hausdorff distance": [("ifslib.core.scoring.metrics", "hausdorff"),
-                           ("ifslib.core.scoring.metrics", "depth_to_attractor"),
-                           ("scipy.spatial.distance", "directed_hausdorff"),
-                           ("scipy.spatial._hausdorff", "directed_hausdorff")],
-    "collage distance": [("ifslib.core.scoring.metrics", "hausdorff"), ("ifslib.core.scoring.collage", "collage_distance"),
-                         ("scipy.spatial.distance", "directed_hausdorff"),
-                         ("scipy.spatial._hausdorff", "directed_hausdorff")],
-    "contraction and fixed point": [("ifslib.core.geometry.rules", "singular_values"),
-                                    ("ifslib.core.geometry.rules", "map_scales"),
-                                    ("ifslib.core.geometry.ifs", "IFS.scales"),
-                                    ("ifslib.measures.dimension", "ifs_scales")],
-    "loss": [("ifslib", "loss"), ("ifslib.core.scoring.losses", "loss"), ("ifslib.core.scoring.losses", "mse"),
-             ("ifslib.core.scoring.losses", "multiscale_mse"), ("ifslib.core.scoring.losses", "pyramid")],
-    "best-fit-line start": [("ifslib", "initialize"), ("ifslib", "best_fit_line"),
-                            ("ifslib.automatic.initialization", "initialize"),
-                            ("ifslib.automatic.initialization", "best_fit_line"),
-                            ("ifslib.core.targets.placement", "best_fit_line"), ("ifslib.core.targets.placement", "place"),
-                            ("ifslib.core.targets.placement", "placed_points")],
-    "leaf map": [("ifslib", "expand"), ("ifslib.core.geometry.leaves", "expand"),
-                 ("ifslib.core.geometry.leaves", "compose_words"), ("ifslib.core.geometry.attractor", "word_maps")],
-    "leaf count": [("ifslib", "expand"), ("ifslib.core.geometry.leaves", "expand"),
-                   ("ifslib.core.geometry.ifs", "IFS.n_leaves"), ("ifslib.core.geometry.leaves", "leaf_count_text")],
-    "depth": [("ifslib.core.scoring.metrics", "depth_to_attractor")],
-    "iou": [("ifslib", "iou"), ("ifslib.core.scoring.metrics", "iou"), ("ifslib.core.scoring.metrics", "f1"),
-            ("ifslib.core.scoring.metrics", "scores")],
-    "chamfer": [("ifslib", "chamfer"), ("ifslib.core.scoring.metrics", "chamfer"), ("ifslib.core.scoring.metrics", "scores")],
-    "alignment": [("ifslib.teaching.landscape", "alignment")],
-    "segments cross": [("ifslib.core.geometry.crossings", "crossing_pairs"),
-                       ("ifslib.core.geometry.crossings", "crossing_depths"),
-                       ("ifslib.core.geometry.crossings", "crossing_penalty"),
-                       ("ifslib.core.scoring.metrics", "crossing_points"), ("ifslib.core.scoring.metrics", "self_crossings")],
-    "crossing count": [("ifslib.core.geometry.crossings", "crossing_pairs"),
-                       ("ifslib.core.geometry.crossings", "crossing_depths"),
-                       ("ifslib.core.geometry.crossings", "crossing_penalty"),
-                       ("ifslib.core.scoring.metrics", "crossing_points"), ("ifslib.core.scoring.metrics", "self_crossings")],
-    "similarity dimension": [("ifslib.measures.dimension", "similarity_dimension"),
-                             ("ifslib.measures.dimension", "ifs_similarity_dimension")],
-    # scipy's binomial test gives the interval (proportion_ci(method="wilson")); ifslib computes none
-    "Wilson interval": [("scipy.stats", "binomtest"), ("scipy.stats._binomtest", "binomtest"),
-                        ("scipy.stats._binomtest", "BinomTestResult.proportion_ci"),
-                        ("scipy.stats._binomtest", "_binom_wilson_conf_int")],
-    # the fractal search's copies matched by moments, and the shape starts' (one per k-means part)
-    "copy map": [("ifslib.automatic.fractal.regions", "moment_maps"), ("ifslib.automatic.auto", "shape_maps")],
-    # the quadtree's flags, and the flags and maps' bits together
-    "bit budget": [("ifslib.compression.code", "split_flag_count"), ("ifslib.compression.code", "Code.bits")],
-}
-# read-only, so that an answer cell cannot empty an exercise's list (LIBRARY["iou"] = [])
-LIBRARY = types.MappingProxyType({exercise: tuple(places) for exercise, places in LIBRARY.items()})
 
 # What is switched off now, with how many `library_off` blocks hold it: key -> [restore, count].
 # A function switched off by two blocks at once (nested, or from two threads) is restored when the

@@ -7,7 +7,8 @@ import torch
 from common_testing import point_segment as _point_segment, polygon_sdf as _polygon_sdf
 
 import ifslib
-from ifslib.core.geometry.leaves import Leaves, invert_similarities, sdf_dense
+from ifslib.core.geometry.leaves import Leaves, invert_similarities
+from ifslib.core.raster.leaf_distance import sdf_dense
 from ifslib.core.geometry.primitives import primitive_params
 from ifslib.core.raster.distance import Budget
 

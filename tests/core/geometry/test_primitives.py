@@ -6,7 +6,8 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.core.geometry.leaves import expand, sdf_dense
+from ifslib.core.geometry.leaves import expand
+from ifslib.core.raster.leaf_distance import sdf_dense
 from ifslib.core.raster.nearest import pixel_centres
 from ifslib.core.geometry.primitives import Primitive
 from ifslib.errors import IFSError

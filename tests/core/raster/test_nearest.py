@@ -2,7 +2,8 @@
 import torch
 
 import ifslib
-from ifslib.core.geometry.leaves import expand, sdf_dense, sdf_pairs
+from ifslib.core.geometry.leaves import expand
+from ifslib.core.raster.leaf_distance import sdf_dense, sdf_pairs
 from ifslib.core.raster.nearest import nearest_leaf, pixel_centres
 
 from conftest import PATTERNS, perturbed

@@ -1,0 +1,147 @@
+"""The distance from points to leaves: one leaf's signed distance, and the lookups the nearest-leaf search
+and the dense field make of many pairs (point, leaf) of a `ifslib.core.geometry.leaves.Leaves`.
+"""
+from __future__ import annotations
+
+import torch
+
+from ..geometry.leaves import Leaves
+from ..geometry.primitives import PARAM_WIDTH, affine_sdf, local_sdf
+
+
+def leaf_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, inverse: torch.Tensor, scale: torch.Tensor,
+             params: torch.Tensor, forward: torch.Tensor | None) -> torch.Tensor:
+    """A leaf's signed distance at ``x``: ``scale * d(T_w^-1 x)`` for a similarity word, and
+    `ifslib.core.geometry.primitives.affine_sdf` when the word's map ``forward`` (``(..., 6)``) is given.
+    ``inverse`` is ``(..., 6)``, the word's inverse map; every tensor broadcasts against ``x``."""
+    qx = inverse[..., 0] * x + inverse[..., 1] * y + inverse[..., 2]
+    qy = inverse[..., 3] * x + inverse[..., 4] * y + inverse[..., 5]
+    if forward is None:
+        return scale * local_sdf(kind, qx, qy, params)
+    return affine_sdf(kind, x, y, qx, qy, forward, scale, params)
+
+
+def _gather_words(leaves: Leaves, leaf: torch.Tensor):
+    """Per-pair inverse-map rows, scale, forward-map rows, local primitive index and ``params`` row for leaf ids ``leaf`` (N,).
+
+    The forward rows are None for similarity leaves; the primitive index and the row are None when
+    every pair uses ``params[0]`` (one IFS, one primitive).
+    """
+    p = leaves.n_prims
+    word = leaf if p == 1 else torch.div(leaf, p, rounding_mode="floor")
+    inv = leaves.inverse.reshape(-1, 6).index_select(0, word)
+    scale = leaves.scale.index_select(0, word)
+    forward = None if leaves.forward is None else leaves.forward.index_select(0, word)
+    prim = None if p == 1 else leaf - word * p
+    row = prim
+    if leaves.words_per_item:
+        item = torch.div(word, leaves.words_per_item, rounding_mode="floor")
+        row = item * p if prim is None else item * p + prim
+    return inv, scale, forward, prim, row
+
+
+def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
+    """Signed distance from point ``i`` to leaf ``leaf[i]``, for each i.
+
+    Parameters
+    ----------
+    leaves : Leaves
+    x, y : torch.Tensor
+        ``(N,)`` query coordinates (plane units).
+    leaf : torch.Tensor
+        ``(N,)`` leaf ids (``word * n_prims + primitive``).
+
+    Returns
+    -------
+    torch.Tensor
+        ``(N,)`` distances ``s_w * d_p(T_w^{-1} x)``, differentiable in the leaves' tensors.
+    """
+    inv, scale, forward, prim, row = _gather_words(leaves, leaf)
+    kinds = sorted(set(leaves.kinds))
+    if len(kinds) == 1:
+        # one row per pair even when all share params[0]: the gradient of a row broadcast to every
+        # pixel is one sum over all of them, which torch splits by thread count; index_select's is not
+        row = torch.zeros_like(leaf) if row is None else row
+        params = leaves.params.index_select(0, row)
+        return leaf_sdf(kinds[0], x, y, inv, scale, params, forward)
+    out = torch.zeros_like(x)
+    kind_codes = torch.tensor([kinds.index(k) for k in leaves.kinds], device=leaf.device)
+    for code, kind in enumerate(kinds):
+        sel = (kind_codes[prim] == code).nonzero().flatten()
+        if sel.numel():
+            d = leaf_sdf(kind, x[sel], y[sel], inv[sel], scale[sel], leaves.params[row[sel]],
+                         None if forward is None else forward[sel])
+            out = out.index_put((sel,), d)
+    return out
+
+
+#: The rows of a `leaf_table` before a word's forward map: 6 inverse-map entries, the scale, the packed primitive.
+_GEOMETRY = 7 + PARAM_WIDTH
+
+
+def leaf_table(leaves: Leaves) -> torch.Tensor | None:
+    """Every leaf's inverse map, scale and primitive geometry in one row, for fast no-grad lookups.
+
+    Returns
+    -------
+    torch.Tensor or None
+        ``(12, L)``: the 6 inverse-map entries, the scale and the `PARAM_WIDTH` (5) packed primitive numbers
+        of each leaf id, then (affine leaves only) the 6 entries of the word's forward map: ``(18, L)``;
+        None when the primitives are of several kinds (use `sdf_pairs` then). One row per quantity
+        (not per leaf), so that a gather gives each quantity as a contiguous vector: the distance
+        arithmetic then runs about twice as fast on CPU as on the columns of an ``(N, 12)`` gather.
+    """
+    if len(set(leaves.kinds)) != 1:
+        return None
+    leaf = torch.arange(len(leaves), device=leaves.inverse.device)
+    inv, scale, forward, _, row = _gather_words(leaves, leaf)
+    params = leaves.params[0].expand(len(leaf), PARAM_WIDTH) if row is None else leaves.params.index_select(0, row)
+    return torch.cat([inv, scale[:, None], params] + ([] if forward is None else [forward]), 1).detach().T.contiguous()
+
+
+def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
+    """`sdf_pairs` from a `leaf_table` (one gather per pair): the same values, bit for bit, no gradient.
+
+    Parameters
+    ----------
+    table : torch.Tensor
+        ``(12, L)`` or ``(18, L)`` from `leaf_table`.
+    kind : str
+        The primitives' one kind.
+    x, y, leaf : torch.Tensor
+        ``(N,)`` query coordinates and leaf ids.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(N,)``.
+    """
+    row = table.index_select(1, leaf)  # (12 or 18, N): each quantity contiguous
+    forward = row[_GEOMETRY:].T if table.shape[0] > _GEOMETRY else None
+    return leaf_sdf(kind, x, y, row[:6].T, row[6], row[7:_GEOMETRY].T, forward)
+
+
+def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
+    """Signed distance from every point to every leaf (the paper's algorithm).
+
+    Parameters
+    ----------
+    leaves : Leaves
+    x, y : torch.Tensor
+        ``(C,)`` query coordinates.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(C, L)`` distances, leaf ids along the second axis.
+    """
+    if leaves.words_per_item:
+        raise IFSError("sdf_dense takes the leaves of one IFS, not a batch")
+    inv = leaves.inverse.reshape(-1, 6)
+    x, y = x[:, None], y[:, None]
+    per_prim = [leaf_sdf(kind, x, y, inv, leaves.scale, leaves.params[j], leaves.forward)
+                for j, kind in enumerate(leaves.kinds)]
+    return torch.stack(per_prim, -1).reshape(x.shape[0], -1)
+
+
+__all__ = ["leaf_sdf", "leaf_table", "sdf_dense", "sdf_pairs", "sdf_table"]
