@@ -27,8 +27,8 @@ COVERAGE = 0.1
 LOSS_LEVELS = 5
 
 #: Adam's learning rate for the raw parameters (angles in radians, logits of singular values, translations in plane
-#: units) and for the probabilities' logits.
-MAP_LR = 0.01
+#: units) and for the probabilities' logits. 0.03 against 0.01: ten0's attractor IoU 0.736 against 0.638 (600 steps).
+MAP_LR = 0.03
 PROBABILITY_LR = 0.02
 
 #: Annealing: Gaussian noise added to the raw parameters at each step of the first ``ANNEAL_SHARE`` of the steps, its
