@@ -4,7 +4,7 @@ from __future__ import annotations
 from ..errors import IFSError
 from .code import Code
 from .config import CodeOptions, RefineOptions
-from .encode import collage
+from .encode import budget, collage
 from .refine import refine
 
 from ..names import COMPRESSION_METHODS as METHODS  # noqa: E402 - the names live apart, for the command line
@@ -33,4 +33,7 @@ def compress(image, bpp: float | None = None, quality: float | None = None, meth
     if method not in METHODS:
         raise IFSError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     chosen = collage(image, options, bpp=bpp, quality=quality, progress=progress)
-    return refine(chosen.code, image, refinement, progress, chosen) if method == "attractor" else chosen.code
+    if method == "collage":
+        return chosen.code
+    rate = None if bpp is None else budget(bpp, None, chosen.code.height, chosen.code.width, options)[0]
+    return refine(chosen.code, image, refinement, progress, chosen, rate)

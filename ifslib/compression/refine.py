@@ -182,7 +182,7 @@ def refine_maps(code: Code, target: torch.Tensor, padded: torch.Tensor, options:
 
 
 def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress: bool = False,
-           price: Choice | None = None) -> Code:
+           price: Choice | None = None, budget_bits: float | None = None) -> Code:
     """Attractor coding: ``code`` improved for its decoded image's distance to ``image``, in no more bits.
 
     Parameters
@@ -197,18 +197,21 @@ def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress
     price : rates.Choice, optional
         What chose ``code`` (`encode.collage`): its price of a bit and models price the domains searched
         again; without it they are chosen by error alone (and kept only if the file does not grow).
+    budget_bits : float, optional
+        The most bits of fields (`Code.bits`) the result may take; default, and at least, ``code.bits()``.
 
     Returns
     -------
     Code
-        No more bits than ``code`` (so no larger a file); with ``options.repartitions == 0`` the same
-        partition and flat blocks (the same bits). Never decodes worse.
+        No more bits than ``code`` or ``budget_bits``, whichever is more (so no larger a file than the
+        rate asked); with ``options.repartitions == 0`` the same partition and flat blocks. Never decodes
+        worse.
     """
     target = check_image(image).float()
     if tuple(target.shape) != (code.height, code.width):
         raise IFSError(f"the image is {tuple(target.shape)} but the code is of a {code.height} x {code.width} image")
     padded = pad(target, code.options)
-    budget = code.bits()
+    budget = max(code.bits(), budget_bits or 0)
     code, best_err, x = refine_maps(code, target, padded, options, progress, budget, price)
     for _ in range(options.repartitions):
         chosen = partition(padded, x, code.height, code.width, code.options, budget, progress)

@@ -108,7 +108,7 @@ def compressed() -> object:
     from ifslib.compression import CodeOptions, encode
 
     image = transform.resize(data.camera()[:, 64:-64] / 255, (64, 64), anti_aliasing=True)
-    return encode(np.clip(image, 0, 1), CodeOptions(coder="fixed"), bpp=0.5)  # file version 1, as the exercise
+    return encode(np.clip(image, 0, 1), CodeOptions(coder="fixed", m_bits=7), bpp=0.5)  # file version 1
 
 
 def bits_names() -> dict:
