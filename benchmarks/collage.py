@@ -11,7 +11,7 @@ import time
 
 import ifslib
 from ifslib.core.targets import silhouettes
-from ifslib.core.scoring.collage import collage_prefit
+from ifslib.studies.prefit import collage_prefit
 
 
 def main() -> None:

@@ -18,7 +18,6 @@ from tqdm.auto import tqdm
 
 import numpy as np
 import torch
-import torch.nn.functional as F
 from scipy import ndimage
 
 from ..automatic.auto import FIGURE
@@ -26,6 +25,7 @@ from ..automatic.initialization import initialize
 from ..errors import IFSError, check_int, check_positive
 from ..core.geometry.rules import singular_values
 from ..core.geometry.ifs import IFS
+from ..core.scoring.losses import multiscale_mse
 from ..core.geometry import patterns
 from ..core.targets.target import Target, foreground_points, target_from_mask
 from ..progress import draw_bars
@@ -133,14 +133,9 @@ def check_measure_image(image) -> torch.Tensor:
 
 
 def multiscale_loss(a: torch.Tensor, b: torch.Tensor, scales: int) -> torch.Tensor:
-    """Sum over ``scales`` 2x poolings of the mean squared difference of densities (mass times pixels) of ``(S, S)`` images."""
-    a, b = a[None, None] * a.numel(), b[None, None] * b.numel()
-    total = a.new_zeros(())
-    for k in range(scales):
-        if k:
-            a, b = F.avg_pool2d(a, 2, ceil_mode=True), F.avg_pool2d(b, 2, ceil_mode=True)
-        total = total + ((a - b) ** 2).mean()
-    return total
+    """The core's multiscale MSE (`ifslib.core.scoring.losses.multiscale_mse`, average pooling) of the densities
+    (mass times pixels) of two ``(S, S)`` measures, over ``scales`` sizes (the image and ``scales - 1`` pooled copies)."""
+    return multiscale_mse(a * a.numel(), b * b.numel(), levels=scales - 1, mode="avg")
 
 
 def correlation(a, b) -> float:

@@ -300,11 +300,3 @@ def save_figure(fig: plt.Figure, name: str, folder: str | os.PathLike | None, dp
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=dpi, metadata={"Software": None})
     return path
-
-
-def figure_pixels(fig: plt.Figure, dpi: int = 100) -> np.ndarray:
-    """The figure rasterized to an ``(h, w)`` grayscale array in ``[0, 1]`` (for image comparisons)."""
-    fig.set_dpi(dpi)
-    fig.canvas.draw()
-    rgba = np.asarray(fig.canvas.buffer_rgba(), dtype=float) / 255
-    return rgba[..., :3].mean(-1)

@@ -17,8 +17,6 @@ free control points to lower it: a cheap fit of the maps alone, before the rende
 """
 from __future__ import annotations
 
-import math
-
 import torch
 
 from ...errors import IFSError, check_int
@@ -90,37 +88,3 @@ def collage_distance(ifs: IFS, target: Target, n: int = 2000, seed: int = 0) -> 
     points = torch.as_tensor(sample_foreground(target, n, seed), dtype=ifs.points.dtype)
     outside, cover = collage_terms(ifs.maps()[None, :, :2], points, target.distance.to(ifs.points.dtype))
     return (outside + cover)[0]
-
-
-def collage_prefit(ifs: IFS, target: Target, steps: int = 200, lr: float = 0.003, n: int = 2000,
-                   seed: int = 0) -> tuple[IFS, list[float]]:
-    """Adam on the free control points, minimizing `collage_distance`; a step that stops a map contracting ends it.
-
-    Returns
-    -------
-    IFS
-        The points with the lowest collage distance seen (a copy).
-    list of float
-        The collage distance at every step.
-    """
-    check_int(steps, "steps", 0)
-    if not (isinstance(lr, (int, float)) and lr > 0 and math.isfinite(lr)):
-        raise IFSError(f"lr must be a finite number > 0, got {lr!r}")
-    work = ifs.clone()
-    opt = torch.optim.Adam([work.points], lr=lr)
-    history, best, best_points = [], math.inf, work.points.detach().clone()
-    for _ in range(steps):
-        try:
-            work.check_contractive(max(work.depth, 1))
-        except IFSError:
-            break
-        opt.zero_grad(set_to_none=True)
-        value = collage_distance(work, target, n, seed)
-        value.backward()
-        if work.fixed:
-            work.points.grad[list(work.fixed)] = 0
-        history.append(value.item())
-        if history[-1] < best:
-            best, best_points = history[-1], work.points.detach().clone()
-        opt.step()
-    return ifs.clone(best_points), history
