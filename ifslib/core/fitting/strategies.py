@@ -110,11 +110,11 @@ class Strategy:
     ----------
     run : Runner
         The strategy's work, from a start, with the run and strategy settings and the seeded generator.
-    fits : type
-        What it takes as its start: an IFS (given an extension's start, the strategy fits its ``start``),
-        or an extension's start type (the automatic path's plan).
     refusal : str
         The error given another start: what to do instead.
+
+    Its ``fits`` field is the type it takes as its start: an IFS (given an extension's start, the
+    strategy fits its ``start``), or an extension's start type (the automatic path's plan).
     """
 
     run: Runner
