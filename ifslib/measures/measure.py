@@ -30,6 +30,7 @@ from ..errors import IFSError, check_int
 from ..core.geometry.attractor import check_contractive_maps
 from ..core.geometry.ifs import IFS, check_probabilities
 from ..core.geometry.leaves import check_bytes
+from ..core.raster.chains import fixed_points, walk
 
 #: Chains of the chaos game run side by side: more chains, fewer Python steps (65,536 x 16 bytes a step).
 MEASURE_CHAINS = 65_536
@@ -133,28 +134,22 @@ def chaos_measure(ifs: IFS, size: int, n: int = DEFAULT_MEASURE_POINTS, seed: in
         check_contractive_maps(maps_t, ifs.rules)
         p = ifs.measure_probabilities(maps_t).numpy()
     maps = maps_t.numpy()
-    lin, shift = maps[:, :2, :2], maps[:, :2, 2]
     rng = np.random.default_rng(seed)
     chains = min(MEASURE_CHAINS, n)
-    fixed = np.stack([np.linalg.solve(np.eye(2) - a, t) for a, t in zip(lin, shift)])
-    x = fixed[rng.choice(len(p), size=chains, p=p)]
+    starts = fixed_points(maps)[rng.choice(len(p), size=chains, p=p)]
     counts = np.zeros(size * size + 1)
-    steps = -(-n // chains)
-    for k in range(BURN_IN + steps):
-        pick = rng.choice(len(p), size=chains, p=p)
-        x = np.einsum("nij,nj->ni", lin[pick], x) + shift[pick]
-        if k >= BURN_IN:
-            counts += _bin(x, size)
+    for step in walk(maps, p, starts, BURN_IN, -(-n // chains), rng):
+        counts += _bin(step.x, step.y, size)
     total = counts[:-1].sum()
     if total == 0:
         raise IFSError("no chaos-game point fell in the frame [-0.5, 0.5]^2: the attractor lies outside it")
     return (counts[:-1] / total).reshape(size, size)
 
 
-def _bin(points: np.ndarray, size: int) -> np.ndarray:
-    """Counts of ``(n, 2)`` points per pixel, flat row-major, with one more slot for those outside the frame."""
-    col = np.floor((points[:, 0] + 0.5) * size)
-    row = np.floor((0.5 - points[:, 1]) * size)
+def _bin(x: np.ndarray, y: np.ndarray, size: int) -> np.ndarray:
+    """Counts of the points ``(x, y)`` per pixel, flat row-major, with one more slot for those outside the frame."""
+    col = np.floor((x + 0.5) * size)
+    row = np.floor((0.5 - y) * size)
     inside = (col >= 0) & (col < size) & (row >= 0) & (row < size)
     flat = np.where(inside, row * size + col, size * size).astype(np.int64)
     return np.bincount(flat, minlength=size * size + 1)

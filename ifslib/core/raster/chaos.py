@@ -31,6 +31,7 @@ from ..geometry.ifs import IFS
 from ..geometry.reach import to_window
 from ..geometry.rules import singular_values
 from ..geometry.leaves import check_bytes
+from .chains import fixed_points, walk
 from .nearest import nearest_point, pixel_centres
 
 #: Chains of `chaos_game` run side by side, at most (one per point below it). Each pays the burn-in
@@ -44,9 +45,6 @@ CHAINS = 2048
 #: fit's) leave the sample leaning towards the start, and `chaos_game` warns. More steps, a fairer sample of such
 #: maps; each 1,000 steps cost about 0.1 s of one thread for 2048 chains.
 MAX_BURN_IN = 5_000
-
-# Map choices drawn at once: more, fewer calls to the generator; fewer, less memory (about 60 bytes each).
-_PICKS_PER_DRAW = 1 << 18
 
 #: Points of the chaos game a picture uses by default.
 DEFAULT_POINTS = 1_000_000
@@ -171,36 +169,11 @@ def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
     maps = maps_t.numpy()
     chains = min(CHAINS, n)
     steps = math.ceil(n / chains)
-    start = np.linalg.solve(np.eye(2) - maps[0, :2, :2], maps[0, :2, 2])
-    out = _walk(maps, p, start, chains, burn, steps, np.random.default_rng(seed))
-    return np.ascontiguousarray(out.reshape(2, -1).T[:n])
-
-
-def _walk(maps: np.ndarray, p: np.ndarray, start: np.ndarray, chains: int, burn: int, steps: int,
-          rng: np.random.Generator) -> np.ndarray:
-    """``chains`` chains from ``start``, ``burn`` steps unrecorded then ``steps`` recorded: ``(2, steps, chains)``."""
-    coef = np.ascontiguousarray(maps[:, :2, :].reshape(-1, 6).T)  # (6, m): a, b, tx, c, d, ty
-    cuts = np.cumsum(p)[:-1]
-    x, y = np.full(chains, start[0]), np.full(chains, start[1])
+    starts = np.repeat(fixed_points(maps[:1]), chains, axis=0)
     out = np.empty((2, steps, chains))
-    rows = max(1, _PICKS_PER_DRAW // chains)
-    for first in range(0, burn + steps, rows):
-        block = np.take(coef, _pick(rng.random((min(rows, burn + steps - first), chains)), cuts), axis=1)
-        for k, (a, b, tx, c, d, ty) in enumerate(block.transpose(1, 0, 2), first):
-            x, y = a * x + b * y + tx, c * x + d * y + ty
-            if k >= burn:
-                out[0, k - burn], out[1, k - burn] = x, y
-    return out
-
-
-def _pick(uniform: np.ndarray, cuts: np.ndarray) -> np.ndarray:
-    """The map each uniform chooses: how many of the cumulative probabilities ``cuts`` it reaches."""
-    if len(cuts) > 32:  # a binary search beats a pass per map
-        return np.searchsorted(cuts, uniform, side="right")
-    pick = np.zeros(uniform.shape, np.uint8)  # searchsorted's count, a pass per map: five times faster for four maps
-    for cut in cuts:
-        pick += uniform >= cut
-    return pick
+    for k, step in enumerate(walk(maps, p, starts, burn, steps, np.random.default_rng(seed))):
+        out[0, k], out[1, k] = step.x, step.y
+    return np.ascontiguousarray(out.reshape(2, -1).T[:n])
 
 
 def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
