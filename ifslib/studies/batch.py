@@ -211,7 +211,12 @@ class _Batch:
         self.consecutive = torch.where(fail, self.consecutive + 1, self.consecutive)
 
     def adam(self, grad: torch.Tensor, ok: torch.Tensor) -> None:
-        """Adam, item by item, in the order of operations of torch.optim.Adam (single-tensor path)."""
+        """Adam, item by item, in the order of operations of torch.optim.Adam (single-tensor path).
+
+        The library's one Adam not taken from torch: `torch.optim.Adam` keeps one step count and one
+        learning rate a tensor, and a batch's items each keep their own (a rolled-back item halves its
+        rate and keeps its count), as each single run does with torch's.
+        """
         beta1, beta2 = BETAS
         k = ok[:, None, None]
         new_count = self.count + 1
