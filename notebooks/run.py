@@ -118,7 +118,8 @@ def execute(book: Path, preset: str, into: Path | None) -> float:
     if preset == "quick":
         run_quick(book, root / "build" / "quick", root / "build" / "figures-quick")
     else:
-        store(book, into / book.name if into else book, into / "figures" if into else figures_dir())
+        store(book, into / book.name if into else book, into / "figures" if into else figures_dir(),
+              teaching_parameters(book))
     return time.perf_counter() - started
 
 

@@ -1,12 +1,12 @@
-"""Store a notebook's teaching run in the notebook itself: ``python notebooks/store.py [02 08]``.
+"""Store a notebook's teaching run in the notebook itself (``python notebooks/run.py --only 02 08`` calls it).
 
 The stored outputs are what readers see: the notebook on GitHub and in JupyterLab, the book and the
 slides. `store` executes a notebook top to bottom in a fresh kernel at its teaching values (its
 ``parameters`` cell, nothing injected, so the stored cells are the source's), drops the progress
 bars and records the run in ``metadata["ifslib"]["stored"]``: the preset, the torch thread count
 and the parameters it ran with (tests/notebooks/test_stored_runs.py holds the stored notebooks to
-them). ``python notebooks/store.py 02`` is ``python notebooks/run.py --only 02``, which also writes
-the figure to ``figures/``; the quick values (``make test``) never reach the stored outputs.
+them). `run.py` reads the teaching values and hands them here, and also writes the figure to
+``figures/``; the quick values (``make test``) never reach the stored outputs.
 
 Progress bars are not stored: a tqdm widget's view is stored without its final state, so a
 reader sees it at "0%", and a bar on standard error is hundreds of redraws. The kernels run with
@@ -18,12 +18,10 @@ from __future__ import annotations
 
 import os
 import re
-import sys
 from pathlib import Path
 
 import nbformat
 from nbclient import NotebookClient
-from run import main as run_main, teaching_parameters  # notebooks/run.py: this script's folder is first on sys.path
 
 #: A tqdm bar as tqdm writes it: ``desc:  40%|####      | 2/5 [00:01<00:01, 1.9it/s]``, or without a
 #: total ``desc: 7it [00:01, 6.2it/s]`` (the rate in any unit: ``it/s``, ``step/s``, ``s/it``).
@@ -96,9 +94,11 @@ def _drop_unshown_widgets(book: nbformat.NotebookNode) -> None:
         del book.metadata["widgets"]
 
 
-def store(path: Path, dest: Path, figures: Path, timeout: int = 1800) -> None:
+def store(path: Path, dest: Path, figures: Path, parameters: dict, timeout: int = 1800) -> None:
     """Execute the notebook at ``path`` at its teaching values in a fresh kernel, write it with its outputs to ``dest``.
 
+    ``parameters`` are those teaching values (its cell tagged ``parameters``, as `run.teaching_parameters`
+    reads it), recorded with the run; the cell itself runs as it is, nothing injected.
     ``dest`` may be ``path`` itself (stored in place). The kernel runs in the notebook's folder, at
     this process's ``IFSLIB_THREADS``, with its figure written to ``figures`` (``IFSLIB_FIGURES``:
     an empty ``save_to`` falls back on it), the inline backend and no progress bar.
@@ -115,10 +115,6 @@ def store(path: Path, dest: Path, figures: Path, timeout: int = 1800) -> None:
     meta.pop("threads", None)  # recorded in "stored" now
     threads = env.get("IFSLIB_THREADS", "auto")
     meta["stored"] = {"preset": "teaching", "threads": int(threads) if threads.isdigit() else threads,
-                      "parameters": teaching_parameters(path)}
+                      "parameters": parameters}
     dest.parent.mkdir(parents=True, exist_ok=True)
     nbformat.write(book, dest)
-
-
-if __name__ == "__main__":
-    sys.exit(run_main(["--preset", "teaching", *sys.argv[1:]]))
