@@ -10,7 +10,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
+from typing import Callable, ClassVar
 
 from ...names import DEFAULT_LR
 from ...errors import IFSError, check_int
@@ -21,8 +21,6 @@ from ..scoring.losses import DEFAULT_LOSS, check_loss
 
 #: The largest learning rate a fit takes: Adam's step is about ``lr`` plane units, and the frame is 1 wide.
 MAX_LR = 1.0
-#: The window of early stopping (`ifslib.core.fitting.run.converged`) when ``tol`` is set and ``patience`` is not.
-DEFAULT_PATIENCE = 50
 
 
 def _finite(value, allow_zero: bool = False) -> bool:
@@ -66,8 +64,12 @@ class RunOptions:
     tol, patience : optional
         Early stop once the best loss improved by at most a fraction ``tol`` over the last
         ``patience`` steps. None keeps the strategy's own setting: off for ``plain``, on for
-        ``pyramid``; ``patience`` None with ``tol`` set is `DEFAULT_PATIENCE`.
+        ``pyramid``; ``patience`` None with ``tol`` set is ``DEFAULT_PATIENCE``.
     """
+
+    #: The window of early stopping (`ifslib.core.fitting.run.converged`) when ``tol`` is set and
+    #: ``patience`` is not: longer waits out more of a slow stretch, shorter stops a stalled run sooner.
+    DEFAULT_PATIENCE: ClassVar[int] = 50
 
     lr: float = DEFAULT_LR
     loss: str | Callable = DEFAULT_LOSS
@@ -107,6 +109,11 @@ class RunOptions:
     def replace(self, **changes) -> RunOptions:
         """A copy with ``changes`` (validated again)."""
         return dataclasses.replace(self, **changes)
+
+    @property
+    def stop_window(self) -> int:
+        """The steps over which early stopping looks: ``patience``, or ``DEFAULT_PATIENCE`` when it is None."""
+        return self.DEFAULT_PATIENCE if self.patience is None else self.patience
 
     @property
     def step_lr(self) -> float:

@@ -29,7 +29,7 @@ from ..raster.distance import distance_field
 from ..scoring.losses import loss as loss_fn
 from ..targets.target import Target
 from ...threads import refresh as refresh_threads
-from .options import DEFAULT_PATIENCE, Checkpoint, RunOptions
+from .options import Checkpoint, RunOptions
 from .result import FitResult, History
 
 
@@ -204,7 +204,7 @@ def run(ifs: IFS, target: Target, *, steps: int = DEFAULT_STEPS, options: RunOpt
     if options.crossing_weight:
         check_curve(ifs, "crossing_weight")
     depth = ifs.depth if options.depth is None else options.depth
-    patience = DEFAULT_PATIENCE if options.patience is None else options.patience
+    patience = options.stop_window
     refresh_threads()  # in auto mode: the cores free now, at every run (each stage of a strategy)
     torch.manual_seed(seed)
     state = _Run(ifs, target, options, depth)
