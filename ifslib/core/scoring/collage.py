@@ -12,8 +12,8 @@ target's foreground pixel centres ``P``, both terms read from the target's dista
   through the maps' inverses: ``d(p, T_i(T)) <= s_i d(T_i^-1 p, T)``.
 
 `collage_terms` takes a batch of IFSs' maps at once (the fractal search refines thousands,
-`ifslib.automatic.fractal`); `collage_distance` is one IFS's. `collage_prefit` moves an IFS's
-free control points to lower it: a cheap fit of the maps alone, before the rendered fit.
+`ifslib.automatic.fractal`, whose `refine` is the library's one optimizer of it); `collage_distance`
+is one IFS's.
 """
 from __future__ import annotations
 
