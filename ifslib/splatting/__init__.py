@@ -1,5 +1,7 @@
 """Splatting: a differentiable chaos game (chains' points splatted onto the pixel grid) and a fit of many maps and
-their probabilities on it, the literature's way (Djeacoumar et al., CGF 2025). Uses the core only."""
+their probabilities on it, the literature's way (Djeacoumar et al., CGF 2025), and the ``splat`` strategy that runs that
+fit from ``ifslib.fit`` and the command line (`strategy`, registered in the core's table when first named). Uses the
+core only."""
 from .. import threads as _threads  # noqa: F401 - torch's thread count is set before this folder computes
 from .fit import SplatFit, SplatFitOptions, fit_splat
 from .parameters import ContractiveMaps
