@@ -27,6 +27,9 @@ MIN_BLOCK = 4
 #: the most domains per block size: more finds closer domains, at a search cost (and a domain index of
 #: log2 of it bits); 1024 keeps every 4 px block of a 256² image searchable in about a second.
 MAX_DOMAINS = 1024
+#: the HV partition's split positions are multiples of this many pixels: 1 finds each edge exactly, larger
+#: leaves fewer block shapes to pool domains for and fewer bits to code a position.
+HV_STEP = 2
 #: the file's coders: ``fixed`` (version 1, every field its bits) and ``adaptive`` (version 2, range-coded)
 CODERS = ("fixed", "adaptive")
 #: what an adaptive model adds to a symbol's count each time it is coded: larger learns faster from few

@@ -1,0 +1,173 @@
+"""Rectangular range blocks: their 4 isometries, their domain pool, and the HV partition's split.
+
+A block is a rectangle ``(y, x, height, width)`` of the padded image. Its domains are the
+``2 height x 2 width`` blocks on a lattice, averaged over 2 x 2 pixels (as `domains.pool` does for
+squares). A non-square block keeps its shape only under the identity, the two flips and the half turn:
+4 isometries, where a square has 8 (`domains.isometry`).
+
+The HV partition (Fisher and Menlove) splits a block across its strongest edge: the row (or column)
+where the mean gray level jumps most, weighted toward the middle so that parts stay balanced, and
+only where both parts keep at least ``min_side`` pixels.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import torch
+
+from ..errors import IFSError
+from .config import HV_STEP, MAX_DOMAINS
+from .domains import ISOMETRIES, downsample, isometry
+
+#: the isometries of a non-square block: identity, rows reversed, columns reversed, half turn.
+RECTANGLE_ISOMETRIES = 4
+
+
+class Block(NamedTuple):
+    """A range block: the ``height x width`` rectangle whose top-left pixel is (``y``, ``x``)."""
+
+    y: int
+    x: int
+    height: int
+    width: int
+
+
+def isometry_count(height: int, width: int) -> int:
+    """8 isometries for a square block, 4 for a non-square one."""
+    return ISOMETRIES if height == width else RECTANGLE_ISOMETRIES
+
+
+def rectangle_isometry(blocks: torch.Tensor, k: int) -> torch.Tensor:
+    """Isometry ``k`` of blocks ``(..., h, w)`` that keeps their shape.
+
+    Square blocks take the 8 of `domains.isometry` (so a square code reads as before); non-square ones
+    take ``k`` in 0-3: the identity, rows reversed, columns reversed, both (the half turn).
+    """
+    h, w = blocks.shape[-2:]
+    if not 0 <= k < isometry_count(h, w):
+        raise IFSError(f"isometry {k} does not apply to a {h} x {w} block (0-{isometry_count(h, w) - 1})")
+    if h == w:
+        return isometry(blocks, k)
+    dims = [d for d, flip in ((-2, k & 1), (-1, k & 2)) if flip]
+    return torch.flip(blocks, dims) if dims else blocks
+
+
+def _positions(extent: int, side: int, step: int) -> int:
+    return max(0, (extent - 2 * side) // step + 1)
+
+
+def rectangle_step(height: int, width: int, block_height: int, block_width: int) -> tuple[int, int]:
+    """The domain lattice's steps (rows, columns): the block's sides, doubled in turn until at most
+    MAX_DOMAINS domains remain."""
+    sy, sx = block_height, block_width
+    while _positions(height, block_height, sy) * _positions(width, block_width, sx) > MAX_DOMAINS:
+        if sy <= sx:
+            sy *= 2
+        else:
+            sx *= 2
+    return sy, sx
+
+
+def rectangle_pool(image: torch.Tensor, block_height: int, block_width: int) -> torch.Tensor:
+    """Every domain for ``block_height x block_width`` ranges, averaged down: ``(D, bh, bw)``.
+
+    Parameters
+    ----------
+    image : torch.Tensor
+        ``(H, W)`` gray levels (H and W even).
+    block_height, block_width : int
+        The range's sides (each at least 1, and twice each at most the image's).
+
+    Returns
+    -------
+    torch.Tensor
+        Domain ``i`` is the ``2 bh x 2 bw`` block at lattice point ``(i // cols, i % cols)``, row by row.
+    """
+    H, W = image.shape
+    if min(block_height, block_width) < 1 or 2 * block_height > H or 2 * block_width > W:
+        raise IFSError(f"a {block_height} x {block_width} block has no domain in a {H} x {W} image")
+    sy, sx = rectangle_step(H, W, block_height, block_width)
+    rows, cols = _positions(H, block_height, sy), _positions(W, block_width, sx)
+    # the lattice's steps are multiples of the block's sides, so even when the sides are: halve in place
+    if sy % 2 or sx % 2:
+        big = image.unfold(0, 2 * block_height, sy).unfold(1, 2 * block_width, sx)[:rows, :cols]
+        blocks = big.reshape(rows, cols, block_height, 2, block_width, 2).mean((3, 5))
+    else:
+        half = downsample(image)
+        blocks = half.unfold(0, block_height, sy // 2).unfold(1, block_width, sx // 2)[:rows, :cols]
+    return blocks.reshape(rows * cols, block_height, block_width)
+
+
+def edge_split(pixels: torch.Tensor, min_side: int, step: int = HV_STEP) -> tuple[int, int] | None:
+    """Where the HV partition splits a block: ``(axis, position)``, or None when it cannot.
+
+    Parameters
+    ----------
+    pixels : torch.Tensor
+        ``(h, w)`` the block's gray levels.
+    min_side : int
+        The smallest side a part may have.
+    step : int
+        Split positions are multiples of it (fewer shapes to pool domains for, fewer bits to code).
+
+    Returns
+    -------
+    tuple of int, or None
+        ``axis`` 0 cuts between rows (parts ``position x w`` above and ``(h - position) x w`` below),
+        1 between columns; None when neither side is at least ``2 * min_side``.
+    """
+    best = None
+    for axis in (0, 1):
+        n = pixels.shape[axis]
+        cuts = torch.arange(min_side, max(min_side, n - min_side + 1))
+        cuts = cuts[cuts % step == 0]
+        if len(cuts) == 0:
+            continue
+        means = pixels.double().mean(1 - axis)  # one mean per row (axis 0) or per column (axis 1)
+        jump = (means[cuts] - means[cuts - 1]).abs()
+        # Fisher and Menlove's bias toward the middle: min(i, n - i) / (n - 1)
+        score = jump * torch.minimum(cuts, n - cuts).double() / (n - 1)
+        i = int(score.argmax())
+        if best is None or score[i] > best[0]:
+            best = (float(score[i]), axis, int(cuts[i]))
+    return None if best is None else best[1:]
+
+
+def split_block(block: Block, axis: int, position: int) -> tuple[Block, Block]:
+    """The two parts of ``block`` cut ``position`` pixels from its top (axis 0) or left (axis 1)."""
+    y, x, h, w = block
+    if axis == 0:
+        return Block(y, x, position, w), Block(y + position, x, h - position, w)
+    return Block(y, x, h, position), Block(y, x + position, h, w - position)
+
+
+def hv_leaves(image: torch.Tensor, root: Block, min_side: int, keep) -> list[Block]:
+    """The HV partition of ``root``: blocks split at their strongest edge until ``keep(block)`` says stop.
+
+    Parameters
+    ----------
+    image : torch.Tensor
+        ``(H, W)`` gray levels.
+    root : Block
+        The block to partition.
+    min_side : int
+        The smallest side a part may have.
+    keep : callable
+        ``keep(block) -> bool``: True leaves the block whole (e.g. its collage error is small enough).
+
+    Returns
+    -------
+    list of Block
+        The leaves, depth first (top or left part first): they tile ``root``.
+    """
+    out, stack = [], [root]
+    while stack:
+        block = stack.pop()
+        y, x, h, w = block
+        cut = None if keep(block) else edge_split(image[y:y + h, x:x + w], min_side)
+        if cut is None:
+            out.append(block)
+        else:
+            first, second = split_block(block, *cut)
+            stack += [second, first]
+    return out
