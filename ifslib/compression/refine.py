@@ -98,34 +98,6 @@ def _levels(latent: torch.Tensor, low: int, high: int) -> torch.Tensor:
     return latent + (latent.round().clamp(low, high) - latent).detach()
 
 
-class Adam:
-    """Adam (torch.optim.Adam's defaults: betas 0.9, 0.999, eps 1e-8) on a few tensors.
-
-    Written out because torch.optim's first use imports torch._dynamo, 6.5 s measured on the shared
-    machine: more than a whole 256² refinement takes.
-    """
-
-    def __init__(self, params: list[torch.Tensor], lr: float, betas=(0.9, 0.999), eps: float = 1e-8):
-        self.params, self.lr, self.betas, self.eps, self.t = params, lr, betas, eps, 0
-        self.m = [torch.zeros_like(p) for p in params]
-        self.v = [torch.zeros_like(p) for p in params]
-
-    @torch.no_grad()
-    def step(self) -> None:
-        self.t += 1
-        b1, b2 = self.betas
-        for p, m, v in zip(self.params, self.m, self.v):
-            g = p.grad if p.grad is not None else torch.zeros_like(p)
-            m.mul_(b1).add_(g, alpha=1 - b1)
-            v.mul_(b2).addcmul_(g, g, value=1 - b2)
-            step = self.lr / (1 - b1**self.t)
-            p.addcdiv_(m, (v / (1 - b2**self.t)).sqrt_().add_(self.eps), value=-step)
-
-    def zero_grad(self) -> None:
-        for p in self.params:
-            p.grad = None
-
-
 def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: bool = False,
             budget: float = float("inf")) -> Code:
     """Adam on the blocks' s and m levels through the fixed point; the best quantized code seen whose
@@ -135,7 +107,7 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
     zero, flat = zero_s(o), code.flat
     s_lat = code.s_idx.to(target.dtype).requires_grad_()
     m_lat = code.m_idx.to(target.dtype).requires_grad_()
-    opt = Adam([s_lat, m_lat], lr=lr)
+    opt = torch.optim.Adam([s_lat, m_lat], lr=lr)
     best_err, x = decoded_error(code, target, p)
     closer = []  # each code closer than all before it: the last that fits in the budget is returned
     for _ in tqdm(range(steps), desc="attractor descent", disable=not progress, leave=False):

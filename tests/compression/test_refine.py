@@ -63,25 +63,3 @@ def test_refine_refuses_another_image():
     with pytest.raises(IFSError, match="code is of a 32 x 32"):
         refine(code, photo(48), RefineOptions(steps=1))
 
-
-def test_the_written_out_adam_matches_its_update_rule():
-    """Adam's rule as torch.optim.Adam states it (Kingma and Ba, eps added after the square root), by hand.
-
-    Not against torch.optim itself: importing it loads torch._dynamo, a second of test time.
-    """
-    from ifslib.compression.refine import Adam
-
-    lr, (b1, b2), eps = 0.1, (0.9, 0.999), 1e-8
-    ours = torch.tensor([0.3, -1.2, 2.0], dtype=torch.float64, requires_grad=True)
-    mine = Adam([ours], lr=lr)
-    p, m, v = [0.3, -1.2, 2.0], [0.0] * 3, [0.0] * 3
-    for t in range(1, 6):
-        mine.zero_grad()
-        ((ours - 1) ** 4).sum().backward()
-        mine.step()
-        for i in range(3):
-            g = 4 * (p[i] - 1) ** 3
-            m[i] = b1 * m[i] + (1 - b1) * g
-            v[i] = b2 * v[i] + (1 - b2) * g * g
-            p[i] -= lr / (1 - b1**t) * m[i] / ((v[i] / (1 - b2**t)) ** 0.5 + eps)
-        torch.testing.assert_close(ours.detach(), torch.tensor(p, dtype=torch.float64), rtol=1e-12, atol=1e-12)
