@@ -1,6 +1,7 @@
-"""The partitioned IFS code: the quadtree's leaves (range blocks) and each one's quantized map.
+"""The partitioned IFS code: the partition's leaves (range blocks) and each one's quantized map.
 
-Block ``i`` is the ``size[i]`` square at row ``y[i]``, column ``x[i]``; its map takes domain
+Block ``i`` is the ``size[i]`` square at row ``y[i]``, column ``x[i]`` (a quadtree's), or, in an HV
+partition's code, the ``height[i] x width[i]`` rectangle there (`rectangles`); its map takes domain
 ``domain[i]`` (for its size, `domains.pool`) under isometry ``iso[i]`` to
 ``s (D - mean D) + m``, with s and m stored as the level indices ``s_idx[i]`` and ``m_idx[i]``
 (`quantize`). A block with s = 0 is flat: its mean alone, no domain and no isometry stored.
@@ -18,6 +19,7 @@ from .fields import encode_fields
 from .quantize import dequantize_m, dequantize_s, zero_s
 
 
+
 @dataclass(frozen=True)
 class Code:
     """A partitioned IFS code of a ``height x width`` gray image.
@@ -28,7 +30,10 @@ class Code:
     height, width : int
         The image's size; the quadtree covers it padded up to a multiple of ``options.max_block``.
     y, x, size, domain, iso, s_idx, m_idx : torch.Tensor
-        ``(L,)`` int64 each, one entry per range block, in the file's (depth-first) order.
+        ``(L,)`` int64 each, one entry per range block, in the file's (depth-first) order. For an HV
+        code ``size`` is each block's longer side.
+    block_height, block_width : torch.Tensor, optional
+        ``(L,)`` int64, an HV code's block sides (None for a quadtree's squares).
     """
 
     options: CodeOptions
@@ -41,6 +46,22 @@ class Code:
     iso: torch.Tensor
     s_idx: torch.Tensor
     m_idx: torch.Tensor
+    block_height: torch.Tensor | None = None
+    block_width: torch.Tensor | None = None
+
+    def __post_init__(self):
+        if (self.options.partition == "hv") != (self.block_height is not None and self.block_width is not None):
+            raise IFSError("an HV code gives its blocks' heights and widths; a quadtree code gives neither")
+
+    @property
+    def heights(self) -> torch.Tensor:
+        """``(L,)`` each block's height."""
+        return self.size if self.block_height is None else self.block_height
+
+    @property
+    def widths(self) -> torch.Tensor:
+        """``(L,)`` each block's width."""
+        return self.size if self.block_width is None else self.block_width
 
     @property
     def padded(self) -> tuple[int, int]:

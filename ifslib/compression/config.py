@@ -35,6 +35,9 @@ CODERS = ("fixed", "adaptive")
 #: what an adaptive model adds to a symbol's count each time it is coded: larger learns faster from few
 #: blocks (a 256² file at 0.15 bpp has about 400), smaller settles closer to the true frequencies.
 ADAPT_INCREMENT = 1.0
+#: the partitions, in the order a version 2 header numbers them: squares of a quadtree, or rectangles cut
+#: at their strongest edge (`rectangles`; range-coded files only)
+PARTITIONS = ("quadtree", "hv")
 
 
 @dataclass(frozen=True)
@@ -53,6 +56,9 @@ class CodeOptions:
     coder : str
         How the file stores the fields, one of `CODERS`: ``"adaptive"`` (file version 2, the range coder
         of `fields`) or ``"fixed"`` (version 1, each field its bits).
+    partition : str
+        One of `PARTITIONS`: ``"quadtree"`` (square blocks) or ``"hv"`` (rectangles split at their
+        strongest edge, sides from min_block up; adaptive coder only).
     """
 
     min_block: int = MIN_BLOCK
@@ -61,6 +67,7 @@ class CodeOptions:
     m_bits: int = M_BITS
     s_max: float = S_MAX
     coder: str = "adaptive"
+    partition: str = "quadtree"
 
     def __post_init__(self):
         for name in ("min_block", "max_block"):
@@ -77,6 +84,10 @@ class CodeOptions:
             raise IFSError(f"s_max must be a number in (0, 1) (|s| < 1 keeps the decoder contracting), got {self.s_max!r}")
         if self.coder not in CODERS:
             raise IFSError(f"coder must be one of {', '.join(CODERS)}, got {self.coder!r}")
+        if self.partition not in PARTITIONS:
+            raise IFSError(f"partition must be one of {', '.join(PARTITIONS)}, got {self.partition!r}")
+        if self.partition != "quadtree" and self.coder == "fixed":
+            raise IFSError("an HV partition needs the adaptive coder (file version 2); version 1 holds quadtrees only")
 
     @property
     def sizes(self) -> list[int]:

@@ -16,7 +16,8 @@ import torch.nn.functional as F
 from ..errors import IFSError
 from .code import Code
 from .config import DECODE_MAX_ITER, DECODE_TOL
-from .domains import ISOMETRIES, domain_step, downsample, isometry, lattice
+from .domains import downsample
+from .rectangles import isometry_count, rectangle_isometry, rectangle_lattice, rectangle_step
 
 
 @dataclass(frozen=True)
@@ -53,24 +54,30 @@ def check_scale(scale, code: Code) -> float:
     return float(scale)
 
 
+def shapes(code: Code) -> list[tuple[int, int]]:
+    """The code's block shapes ``(height, width)``, largest first (a quadtree's: its sizes)."""
+    pairs = torch.stack([code.heights, code.widths], 1).unique(dim=0).tolist()
+    return sorted((tuple(p) for p in pairs), key=lambda p: (-p[0] * p[1], -p[0]))
+
+
 def plan(code: Code, scale: float = 1.0) -> Plan:
     """The gather indices of one decoding iteration of ``code`` at ``scale``."""
     scale = check_scale(scale, code)
     H, W = (round(n * scale) for n in code.padded)
     half_w = W // 2
     groups, placed = [], []
-    for size in code.options.sizes:
-        leaves = torch.nonzero(code.size == size)[:, 0]
-        if len(leaves) == 0:
-            continue
-        side = round(size * scale)
-        a = torch.arange(side)
-        rows, cols = lattice(*code.padded, size)
+    for bh, bw in shapes(code):
+        leaves = torch.nonzero((code.heights == bh) & (code.widths == bw))[:, 0]
+        rows_a, cols_a = torch.arange(round(bh * scale)), torch.arange(round(bw * scale))
+        _, cols = rectangle_lattice(*code.padded, bh, bw)
         y, x = code.y[leaves] * scale, code.x[leaves] * scale
-        dst = ((y.round().long()[:, None, None] + a[:, None]) * W + x.round().long()[:, None, None] + a).reshape(len(leaves), -1)
-        d, step = code.domain[leaves], round(domain_step(*code.padded, size) * scale) // 2
-        hy, hx = (d // cols) * step, (d % cols) * step
-        offsets = torch.stack([isometry(a[:, None] * half_w + a, k).reshape(-1) for k in range(ISOMETRIES)])
+        dst = ((y.round().long()[:, None, None] + rows_a[:, None]) * W
+               + x.round().long()[:, None, None] + cols_a).reshape(len(leaves), -1)
+        sy, sx = (round(step * scale) // 2 for step in rectangle_step(*code.padded, bh, bw))
+        d = code.domain[leaves]
+        hy, hx = (d // cols) * sy, (d % cols) * sx
+        grid = rows_a[:, None] * half_w + cols_a
+        offsets = torch.stack([rectangle_isometry(grid, k).reshape(-1) for k in range(isometry_count(bh, bw))])
         src = (hy * half_w + hx)[:, None] + offsets[code.iso[leaves]]
         groups.append(Group(leaves, src, dst))
         placed.append(dst.reshape(-1))

@@ -17,6 +17,8 @@ from .collage import Fit, assemble, check_image, level_fits, pad, ranges, search
 from .config import CodeOptions
 from .domains import ISOMETRY_BITS, domain_bits, domain_count
 from .fileformat import header_bytes
+from .hv import hv_partition
+from .hvfields import hv_columns
 from .partition import LevelCost, grow, leaves_in_order, top_nodes
 from .quantize import quantize_m, zero_s
 from .rates import Choice
@@ -86,11 +88,15 @@ def collage(image, options: CodeOptions = CodeOptions(), bpp: float | None = Non
     if domain_count(H, W, options.max_block) == 0:
         raise IFSError(f"a {height} x {width} image has no domain for {options.max_block} px blocks; "
                        f"use max_block <= {min(H, W) // 2}")
+    if options.partition == "hv" and bpp is None:
+        raise IFSError("an HV partition is chosen for a rate: give bpp, not quality")
     least = coarsest(padded, height, width, options).bits()
     if bits < least:
         needed = least + (7 if options.coder == "fixed" else 0) + 8 * header_bytes(options)
         raise IFSError(f"{bpp} bpp is too few for this {height} x {width} image: its coarsest code takes "
                        f"{math.ceil(1000 * needed / (height * width)) / 1000:.3f} bpp; ask for at least that")
+    if options.partition == "hv":
+        return Choice(hv_partition(padded, padded, height, width, options, bits), float("nan"), 0.0, None, None)
     if bpp is not None:
         return partition(padded, padded, height, width, options, bits, progress)
     fits = level_fits(padded, options, progress)
@@ -105,4 +111,8 @@ def coarsest(padded: torch.Tensor, height: int, width: int, options: CodeOptions
     m_idx = quantize_m(blocks.mean(1), options)
     zeros = torch.zeros_like(m_idx)
     fit = Fit(err=zeros.double(), domain=zeros, iso=zeros, s_idx=torch.full_like(m_idx, zero_s(options)), m_idx=m_idx)
+    if options.partition == "hv":
+        b = options.max_block
+        rows = [(y, x, b, b, 0, 0, zero_s(options), int(m)) for (_, y, x), m in zip(top_nodes(*padded.shape, options), m_idx)]
+        return Code(options, height, width, **hv_columns(rows))
     return assemble(height, width, options, {options.max_block: fit}, top_nodes(*padded.shape, options))

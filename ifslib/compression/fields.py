@@ -20,6 +20,7 @@ from ..errors import IFSError
 from .config import CodeOptions
 from .domains import ISOMETRIES, domain_step, lattice
 from .entropy import Adaptive, Coder, Decoder, Encoder, Magnitude, unzigzag, zigzag
+from .hvfields import code_hv_fields, hv_columns
 from .partition import walk
 from .quantize import zero_s
 
@@ -137,16 +138,19 @@ class Coded(NamedTuple):
 
 
 def encode_fields(code) -> Coded:
-    """The range-coded fields of ``code`` (a `Code`)."""
+    """The range-coded fields of ``code`` (a `Code`, of either partition)."""
     H, W = code.padded
     coder = Encoder()
-    _, models = code_fields(coder, H, W, code.options, code)
+    walk_fields = code_hv_fields if code.options.partition == "hv" else code_fields
+    _, models = walk_fields(coder, H, W, code.options, code)
     return Coded(coder.payload(), dict(coder.ledger), models)
 
 
 def decode_fields(payload: bytes, height: int, width: int, options: CodeOptions) -> dict[str, torch.Tensor]:
     """The fields (`FIELD_NAMES`, ``(L,)`` int64 each) of a padded ``height x width`` code from its payload."""
     decoder = Decoder(payload)
+    if options.partition == "hv":
+        return hv_columns(code_hv_fields(decoder, height, width, options)[0])
     rows, _ = code_fields(decoder, height, width, options)
     if not rows:
         raise IFSError("the file is corrupt (it codes no block)")

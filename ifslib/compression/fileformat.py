@@ -1,8 +1,8 @@
 """The compact binary file of a code: a header naming the version and the layout, then the fields.
 
 Version 2 (written by default): ``b"IFSC"``, version (1 byte), height and width (2 bytes each), the
-partition (1 byte: 0, the quadtree), log2 of the smallest and largest blocks (4 bits each), s_bits and
-m_bits (4 bits each), s_max x 10000 (2 bytes), a CRC-32 of the header's bytes before it and of the
+partition (1 byte: its index in `config.PARTITIONS`, 0 the quadtree, 1 HV), log2 of the smallest and
+largest blocks (4 bits each), s_bits and m_bits (4 bits each), s_max x 10000 (2 bytes), a CRC-32 of the header's bytes before it and of the
 payload (4 bytes), then the range-coded fields (`fields`). A wrong, truncated or altered file fails
 the CRC and is refused, never decoded into a wrong image.
 
@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ..errors import IFSError
 from .code import Code
-from .config import CodeOptions
+from .config import PARTITIONS, CodeOptions
 from .fields import decode_fields, encode_fields
 from .fixedformat import fixed_payload, read_fixed
 
@@ -26,8 +26,6 @@ MAGIC = b"IFSC"
 VERSION = 2
 HEADER = struct.Struct(">4sBHHBBBBH")  # version 1
 HEADER_2 = struct.Struct(">4sBHHBBBHI")
-#: the partitions a version 2 header names, by their byte
-PARTITIONS = ("quadtree",)
 
 
 def header_bytes(options: CodeOptions) -> int:
@@ -43,8 +41,8 @@ def to_bytes(code: Code) -> bytes:
         return HEADER.pack(MAGIC, 1, code.height, code.width, lo, hi, o.s_bits, o.m_bits,
                            round(o.s_max * 10000)) + fixed_payload(code)
     payload = encode_fields(code).payload
-    head = HEADER_2.pack(MAGIC, VERSION, code.height, code.width, 0, lo << 4 | hi, o.s_bits << 4 | o.m_bits,
-                         round(o.s_max * 10000), 0)[:-4]
+    head = HEADER_2.pack(MAGIC, VERSION, code.height, code.width, PARTITIONS.index(o.partition), lo << 4 | hi,
+                         o.s_bits << 4 | o.m_bits, round(o.s_max * 10000), 0)[:-4]
     return head + struct.pack(">I", zlib.crc32(payload, zlib.crc32(head))) + payload
 
 
@@ -89,7 +87,8 @@ def _read_2(data: bytes) -> Code:
         raise IFSError(f"the file's header is corrupt (partition {partition}; this ifslib knows "
                        f"{', '.join(PARTITIONS)})")
     height, width, o = _options(height, width, lambda: CodeOptions(1 << (blocks >> 4), 1 << (blocks & 15), bits >> 4,
-                                                                   bits & 15, s_max / 10000))
+                                                                   bits & 15, s_max / 10000,
+                                                                   partition=PARTITIONS[partition]))
     H, W = -(-height // o.max_block) * o.max_block, -(-width // o.max_block) * o.max_block
     return Code(o, height, width, **decode_fields(payload, H, W, o))
 

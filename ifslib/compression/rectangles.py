@@ -57,15 +57,18 @@ def _positions(extent: int, side: int, step: int) -> int:
 
 
 def rectangle_step(height: int, width: int, block_height: int, block_width: int) -> tuple[int, int]:
-    """The domain lattice's steps (rows, columns): the block's sides, doubled in turn until at most
-    MAX_DOMAINS domains remain."""
+    """The domain lattice's steps (rows, columns): the block's sides, both doubled until at most MAX_DOMAINS
+    domains remain (for a square, `domains.domain_step`'s lattice)."""
     sy, sx = block_height, block_width
     while _positions(height, block_height, sy) * _positions(width, block_width, sx) > MAX_DOMAINS:
-        if sy <= sx:
-            sy *= 2
-        else:
-            sx *= 2
+        sy, sx = 2 * sy, 2 * sx
     return sy, sx
+
+
+def rectangle_lattice(height: int, width: int, block_height: int, block_width: int) -> tuple[int, int]:
+    """Rows and columns of domain positions for ``block_height x block_width`` ranges."""
+    sy, sx = rectangle_step(height, width, block_height, block_width)
+    return _positions(height, block_height, sy), _positions(width, block_width, sx)
 
 
 def rectangle_pool(image: torch.Tensor, block_height: int, block_width: int) -> torch.Tensor:
@@ -87,7 +90,7 @@ def rectangle_pool(image: torch.Tensor, block_height: int, block_width: int) -> 
     if min(block_height, block_width) < 1 or 2 * block_height > H or 2 * block_width > W:
         raise IFSError(f"a {block_height} x {block_width} block has no domain in a {H} x {W} image")
     sy, sx = rectangle_step(H, W, block_height, block_width)
-    rows, cols = _positions(H, block_height, sy), _positions(W, block_width, sx)
+    rows, cols = rectangle_lattice(H, W, block_height, block_width)
     # the lattice's steps are multiples of the block's sides, so even when the sides are: halve in place
     if sy % 2 or sx % 2:
         big = image.unfold(0, 2 * block_height, sy).unfold(1, 2 * block_width, sx)[:rows, :cols]
@@ -96,6 +99,12 @@ def rectangle_pool(image: torch.Tensor, block_height: int, block_width: int) -> 
         half = downsample(image)
         blocks = half.unfold(0, block_height, sy // 2).unfold(1, block_width, sx // 2)[:rows, :cols]
     return blocks.reshape(rows * cols, block_height, block_width)
+
+
+def cut_positions(side: int, min_side: int, step: int = HV_STEP) -> list[int]:
+    """Where a block of ``side`` pixels may be cut: multiples of ``step`` leaving both parts ``min_side`` or more."""
+    first = -(-min_side // step) * step
+    return list(range(first, side - min_side + 1, step))
 
 
 def edge_split(pixels: torch.Tensor, min_side: int, step: int = HV_STEP) -> tuple[int, int] | None:
@@ -119,8 +128,7 @@ def edge_split(pixels: torch.Tensor, min_side: int, step: int = HV_STEP) -> tupl
     best = None
     for axis in (0, 1):
         n = pixels.shape[axis]
-        cuts = torch.arange(min_side, max(min_side, n - min_side + 1))
-        cuts = cuts[cuts % step == 0]
+        cuts = torch.tensor(cut_positions(n, min_side, step), dtype=torch.long)
         if len(cuts) == 0:
             continue
         means = pixels.double().mean(1 - axis)  # one mean per row (axis 0) or per column (axis 1)

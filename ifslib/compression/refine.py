@@ -23,11 +23,12 @@ from tqdm.auto import tqdm
 from ..errors import IFSError
 from .code import Code
 from .config import DECODE_MAX_ITER, DECODE_TOL, RefineOptions
-from .decode import Plan, fixed_point, iterate, plan, start_image
-from .domains import pool_with_isometries
+from .decode import Plan, fixed_point, iterate, plan, shapes, start_image
 from .encode import check_image, pad, search
 from .quantize import dequantize_m, dequantize_s, zero_s
 from .rates import Choice, domain_cost
+from .hv import hv_partition
+from .rectangles import isometry_count, rectangle_isometry, rectangle_pool
 from .repartition import partition
 
 
@@ -76,18 +77,18 @@ def search_again(code: Code, target: torch.Tensor, decoded: torch.Tensor, price:
     with ``price`` (`rates.Choice`), each domain's coded bits at its price of a bit added to its error."""
     fields = {name: getattr(code, name).clone() for name in ("domain", "iso", "s_idx", "m_idx")}
     H, W = target.shape
-    for size in code.options.sizes:
-        at = torch.nonzero((code.size == size) & ~code.flat)[:, 0]
+    for bh, bw in shapes(code):
+        at = torch.nonzero((code.heights == bh) & (code.widths == bw) & ~code.flat)[:, 0]
         if len(at) == 0:
             continue
-        a = torch.arange(size)
-        rows = (code.y[at, None, None] + a[:, None]) * target.shape[1] + code.x[at, None, None] + a
+        rows = (code.y[at, None, None] + torch.arange(bh)[:, None]) * W + code.x[at, None, None] + torch.arange(bw)
         blocks = target.reshape(-1)[rows.reshape(len(at), -1)]
         penalty = None
-        if price is not None and price.models is not None and price.lam > 0:
-            penalty = price.lam * domain_cost(price.models, H, W, size, code.y[at].numpy(), code.x[at].numpy())
-        fit = search(blocks, pool_with_isometries(decoded, size), code.options, torch.ones(len(at), dtype=torch.bool),
-                     penalty)
+        if price is not None and price.models is not None and price.lam > 0 and code.options.partition == "quadtree":
+            penalty = price.lam * domain_cost(price.models, H, W, bh, code.y[at].numpy(), code.x[at].numpy())
+        pool = rectangle_pool(decoded, bh, bw)
+        domains = torch.stack([rectangle_isometry(pool, k).reshape(len(pool), -1) for k in range(isometry_count(bh, bw))])
+        fit = search(blocks, domains, code.options, torch.ones(len(at), dtype=torch.bool), penalty)
         for name in fields:
             fields[name][at] = getattr(fit, name)
     return code.with_maps(**fields)
@@ -186,7 +187,11 @@ def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress
     budget = max(code.bits(), budget_bits or 0)
     code, best_err, x = refine_maps(code, target, padded, options, progress, budget, price)
     for _ in range(options.repartitions):
-        chosen = partition(padded, x, code.height, code.width, code.options, budget, progress)
+        if code.options.partition == "hv":
+            chosen = Choice(hv_partition(padded, x, code.height, code.width, code.options, budget), float("nan"), 0.0,
+                            None, None)
+        else:
+            chosen = partition(padded, x, code.height, code.width, code.options, budget, progress)
         candidate, err, new_x = refine_maps(chosen.code, target, padded, options, progress, budget, chosen)
         if err >= best_err:
             break

@@ -4,7 +4,7 @@ import itertools
 import pytest
 import torch
 
-from ifslib.compression.domains import isometry
+from ifslib.compression.domains import domain_step, isometry, pool
 from ifslib.compression.rectangles import (Block, edge_split, hv_leaves, isometry_count, rectangle_isometry,
                                            rectangle_pool, rectangle_step, split_block)
 from ifslib.errors import IFSError
@@ -62,6 +62,13 @@ def test_rectangle_pool_is_each_lattice_block_averaged_by_hand(bh, bw):
         torch.testing.assert_close(blocks[d], by_hand)
     with pytest.raises(IFSError, match="no domain"):
         rectangle_pool(image, 17, 4)
+
+
+def test_a_square_blocks_pool_is_the_quadtrees():
+    image = photo(64)
+    for size in (4, 8, 16):
+        assert rectangle_step(256, 256, size, size) == (domain_step(256, 256, size),) * 2
+        torch.testing.assert_close(rectangle_pool(image, size, size), pool(image, size))
 
 
 def test_edge_split_finds_a_step_edge_and_keeps_parts_at_least_min_side():

@@ -1,0 +1,151 @@
+"""An HV code's fields in the order and contexts the range coder sees them (file version 2, partition "hv").
+
+Depth first from each ``max_block`` square, raster order: a block that can be cut (`rectangles.cut_positions`)
+says whether it is (a model per shorter side); a cut block says along which axis (when both could be
+cut) and where (its index among the axis's positions, a model per count), then its two parts follow,
+top or left first. A leaf codes what a quadtree leaf does (`fields`): flat or not, the contrast, the
+mean as a residual from its decoded neighbours above and to the left, and for a block with a domain its
+isometry (4 for a rectangle, 8 for a square) and its domain's offset from the range on its shape's
+lattice.
+"""
+from __future__ import annotations
+
+from collections import defaultdict
+
+import numpy as np
+import torch
+
+from ..errors import IFSError
+from .config import HV_STEP, CodeOptions
+from .entropy import Adaptive, Coder, Magnitude, unzigzag, zigzag
+from .quantize import zero_s
+from .rectangles import Block, cut_positions, isometry_count, rectangle_lattice, rectangle_step, split_block
+
+
+class HVModels:
+    """The adaptive models of one HV code, made the first time a context is met (alike in encoder and decoder)."""
+
+    def __init__(self, options: CodeOptions):
+        self.split = defaultdict(lambda: Adaptive.uniform(2))
+        self.axis = Adaptive.uniform(2)
+        self.position = defaultdict(lambda: None)
+        self.flat = defaultdict(lambda: Adaptive.uniform(2))
+        self.s = Adaptive.uniform(2 * zero_s(options) - 1)
+        self.m = {flat: Magnitude(2**options.m_bits) for flat in (False, True)}
+        self.iso = {n: Adaptive.uniform(n) for n in (4, 8)}
+        self.row, self.col = {}, {}
+
+    def place(self, count: int) -> Adaptive:
+        if self.position[count] is None:
+            self.position[count] = Adaptive.uniform(count)
+        return self.position[count]
+
+    def lattice_models(self, shape, rows: int, cols: int) -> tuple[Magnitude, Magnitude]:
+        if shape not in self.row:
+            self.row[shape], self.col[shape] = Magnitude(rows), Magnitude(cols)
+        return self.row[shape], self.col[shape]
+
+
+def _predict(cells: np.ndarray, block: Block, middle: int) -> int:
+    y, x, h, w = (v // HV_STEP for v in block)
+    near = np.concatenate([cells[y - 1, x:x + w] if y else cells[:0, 0], cells[y:y + h, x - 1] if x else cells[:0, 0]])
+    near = near[near >= 0]
+    return int(round(float(near.mean()))) if len(near) else middle
+
+
+def _cut(owner: np.ndarray | None, block: Block, options: CodeOptions) -> tuple[int, int] | None:
+    """The encoder's cut of ``block``: the first axis and position no leaf crosses (None: a leaf)."""
+    y, x, h, w = block
+    if owner[y, x] == owner[y + h - 1, x + w - 1]:
+        return None
+    for p in cut_positions(h, options.min_block):
+        if (owner[y + p - 1, x:x + w] != owner[y + p, x:x + w]).all():
+            return 0, p
+    for p in cut_positions(w, options.min_block):
+        if (owner[y:y + h, x + p - 1] != owner[y:y + h, x + p]).all():
+            return 1, p
+    raise IFSError(f"the code's blocks are not an HV partition (no cut of {tuple(block)} leaves them whole)")
+
+
+def code_hv_fields(coder: Coder, height: int, width: int, options: CodeOptions, code=None) -> tuple[list[tuple], HVModels]:
+    """Run every field of a padded ``height x width`` HV code through ``coder``: ``([(y, x, height, width,
+    domain, iso, s_idx, m_idx)], the models)``. Encoding, ``code`` is the `Code`; decoding, None."""
+    o, models, zero, b = options, HVModels(options), zero_s(options), options.max_block
+    levels, middle = 2**o.m_bits, 2 ** (o.m_bits - 1)
+    cells = np.full((height // HV_STEP, width // HV_STEP), -1, dtype=np.int64)
+    owner, index = None, {}
+    if code is not None:
+        owner = np.full((height, width), -1, dtype=np.int64)
+        for i, (y, x, h, w) in enumerate(zip(*(t.tolist() for t in (code.y, code.x, code.heights, code.widths)))):
+            owner[y:y + h, x:x + w] = i
+            index[(y, x, h, w)] = i
+        if (owner < 0).any():
+            raise IFSError("the code's blocks do not cover its image")
+    rows, stack = [], [Block(y, x, b, b) for y in range(height - b, -1, -b) for x in range(width - b, -1, -b)]
+    while stack:
+        block = stack.pop()
+        y, x, h, w = block
+        cuts = (cut_positions(h, o.min_block), cut_positions(w, o.min_block))
+        want = None if code is None else _cut(owner, block, o)
+        split = bool(cuts[0] or cuts[1]) and coder.code(
+            models.split[min(h, w)], None if code is None else int(want is not None), ("split", min(h, w))) == 1
+        if split:
+            axis = (0 if not cuts[1] else 1 if not cuts[0] else
+                    coder.code(models.axis, None if code is None else want[0], ("axis",)))
+            at = coder.code(models.place(len(cuts[axis])), None if code is None else cuts[axis].index(want[1]),
+                            ("place",))
+            stack += list(reversed(split_block(block, axis, cuts[axis][at])))
+            continue
+        i = None if code is None else index.get(tuple(block))
+        if code is not None and i is None:
+            raise IFSError(f"the code's blocks are not an HV partition (no block at {tuple(block)})")
+        rows.append(_code_leaf(coder, models, block, cells, (height, width, o, zero, levels, middle), code, i))
+    return rows, models
+
+
+def _code_leaf(coder, models: HVModels, block: Block, cells, layout, code, i) -> tuple:
+    height, width, o, zero, levels, middle = layout
+    y, x, h, w = block
+
+    def value(name):
+        return None if code is None else int(getattr(code, name)[i])
+
+    s_idx = value("s_idx")
+    flat = coder.code(models.flat[min(h, w)], None if s_idx is None else int(s_idx == zero), ("flat", min(h, w))) == 1
+    if not flat:
+        s_sym = coder.code(models.s, None if s_idx is None else s_idx - (s_idx > zero), ("s",))
+        s_idx = s_sym + (s_sym >= zero)
+    else:
+        s_idx = zero
+    guess, m_idx = _predict(cells, block, middle), value("m_idx")
+    residual = coder.code_magnitude(models.m[flat], None if m_idx is None else zigzag(m_idx - guess, levels), ("m", flat))
+    m_idx = (guess + unzigzag(residual, levels)) % levels
+    cells[y // HV_STEP:(y + h) // HV_STEP, x // HV_STEP:(x + w) // HV_STEP] = m_idx
+    iso = domain = 0
+    if not flat:
+        iso = coder.code(models.iso[isometry_count(h, w)], value("iso"), ("iso",))
+        domain = _code_domain(coder, models, block, height, width, value("domain"))
+    return y, x, h, w, domain, iso, s_idx, m_idx
+
+
+def _code_domain(coder, models: HVModels, block: Block, height: int, width: int, domain: int | None) -> int:
+    y, x, h, w = block
+    n_rows, n_cols = rectangle_lattice(height, width, h, w)
+    sy, sx = rectangle_step(height, width, h, w)
+    r0 = min(max(round((y - h / 2) / sy), 0), n_rows - 1)
+    c0 = min(max(round((x - w / 2) / sx), 0), n_cols - 1)
+    row_model, col_model = models.lattice_models((h, w), n_rows, n_cols)
+    want_r = None if domain is None else zigzag(domain // n_cols - r0, n_rows)
+    want_c = None if domain is None else zigzag(domain % n_cols - c0, n_cols)
+    r = (unzigzag(coder.code_magnitude(row_model, want_r, ("row",)), n_rows) + r0) % n_rows
+    c = (unzigzag(coder.code_magnitude(col_model, want_c, ("col",)), n_cols) + c0) % n_cols
+    return r * n_cols + c
+
+
+def hv_columns(rows: list[tuple]) -> dict[str, torch.Tensor]:
+    """The `Code` fields of decoded HV rows: ``y, x, size`` (the longer side), the sides and the maps."""
+    if not rows:
+        raise IFSError("the file is corrupt (it codes no block)")
+    y, x, h, w, domain, iso, s_idx, m_idx = (torch.tensor(c, dtype=torch.long) for c in zip(*rows))
+    return dict(y=y, x=x, size=torch.maximum(h, w), domain=domain, iso=iso, s_idx=s_idx, m_idx=m_idx,
+                block_height=h, block_width=w)
