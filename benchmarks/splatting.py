@@ -4,8 +4,9 @@ a splat step against the exact renderer's.
 ``--ten`` (default): `random_ifs(10, seed, extent=0.75)` for ``--seeds`` (0-9), drawn as benchmarks/literature.py
 draws them (the float64 chaos game, two million points, masked at 0.5), fitted by `ifslib.splatting.fit_splat` with
 10 maps from random starts (``--steps``, ``--starts`` seeds of the start, the lowest final loss kept) and scored as
-literature.py scores: recovered when the fitted attractor has IoU >= 0.85 and Chamfer <= 1 px (`ifslib.evaluate`),
-and the literature's PSNR, SSIM, F1 and IoU after the 12.5 % crop (LPIPS needs AlexNet's weights, which cannot be
+literature.py scores (``--start search``: from the fractal search's maps instead, padded to 10 with jittered copies of
+the largest, ``--pad copies``, or with random maps, ``--pad random``; the seconds include the search's): recovered
+when the fitted attractor has IoU >= 0.85 and Chamfer <= 1 px (`ifslib.evaluate`), and the literature's PSNR, SSIM, F1 and IoU after the 12.5 % crop (LPIPS needs AlexNet's weights, which cannot be
 fetched here: not computed). ``--fern``: Barnsley's fern's gray image (the chaos game's histogram at 128², four million
 points, as benchmarks/measures.py) fitted at 64² from the support search's maps (`fit_measure_from_support`), then by
 the splat fit, scored by density correlation at 64². ``--timing``: one splat step (forward and backward) against one
@@ -13,6 +14,7 @@ step of the exact renderer (the depth-3 drawing, 1,000 leaves, forward and backw
 certified attractor of these maps needs more than the 4,000,000-leaf budget at 256 px already: not timed).
 
     IFSLIB_THREADS=1 python benchmarks/splatting.py --ten --size 256 --steps 600
+    IFSLIB_THREADS=1 python benchmarks/splatting.py --ten --size 256 --steps 600 --start search --pad copies
     IFSLIB_THREADS=1 python benchmarks/splatting.py --timing --timing-sizes 256 1024
     python benchmarks/splatting.py --ten --size 1024 --device cuda      # on a GPU
 """
@@ -32,28 +34,49 @@ import ifslib
 from ifslib.core.targets.target import target_from_mask
 from ifslib.paths import repo_root
 from ifslib.splatting import SplatFitOptions, SplatOptions, fit_splat, splat_measure
-from ifslib.splatting.config import POINTS_PER_PIXEL
+from ifslib.splatting.config import PAD_JITTER, POINTS_PER_PIXEL
+from ifslib.splatting.moves import padded_with_copies
 from ifslib.studies.literature import literature_scores
 
 sys.path.insert(0, str(Path(__file__).parent))
 from literature import EXTENT, POINTS  # noqa: E402
 
 
+def searched_start(target, seed: int, pad: str) -> tuple[torch.Tensor | None, dict]:
+    """The fractal search's chosen maps (`ifslib.automatic.fractal.search`), padded to 10 with jittered copies of the
+    largest (``pad="copies"``; with random maps placed on the figure, ``"random"``, fit_splat pads them itself), and
+    the search's own row: its maps, its attractor's IoU at the target's size, its seconds."""
+    from ifslib.automatic.fractal import search
+    t0 = time.perf_counter()
+    found = search(target, seed=seed, progress=False)
+    seconds = time.perf_counter() - t0
+    maps = torch.as_tensor(found.maps, dtype=torch.float64)
+    maps = torch.cat([maps, torch.tensor([[[0.0, 0.0, 1.0]]], dtype=torch.float64).expand(len(maps), 1, 3)], 1)
+    iou = ifslib.evaluate(ifslib.patterns.affine(maps, dtype=torch.float64), target, depth="attractor")["iou"]
+    if pad == "copies":
+        maps = padded_with_copies(maps, 10, PAD_JITTER, torch.Generator().manual_seed(seed))
+    return maps, {"search_maps": len(found.maps), "search_iou": iou, "search_seconds": seconds}
+
+
 def ten(args) -> list[dict]:
     rows = []
     screened = SplatFitOptions()
-    print(f"fit_splat, 10 maps, {args.steps} steps (after the best of {screened.starts} random starts screened "
-          f"{screened.screen_steps} steps at {args.size // 4}²), {args.starts} run(s) a fractal, {args.size}², "
+    how = (f"after the best of {screened.starts} random starts screened {screened.screen_steps} steps at "
+           f"{args.size // 4}²" if args.start == "random" else
+           f"from the fractal search's maps padded to 10 with {'jittered copies' if args.pad == 'copies' else 'random maps'}")
+    print(f"fit_splat, 10 maps, {args.steps} steps ({how}), {args.starts} run(s) a fractal, {args.size}², "
           f"device {args.device}, threads {torch.get_num_threads()}")
-    print("| fractal | attractor IoU | attractor Chamfer (px) | recovered | s | reselections "
+    print("| fractal | search maps | search IoU | attractor IoU | attractor Chamfer (px) | recovered | s | reselections "
           "| PSNR | SSIM | F1 | IoU |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for seed in args.seeds:
         truth = ifslib.patterns.random_ifs(10, seed, extent=EXTENT)
         picture = ifslib.render(truth, args.size, method="chaos", points=POINTS, seed=seed).numpy()
         target = target_from_mask(picture >= 0.5, f"ten{seed}")
         t0 = time.perf_counter()
-        fits = [fit_splat(target, maps=10, options=SplatFitOptions(steps=args.steps, seed=s, device=args.device))
+        start, searched = searched_start(target, seed, args.pad) if args.start == "search" else (None, {})
+        fits = [fit_splat(target, maps=10, start=start,
+                          options=SplatFitOptions(steps=args.steps, seed=s, device=args.device))
                 for s in range(args.starts)]
         fit = min(fits, key=lambda f: float(np.mean(f.losses[-20:])))
         seconds = time.perf_counter() - t0
@@ -61,10 +84,13 @@ def ten(args) -> list[dict]:
         drawn = ifslib.render(fit.ifs, args.size, method="chaos", points=POINTS).numpy()
         lit = literature_scores(drawn, picture)
         row = {"fractal": f"ten{seed}", "iou": m["attractor_iou"], "chamfer": m["attractor_chamfer"],
-               "seconds": seconds, "reseeds": fit.reseeds, **{f"cropped_{k}": v for k, v in lit.items()}}
+               "seconds": seconds, "reseeds": fit.reseeds, "start": args.start, **searched,
+               **{f"cropped_{k}": v for k, v in lit.items()}}
         row["recovered"] = row["iou"] >= 0.85 and row["chamfer"] <= 1
         rows.append(row)
-        print(f"| ten{seed} | {row['iou']:.3f} | {row['chamfer']:.2f} | {'yes' if row['recovered'] else 'no'} | "
+        print(f"| ten{seed} | {searched.get('search_maps', '-')} | "
+              f"{searched['search_iou']:.3f} | " if searched else f"| ten{seed} | - | - | ", end="")
+        print(f"{row['iou']:.3f} | {row['chamfer']:.2f} | {'yes' if row['recovered'] else 'no'} | "
               f"{seconds:.0f} | {fit.reseeds} | {lit['psnr']:.2f} | {lit['ssim']:.3f} | {lit['f1']:.3f} | "
               f"{lit['iou']:.3f} |", flush=True)
     n = len(rows)
@@ -143,6 +169,10 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=256, help="target size of --ten (default 256)")
     parser.add_argument("--steps", type=int, default=600, help="steps of each fit (default 600)")
     parser.add_argument("--starts", type=int, default=1, help="random starts a fractal, the best kept (default 1)")
+    parser.add_argument("--start", default="random", choices=["random", "search"],
+                        help="--ten's starts: random maps (screened), or the fractal search's maps padded to 10")
+    parser.add_argument("--pad", default="copies", choices=["copies", "random"],
+                        help="with --start search: pad with jittered copies of the largest maps, or random maps")
     parser.add_argument("--seeds", type=int, nargs="+", default=list(range(10)), help="fractals of --ten (0-9)")
     parser.add_argument("--timing-sizes", type=int, nargs="+", default=[256, 1024])
     parser.add_argument("--fern-push-steps", type=int, default=200, help="the push fit's steps before the splat fit")
@@ -161,7 +191,7 @@ def main() -> None:
         rows = ten(args)
         out = repo_root() / args.out
         out.mkdir(parents=True, exist_ok=True)
-        (out / f"ten_{args.size}.json").write_text(json.dumps(rows, indent=1))
+        (out / f"ten_{args.size}_{args.start}.json").write_text(json.dumps(rows, indent=1))
 
 
 if __name__ == "__main__":

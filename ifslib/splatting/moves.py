@@ -87,3 +87,40 @@ def reselect(params: ContractiveMaps, probabilities: torch.Tensor, mask: np.ndar
     new[:2, :2], new[:2, 2] = lin, goal - lin @ centre
     params.replace(worst, new)
     return worst
+
+
+def padded_with_copies(maps: torch.Tensor, m: int, jitter: float, generator: torch.Generator) -> torch.Tensor:
+    """``maps`` topped up to ``m`` with jittered copies of the largest ones, in turn.
+
+    A set of few maps that covers a figure of many (the fractal search's) lays one copy over two or more of the
+    figure's; a copy of it, moved a little, is a second map where one is missing, which the fit can pull apart.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(k, 3, 3)`` maps, ``k >= 1``.
+    m : int
+        The number of maps wanted; ``maps`` itself when ``m <= k``.
+    jitter : float
+        Each copy's translation moves by up to this much (plane units), its rotation by up to ``jitter`` times
+        2 pi (radians).
+    generator : torch.Generator
+
+    Returns
+    -------
+    torch.Tensor
+        ``(max(k, m), 3, 3)`` float64.
+    """
+    maps = torch.as_tensor(maps, dtype=torch.float64)
+    k = len(maps)
+    if m <= k:
+        return maps
+    order = torch.argsort(torch.linalg.svdvals(maps[:, :2, :2])[:, 0], descending=True)
+    copies = maps[order[torch.arange(m - k) % k]].clone()
+    noise = 2 * torch.rand(m - k, 3, generator=generator, dtype=torch.float64) - 1
+    angle = noise[:, 2] * jitter * 2 * math.pi
+    c, s = angle.cos(), angle.sin()
+    turn = torch.stack([torch.stack([c, -s], -1), torch.stack([s, c], -1)], -2)
+    copies[:, :2, :2] = copies[:, :2, :2] @ turn
+    copies[:, :2, 2] += jitter * noise[:, :2]
+    return torch.cat([maps, copies])
