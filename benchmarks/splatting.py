@@ -2,13 +2,13 @@
 a splat step against the exact renderer's.
 
 ``--ten`` (default): `random_ifs(10, seed, extent=0.75)` for ``--seeds`` (0-9), drawn as benchmarks/literature.py
-draws them (the float64 chaos game, two million points, masked at 0.5), fitted by `ifslib.splatting.fit_splat` with
-10 maps from random starts (``--steps``, ``--starts`` seeds of the start, the lowest final loss kept) and scored as
+draws them (the float64 chaos game, two million points, masked at 0.5), fitted by `ifslib.splatting.fit_splat` with 10
+maps from random starts (``--steps``, ``--starts`` seeds of the start, the lowest final loss kept) and scored as
 literature.py scores (``--start search``: from the fractal search's maps instead, padded to 10 with jittered copies of
 the largest, ``--pad copies``, or with random maps, ``--pad random``; the seconds include the search's): recovered
-when the fitted attractor has IoU >= 0.85 and Chamfer <= 1 px (`ifslib.evaluate`), and the literature's PSNR, SSIM, F1 and IoU after the 12.5 % crop (LPIPS needs AlexNet's weights, which cannot be
-fetched here: not computed). ``--fern``: Barnsley's fern's gray image (the chaos game's histogram at 128², four million
-points, as benchmarks/measures.py) fitted at 64² from the support search's maps (`fit_measure_from_support`), then by
+when the fitted attractor has IoU >= 0.85 and Chamfer <= 1 px (`ifslib.evaluate`), and the literature's PSNR, SSIM, F1
+and IoU after the 12.5 % crop (LPIPS needs AlexNet's weights, which cannot be fetched here: not computed).
+``--fern``: Barnsley's fern's gray image (the chaos game's histogram at 128², four million points, as benchmarks/measures.py) fitted at 64² from the support search's maps (`fit_measure_from_support`), then by
 the splat fit, scored by density correlation at 64². ``--timing``: one splat step (forward and backward) against one
 step of the exact renderer (the depth-3 drawing, 1,000 leaves, forward and backward) at ``--timing-sizes`` (the
 certified attractor of these maps needs more than the 4,000,000-leaf budget at 256 px already: not timed).
@@ -63,11 +63,12 @@ def ten(args) -> list[dict]:
     screened = SplatFitOptions()
     how = (f"after the best of {screened.starts} random starts screened {screened.screen_steps} steps at "
            f"{args.size // 4}²" if args.start == "random" else
-           f"from the fractal search's maps padded to 10 with {'jittered copies' if args.pad == 'copies' else 'random maps'}")
+           "from the fractal search's maps padded to 10 with "
+           + ("jittered copies" if args.pad == "copies" else "random maps"))
     print(f"fit_splat, 10 maps, {args.steps} steps ({how}), {args.starts} run(s) a fractal, {args.size}², "
           f"device {args.device}, threads {torch.get_num_threads()}")
-    print("| fractal | search maps | search IoU | attractor IoU | attractor Chamfer (px) | recovered | s | reselections "
-          "| PSNR | SSIM | F1 | IoU |")
+    print("| fractal | search maps | search IoU | attractor IoU | attractor Chamfer (px) | recovered | s "
+          "| reselections | PSNR | SSIM | F1 | IoU |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for seed in args.seeds:
         truth = ifslib.patterns.random_ifs(10, seed, extent=EXTENT)
