@@ -9,8 +9,8 @@ the largest, ``--pad copies``, or with random maps, ``--pad random``; the second
 when the fitted attractor has IoU >= 0.85 and Chamfer <= 1 px (`ifslib.evaluate`), and the literature's PSNR, SSIM, F1
 and IoU after the 12.5 % crop (LPIPS needs AlexNet's weights, which cannot be fetched here: not computed).
 ``--fern``: Barnsley's fern's gray image (the chaos game's histogram at 128², four million points, as
-benchmarks/measures.py) fitted at 64² from the support search's maps (`fit_measure_from_support`), then by the splat fit,
-scored by density correlation at 64². ``--timing``: one splat step (forward and backward) against one
+benchmarks/measures.py) fitted at 64² from the support search's maps (`fit_measure_from_support`), then by the splat
+fit, scored by density correlation at 64². ``--timing``: one splat step (forward and backward) against one
 step of the exact renderer (the depth-3 drawing, 1,000 leaves, forward and backward) at ``--timing-sizes`` (the
 certified attractor of these maps needs more than the 4,000,000-leaf budget at 256 px already: not timed).
 
