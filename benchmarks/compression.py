@@ -16,6 +16,7 @@ average is printed first: the cores are shared, so times are upper bounds.
 
     python benchmarks/compression.py [--size 256] [--bpp 0.15 0.25 0.5] [--images camera coins]
                                       [--s-bits 5 --m-bits 7] [--rates-only] [--no-fixed]
+                                      [--partition quadtree|hv]
 """
 from __future__ import annotations
 
@@ -33,6 +34,7 @@ from skimage import color, data, transform
 from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
 from ifslib.compression import CodeOptions, RefineOptions, compress, decode, from_bytes, refine, to_bytes
+from ifslib.compression.config import PARTITIONS
 
 IMAGES = ("camera", "astronaut", "coffee", "coins", "chelsea", "rocket")
 
@@ -124,7 +126,7 @@ def cell(result) -> str:
 
 
 def rate_table(names, rates, size, codecs, options: CodeOptions = CodeOptions(), fixed: bool = True) -> list[tuple]:
-    print(f"\n## {size}² gray: PSNR (dB) / SSIM at no more bytes than attractor coding"
+    print(f"\n## {size}² gray, {options.partition} partition: PSNR (dB) / SSIM at no more bytes than attractor coding"
           f" ({options.s_bits}-bit s, {options.m_bits}-bit m, range-coded fields)\n")
     print("| image | bpp | collage | attractor | gain dB | gain, partition held | attractor, fixed fields | "
           + " | ".join(codecs) + " | encode s (collage / attractor) | decode s | read s |")
@@ -223,13 +225,15 @@ def main() -> None:
     parser.add_argument("--m-bits", type=int, default=CodeOptions().m_bits, help="bits of m, both coders (rate table)")
     parser.add_argument("--rates-only", action="store_true", help="the rate table alone")
     parser.add_argument("--no-fixed", action="store_true", help="skip the fixed-length fields' column")
+    parser.add_argument("--partition", choices=PARTITIONS, default="quadtree",
+                        help="the fractal coders' partition (hv: no fixed-field column, version 1 holds quadtrees only)")
     args = parser.parse_args()
-    options = CodeOptions(s_bits=args.s_bits, m_bits=args.m_bits)
+    options = CodeOptions(s_bits=args.s_bits, m_bits=args.m_bits, partition=args.partition)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; torch threads {torch.get_num_threads()}; "
           f"Pillow JPEG 2000: {features.check('jpg_2000')}, WebP: {features.check('webp')}, "
           f"AVIF: {features.check('avif')}")
     codecs = ["JPEG", "WebP"] + [c for c, f in (("JPEG2000", "jpg_2000"), ("AVIF", "avif")) if features.check(f)]
-    rate_table(args.images, args.bpp, args.size, codecs, options, not args.no_fixed)
+    rate_table(args.images, args.bpp, args.size, codecs, options, not args.no_fixed and args.partition == "quadtree")
     if args.rates_only:
         return
     jpeg_floor(args.images, args.size)

@@ -10,7 +10,7 @@ is corrected by coding the result and aiming again (`config.RATE_ROUNDS`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import torch
@@ -28,16 +28,17 @@ from .rectangles import Block, cut_positions, edge_split, isometry_count, rectan
 
 @dataclass(frozen=True)
 class Tree:
-    """The full HV tree: ``blocks``, each node's ``kids`` (two indices or None), and per node ``(2,)`` arrays
-    ``err`` and ``bits`` (with a domain, flat) and ``fits`` (``(2, 4)`` domain, iso, s_idx, m_idx), ``flag``
-    (bits of the split flag, 0 if it cannot be cut) and ``cut_bits`` (axis and position, when cut)."""
+    """The full HV tree: ``blocks``, each node's ``kids`` (two indices or None), and per node ``err`` and
+    ``bits`` ``(N, 2)`` (with a domain, flat), ``fits`` ``(N, 2, 4)`` (domain, iso, s_idx, m_idx), the split
+    flag's bits as a leaf and as a cut node (``leaf_flag``, ``cut_bits``: 0 for a leaf that cannot be cut;
+    a cut node's includes its axis and position), and the number of ``roots`` (the first nodes)."""
 
     blocks: list
     kids: list
     err: np.ndarray
     bits: np.ndarray
     fits: np.ndarray
-    flag: np.ndarray
+    leaf_flag: np.ndarray
     cut_bits: np.ndarray
     roots: int
 
@@ -93,8 +94,8 @@ def tree(target: torch.Tensor, pool_image: torch.Tensor, options: CodeOptions) -
     bits = np.stack([1 + o.s_bits + o.m_bits + dbits + ibits, 1 + o.m_bits + 0 * dbits], 1)
     flag = np.array([1.0 if cut_positions(h, o.min_block) or cut_positions(w, o.min_block) else 0.0
                      for _, _, h, w in blocks])
-    cut_bits = np.array([math.log2(max(1, len(cut_positions(h, o.min_block)) + len(cut_positions(w, o.min_block))))
-                         for _, _, h, w in blocks])
+    cut_bits = flag + np.array([math.log2(max(1, len(cut_positions(h, o.min_block)) + len(cut_positions(w, o.min_block))))
+                                for _, _, h, w in blocks])
     roots = (target.shape[0] // o.max_block) * (target.shape[1] // o.max_block)
     return Tree(blocks, kids, err, bits, fits, flag, cut_bits, roots)
 
@@ -108,10 +109,10 @@ def prune(t: Tree, lam: float) -> tuple[list, float, float]:
     for i in range(n - 1, -1, -1):
         k = int(leaf_cost[i, 1] < leaf_cost[i, 0])
         flat[i] = bool(k)
-        cost[i], err[i], bits[i] = leaf_cost[i, k] + lam * t.flag[i], t.err[i, k], t.bits[i, k] + t.flag[i]
+        cost[i], err[i], bits[i] = leaf_cost[i, k] + lam * t.leaf_flag[i], t.err[i, k], t.bits[i, k] + t.leaf_flag[i]
         if t.kids[i] is not None:
             a, b = t.kids[i]
-            extra = t.flag[i] + t.cut_bits[i]
+            extra = t.cut_bits[i]
             if cost[a] + cost[b] + lam * extra < cost[i]:
                 split[i] = True
                 cost[i], err[i], bits[i] = cost[a] + cost[b] + lam * extra, err[a] + err[b], bits[a] + bits[b] + extra
@@ -137,6 +138,21 @@ def in_file_order(code: Code) -> Code:
     rectangles; the file's walk takes one of them, so a code read back is the code written)."""
     rows, _ = code_hv_fields(Encoder(), *code.padded, code.options, code)
     return Code(code.options, code.height, code.width, **hv_columns(rows))
+
+
+def measured(t: Tree, ledger: dict) -> Tree:
+    """``t`` priced at the mean bits each field took in a coding's ``ledger`` (`entropy.Coder`)."""
+    def mean(key, fallback):
+        n, bits = ledger.get(key, (0, 0.0))
+        return bits / n if n else fallback
+
+    with_domain = (mean(("flat", 0), 1) + mean(("s",), 5) + mean(("m", False), 6) + mean(("iso",), 2)
+                   + mean(("row",), 3) + mean(("col",), 3))
+    flat = mean(("flat", 1), 1) + mean(("m", True), 6)
+    cuttable = t.leaf_flag > 0
+    cut = mean(("split", 1), 1) + mean(("axis",), 1) + mean(("place",), 2)
+    return replace(t, bits=np.stack([np.full(len(t.blocks), with_domain), np.full(len(t.blocks), flat)], 1),
+                   leaf_flag=np.where(cuttable, mean(("split", 0), 1), 0.0), cut_bits=np.where(cuttable, cut, 0.0))
 
 
 def prune_to_budget(t: Tree, budget_bits: float) -> tuple[list, float, float]:
@@ -173,14 +189,17 @@ def hv_partition(target: torch.Tensor, pool_image: torch.Tensor, height: int, wi
         The most bits of the range-coded fields.
     """
     t = tree(target, pool_image, options)
-    aim, best = budget_bits, None
+    aim, best, priced = budget_bits, None, False
     for _ in range(RATE_ROUNDS):
         leaves, estimate, err = prune_to_budget(t, aim)
         code = assemble(t, leaves, height, width, options)
-        bits = 8 * len(encode_fields(code).payload)
+        coded = encode_fields(code)
+        bits = 8 * len(coded.payload)
         if bits <= budget_bits and (best is None or err < best[1]):
             best = (code, err)
-        aim *= budget_bits / max(bits, 1)
+        # the next round prices with the bits just measured; what remains is the estimate's bias
+        aim = budget_bits * estimate / max(bits, 1) if priced else budget_bits
+        t, priced = measured(t, coded.ledger), True
     if best is None:
         raise IFSError(f"no HV partition's coded fields fit in {budget_bits:.0f} bits; ask for a higher rate")
     return best[0]

@@ -88,7 +88,8 @@ def code_hv_fields(coder: Coder, height: int, width: int, options: CodeOptions, 
         cuts = (cut_positions(h, o.min_block), cut_positions(w, o.min_block))
         want = None if code is None else _cut(owner, block, o)
         split = bool(cuts[0] or cuts[1]) and coder.code(
-            models.split[min(h, w)], None if code is None else int(want is not None), ("split", min(h, w))) == 1
+            models.split[min(h, w)], None if code is None else int(want is not None),
+            ("split", None if code is None else int(want is not None))) == 1
         if split:
             axis = (0 if not cuts[1] else 1 if not cuts[0] else
                     coder.code(models.axis, None if code is None else want[0], ("axis",)))
@@ -111,7 +112,8 @@ def _code_leaf(coder, models: HVModels, block: Block, cells, layout, code, i) ->
         return None if code is None else int(getattr(code, name)[i])
 
     s_idx = value("s_idx")
-    flat = coder.code(models.flat[min(h, w)], None if s_idx is None else int(s_idx == zero), ("flat", min(h, w))) == 1
+    want = None if s_idx is None else int(s_idx == zero)
+    flat = coder.code(models.flat[min(h, w)], want, ("flat", want)) == 1
     if not flat:
         s_sym = coder.code(models.s, None if s_idx is None else s_idx - (s_idx > zero), ("s",))
         s_idx = s_sym + (s_sym >= zero)
