@@ -1,45 +1,40 @@
-"""The chains behind the splat: the library's chaos game, the map that made each point read back, and the last steps
+"""The chains behind the splat: the library's chaos game with the map that made each point, and the last steps
 of each chain replayed differentiably (a hand-written backward pass: one bincount per coefficient a step, where
 autograd's gather would scatter-add into the few maps point by point, three times slower)."""
 from __future__ import annotations
 
+import numpy as np
 import torch
 
-from ..core.geometry import patterns
-from ..core.raster.chaos import CHAINS, chaos_game
+from ..core.raster.chains import fixed_points, walk
+from ..core.raster.chaos import CHAINS, MAX_BURN_IN, burn_in_steps
 
 
 def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int,
                  seed: int) -> tuple[torch.Tensor, torch.Tensor]:
     """``rows`` consecutive points of each of `CHAINS` chains, and the map that made each from the one before.
 
-    `chaos_game` does not return its picks, so each is read back as the map whose image of a chain's point is that
-    chain's next point (exact up to float64 rounding; where two maps send a point to the same place either is right).
+    The chains are `chaos_game`'s (the same starts, burn-in and seeded draws, through the library's one chain
+    generator `ifslib.core.raster.chains.walk`), kept with their picks.
 
     Returns
     -------
     points : torch.Tensor
-        ``(rows, CHAINS, 2)`` float64 on ``maps``' device (burned in by `chaos_game`: each point a draw of the measure).
+        ``(rows, CHAINS, 2)`` float64 on ``maps``' device (burned in: each point a draw of the measure).
     picks : torch.Tensor
-        ``(rows, CHAINS)`` int64: ``picks[k]`` sent ``points[k - 1]`` to ``points[k]`` (row 0's is -1, unknown).
+        ``(rows, CHAINS)`` int64: ``picks[k]`` sent ``points[k - 1]`` to ``points[k]`` (row 0's from the last
+        burn-in point).
     """
     work = maps.detach().double().cpu()
-    ifs = patterns.affine(work, depth=1, dtype=torch.float64)
     p = probabilities.detach().double().cpu()
-    ifs.probabilities = tuple((p / p.sum()).tolist())
-    found = chaos_game(ifs, rows * CHAINS, seed).reshape(rows, CHAINS, 2)
-    points = torch.from_numpy(found).to(maps.device)
-    x, y = points[:-1, :, 0], points[:-1, :, 1]
-    nx, ny = points[1:, :, 0], points[1:, :, 1]
-    best = torch.full(x.shape, torch.inf, dtype=torch.float64, device=maps.device)
-    picks = torch.full(points.shape[:2], -1, dtype=torch.int64, device=maps.device)
-    for i, (a, b, tx, c, d, ty) in enumerate(work[:, :2, :].reshape(-1, 6).tolist()):
-        # a pass per map: memory stays at a few copies of the points
-        miss = (a * x + b * y + tx - nx).abs_() + (c * x + d * y + ty - ny).abs_()
-        closer = miss < best
-        best = torch.where(closer, miss, best)
-        picks[1:] = torch.where(closer, i, picks[1:])
-    return points, picks
+    p = (p / p.sum()).numpy()
+    burn = min(burn_in_steps(work), MAX_BURN_IN)
+    starts = np.repeat(fixed_points(work.numpy()[:1]), CHAINS, axis=0)
+    points = np.empty((rows, CHAINS, 2))
+    picks = np.empty((rows, CHAINS), np.int64)
+    for k, step in enumerate(walk(work.numpy(), p, starts, burn, rows, np.random.default_rng(seed))):
+        points[k, :, 0], points[k, :, 1], picks[k] = step.x, step.y, step.pick
+    return torch.from_numpy(points).to(maps.device), torch.from_numpy(picks).to(maps.device)
 
 
 class Replay(torch.autograd.Function):
