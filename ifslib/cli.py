@@ -300,7 +300,8 @@ def _fit_parser(sub) -> None:
     f.add_argument("--strategy", default=None, choices=STRATEGIES, metavar="STRATEGY",
                    help="pyramid (the default: coarse to fine in pixels, starts tried until one recovers the "
                         "target; a single run with --checkpoint/--resume; auto for --pattern auto), plain (one run, the paper's), multistart, "
-                        "coarse_to_fine, restart, anneal or uncross")
+                        "coarse_to_fine, restart, anneal, uncross, or splat (the start's maps and probabilities fitted on "
+                        "the differentiable chaos game; the start kept when it scores better)")
     f.add_argument("--quiet", action="store_true",
                    help="no progress output (by default: live bars on a terminal, one line per stage in a log)")
     f.add_argument("-o", "--output", required=True, help="JSON file for the fitted IFS")

@@ -47,11 +47,14 @@ def cmd_compress(args: argparse.Namespace) -> None:
     from skimage.metrics import peak_signal_noise_ratio
 
     from .compression import compress, decode, write
+    from .compression.config import CodeOptions
 
+    if args.partition != "quadtree" and args.bpp is None:
+        raise IFSError(f"a {args.partition} partition is coded at a rate: give --bpp, not --quality")
     t0 = time.perf_counter()
     image = read_gray(args.image)
     code = compress(image, bpp=args.bpp, quality=args.quality, method=args.method,
-                    progress=not args.quiet and draw_bars())
+                    options=CodeOptions(partition=args.partition), progress=not args.quiet and draw_bars())
     size = write(code, args.output)
     psnr = peak_signal_noise_ratio(image, decode(code).image.numpy(), data_range=1.0)
     print(f"wrote {args.output}: {size:,} bytes ({8 * size / image.size:.3f} bpp), {len(code)} blocks, "
@@ -99,6 +102,8 @@ def add_parsers(sub) -> None:
     c.add_argument("--method", choices=COMPRESSION_METHODS, default="attractor",
                    help="collage (the classic coder) or attractor (no more bits, refined through the decoder; "
                         "the default)")
+    c.add_argument("--partition", choices=("quadtree", "hv"), default="quadtree",
+                   help="quadtree (squares; the default) or hv (rectangles cut at their strongest edge; with --bpp)")
     c.add_argument("--quiet", action="store_true", help="no progress bars")
     c.add_argument("-o", "--output", required=True, help="compressed file to write (.ifsc)")
     c.set_defaults(run=cmd_compress)

@@ -27,6 +27,21 @@ def test_compress_then_decompress(tmp_path, png, capsys, method):
     assert np.abs(decoded - np.asarray(Image.open(png).convert("L"), dtype=float) / 255).mean() < 0.08
 
 
+def test_an_hv_partition_from_the_command_line(tmp_path, png, capsys):
+    from ifslib.compression import read
+    from ifslib.compression.config import PARTITIONS
+
+    packed, out = tmp_path / "hv.ifsc", tmp_path / "hv.png"
+    assert main(["compress", str(png), "-o", str(packed), "--bpp", "1.0", "--partition", "hv", "--quiet"]) == 0
+    assert read(packed).options.partition == "hv" and packed.stat().st_size * 8 <= 48 * 48
+    assert main(["decompress", str(packed), "-o", str(out)]) == 0 and Image.open(out).size == (48, 48)
+    from ifslib.cli import build_parser
+
+    choices = next(a for a in build_parser()._subparsers._group_actions[0].choices["compress"]
+                   ._actions if a.dest == "partition").choices
+    assert tuple(choices) == PARTITIONS  # the command line's list is the coder's
+
+
 @pytest.mark.parametrize("mode, top", [("L", 255), ("RGB", 255), ("I;16", 65535)])
 def test_an_image_file_is_read_as_gray_levels_in_0_1_unclipped(tmp_path, mode, top):
     gray = photo(40).numpy().astype(float)
@@ -83,6 +98,7 @@ def test_quality_instead_of_a_rate(tmp_path, png):
     (["decompress", "PNG", "-o", "x.png"], "IFSC"),
     (["decompress", "MISSING.ifsc", "-o", "x.png"], "no compressed file"),
     (["compress", "PNG", "-o", "x.ifsc", "--bpp", "0.001"], "too few"),
+    (["compress", "PNG", "-o", "x.ifsc", "--quality", "28", "--partition", "hv"], "give --bpp"),
 ])
 def test_bad_input_is_one_line_and_exit_2(tmp_path, png, capsys, argv, words):
     argv = [str(png) if a == "PNG" else str(tmp_path / a) if a.startswith(("MISSING", "x.")) else a for a in argv]
