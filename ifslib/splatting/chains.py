@@ -6,8 +6,7 @@ from __future__ import annotations
 import numpy as np
 import torch
 
-from ..core.raster.chains import fixed_points, walk
-from ..core.raster.chaos import CHAINS, MAX_BURN_IN, burn_in_steps
+from ..core.raster.chaos import CHAINS, chaos_chains
 
 
 def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int,
@@ -15,7 +14,7 @@ def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int,
     """``rows`` consecutive points of each of `CHAINS` chains, and the map that made each from the one before.
 
     The chains are `chaos_game`'s (the same starts, burn-in and seeded draws, through the library's one chain
-    generator `ifslib.core.raster.chains.walk`), kept with their picks.
+    generator, walked by `ifslib.core.raster.chaos.chaos_chains`), kept with their picks.
 
     Returns
     -------
@@ -27,12 +26,9 @@ def chain_points(maps: torch.Tensor, probabilities: torch.Tensor, rows: int,
     """
     work = maps.detach().double().cpu()
     p = probabilities.detach().double().cpu()
-    p = (p / p.sum()).numpy()
-    burn = min(burn_in_steps(work), MAX_BURN_IN)
-    starts = np.repeat(fixed_points(work.numpy()[:1]), CHAINS, axis=0)
     points = np.empty((rows, CHAINS, 2))
     picks = np.empty((rows, CHAINS), np.int64)
-    for k, step in enumerate(walk(work.numpy(), p, starts, burn, rows, np.random.default_rng(seed))):
+    for k, step in enumerate(chaos_chains(work, (p / p.sum()).numpy(), CHAINS, rows, seed)):
         points[k, :, 0], points[k, :, 1], picks[k] = step.x, step.y, step.pick
     return torch.from_numpy(points).to(maps.device), torch.from_numpy(picks).to(maps.device)
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Iterator
 
 import numpy as np
 import torch
@@ -31,7 +32,7 @@ from ..geometry.ifs import IFS
 from ..geometry.reach import to_window
 from ..geometry.rules import singular_values
 from ..geometry.leaves import check_bytes
-from .chains import fixed_points, walk
+from .chains import Step, fixed_points, walk
 from .nearest import nearest_point, pixel_centres
 
 #: Chains of `chaos_game` run side by side, at most (one per point below it). Each pays the burn-in
@@ -149,6 +150,26 @@ def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
     return _points(ifs, n, seed, warn=True)
 
 
+def chaos_chains(maps: torch.Tensor, probabilities: np.ndarray, chains: int, steps: int, seed: int,
+                 rules=None, warn: bool = False) -> Iterator[Step]:
+    """The chaos game's chains as every caller walks them: ``chains`` chains from the first map's fixed point,
+    `burn_in_steps` unrecorded (at most `MAX_BURN_IN`), then ``steps`` recorded steps, seeded by ``seed``.
+
+    ``maps`` are ``(m, 3, 3)`` float64; ``rules`` the IFS's, for the burn-in's contraction. ``warn``: say when
+    the burn-in is cut, for callers that sample the measure (a picture of the set lies on it whatever the cut).
+    """
+    burn = burn_in_steps(maps, rules)
+    if burn > MAX_BURN_IN:
+        if warn:
+            warnings.warn(f"chaos_game: the maps contract slowly (a chain needs {burn:,} steps to forget its "
+                          f"start, it takes {MAX_BURN_IN:,}): the points lie on the attractor, but are not a "
+                          "fair sample of its measure", stacklevel=4)
+        burn = MAX_BURN_IN
+    maps = maps.numpy()
+    starts = np.repeat(fixed_points(maps[:1]), chains, axis=0)
+    return walk(maps, probabilities, starts, burn, steps, np.random.default_rng(seed))
+
+
 def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
     """`chaos_game`'s points; ``warn``: say when the burn-in is cut at `MAX_BURN_IN`. A picture of the
     attractor (`chaos_field`, `chaos_reach`, a window) does not warn: it draws the set, which every point
@@ -157,21 +178,12 @@ def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
     check_int(seed, "seed", 0)
     _check_memory(n)
     with torch.no_grad():
-        maps_t = ifs.to(torch.float64).maps()
-    burn = burn_in_steps(maps_t, ifs.rules)
-    if burn > MAX_BURN_IN:
-        if warn:
-            warnings.warn(f"chaos_game: the maps contract slowly (a chain needs {burn:,} steps to forget its "
-                          f"start, it takes {MAX_BURN_IN:,}): the points lie on the attractor, but are not a "
-                          "fair sample of its measure", stacklevel=3)
-        burn = MAX_BURN_IN
-    p = ifs.measure_probabilities(maps_t).numpy()
-    maps = maps_t.numpy()
+        maps = ifs.to(torch.float64).maps()
     chains = min(CHAINS, n)
     steps = math.ceil(n / chains)
-    starts = np.repeat(fixed_points(maps[:1]), chains, axis=0)
     out = np.empty((2, steps, chains))
-    for k, step in enumerate(walk(maps, p, starts, burn, steps, np.random.default_rng(seed))):
+    walked = chaos_chains(maps, ifs.measure_probabilities(maps).numpy(), chains, steps, seed, ifs.rules, warn)
+    for k, step in enumerate(walked):
         out[0, k], out[1, k] = step.x, step.y
     return np.ascontiguousarray(out.reshape(2, -1).T[:n])
 
@@ -312,5 +324,5 @@ def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
     return (row[:, :, None] * size + col[:, None, :])[keep], distance[keep]
 
 
-__all__ = ["CHAINS", "DEFAULT_POINTS", "MAX_BURN_IN", "MAX_ROUNDS", "WINDOW_MARGIN", "burn_in_steps", "chaos_field",
+__all__ = ["CHAINS", "DEFAULT_POINTS", "MAX_BURN_IN", "MAX_ROUNDS", "WINDOW_MARGIN", "burn_in_steps", "chaos_chains", "chaos_field",
            "chaos_game", "chaos_window", "window_copies"]

@@ -295,7 +295,8 @@ def test_maps_too_slow_to_forget_the_start_are_warned_of_and_still_drawn_on_the_
     MAX_BURN_IN, say so, and their points still lie on the attractor: the segment [0, 0.2] of the x axis
     (x -> 0.99999 x and x -> x / 2 + 0.1 on it; y -> y / 2 squashes the rest onto it)."""
     ifs = patterns.affine([[[0.99999, 0, 0], [0, 0.5, 0]], [[0.5, 0, 0.1], [0, 0.5, 0]]])
-    with pytest.warns(UserWarning, match="not a fair sample"):
+    with pytest.warns(UserWarning, match="not a fair sample") as said:
         points = chaos_game(ifs, 1000)
+    assert said[0].filename == __file__  # the warning names the caller's line, not the library's
     assert np.abs(points[:, 1]).max() < 1e-12
     assert points[:, 0].min() >= -1e-12 and points[:, 0].max() <= 0.2 + 1e-12
