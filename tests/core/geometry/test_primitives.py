@@ -82,8 +82,8 @@ def test_each_kind_carries_its_points_radius_and_packing():
     from ifslib.core.geometry.primitives import PARAM_WIDTH, PRIMITIVE_KINDS, primitive_params
     from ifslib.core.geometry.shapes import SHAPES
 
-    assert set(PRIMITIVE_KINDS) == {"segment", "box", "disk"} == set(SHAPES)
-    points = torch.tensor([[0.1, -0.2], [0.3, 0.4]])
+    assert set(PRIMITIVE_KINDS) == set(SHAPES) >= {"segment", "box", "disk"}
+    points = torch.tensor([[0.1, -0.2], [0.3, 0.4], [-0.4, 0.2], [0.0, 0.3]])
     for kind, shape in SHAPES.items():
         prim = Primitive(kind, tuple(range(shape.points)), radius=0.05)
         assert primitive_params(points, [prim]).shape == (1, PARAM_WIDTH)

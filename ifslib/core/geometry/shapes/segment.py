@@ -3,13 +3,14 @@ from __future__ import annotations
 
 import torch
 
-from .shape import Shape, linear_image, segment_distance
+from .shape import PARAM_WIDTH, Shape, linear_image, segment_distance
 
 
 def pack(corners: list[torch.Tensor], radius: float) -> torch.Tensor:
-    """``(ax, ay, bx, by, radius)``."""
+    """``(ax, ay, bx, by, radius, 0...)``."""
     a, b = corners
-    return torch.cat([a, b, a.new_tensor([radius]).expand(*a.shape[:-1], 1)], -1)
+    rest = a.new_tensor([radius] + [0.0] * (PARAM_WIDTH - 5)).expand(*a.shape[:-1], PARAM_WIDTH - 4)
+    return torch.cat([a, b, rest], -1)
 
 
 def local(qx, qy, params):
