@@ -1,8 +1,9 @@
 """Losses between a rendered IFS and a target: pixel or distance, fine or multiscale.
 
 Each name of `ifslib.names.LOSSES` is an entry of `LOSS_KINDS`, which carries what the code branches on:
-its `Family` (the two images it compares, how a pyramid pools them, what a schedule sharpens) and whether
-it is summed over a pyramid. A new loss is a line in `ifslib.names.LOSSES` and an entry here.
+its `Family` (the two images it compares, how a pyramid pools them, what a schedule sharpens), whether
+it is summed over a pyramid, and how two images are compared (MSE unless it says otherwise). A new loss
+is a line in `ifslib.names.LOSSES` and an entry here.
 
 ``pixel``
     MSE between the rendered pixels ``exp(-relu(d)^2 / sigma^2)`` and the target's mask.
@@ -63,12 +64,22 @@ PIXEL = Family(_pixel_images, "avg", "sigma")
 DISTANCE = Family(_distance_images, "min", "levels")
 
 
+def mse(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """Mean squared error of two images ``(h, w)`` (a scalar), or per image of a batch ``(B, h, w)`` (``(B,)``)."""
+    # Row means first, then their mean: torch splits one reduction of a whole image between its
+    # threads (so the last bits follow the thread count), but reduces each of many outputs in one.
+    err = (a - b).square().mean(-1).mean(-1)
+    return err
+
+
 @dataclass(frozen=True)
 class LossKind:
-    """A named loss: its family, and whether it is summed over the images' pyramids (the paper's multiscale MSE)."""
+    """A named loss: its family, whether it is summed over the images' pyramids (the paper's multiscale MSE), and how
+    two of its images are compared (``compare(drawn, wanted)``: a scalar, or ``(B,)`` for a batch)."""
 
     family: Family
     multiscale: bool
+    compare: Callable[[torch.Tensor, torch.Tensor], torch.Tensor] = mse
 
 
 #: Every loss of `ifslib.names.LOSSES` (a test says the two agree).
@@ -90,14 +101,6 @@ def check_loss(kind) -> str | Callable:
 def loss_kind(kind: str) -> LossKind:
     """The `LossKind` of a loss's name (`IFSError` for an unknown one)."""
     return LOSS_KINDS[check_loss(kind)]
-
-
-def mse(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-    """Mean squared error of two images ``(h, w)`` (a scalar), or per image of a batch ``(B, h, w)`` (``(B,)``)."""
-    # Row means first, then their mean: torch splits one reduction of a whole image between its
-    # threads (so the last bits follow the thread count), but reduces each of many outputs in one.
-    err = (a - b).square().mean(-1).mean(-1)
-    return err
 
 
 def pyramid(image: torch.Tensor, levels: int, mode: str = "avg") -> list[torch.Tensor]:
@@ -127,9 +130,15 @@ def pyramid(image: torch.Tensor, levels: int, mode: str = "avg") -> list[torch.T
     return out
 
 
+def multiscale(compare: Callable[[torch.Tensor, torch.Tensor], torch.Tensor], a: torch.Tensor, b: torch.Tensor,
+               levels: int = 5, mode: str = "avg") -> torch.Tensor:
+    """``compare`` summed over the two images' pyramids (see `pyramid`)."""
+    return sum(compare(x, y) for x, y in zip(pyramid(a, levels, mode), pyramid(b, levels, mode)))
+
+
 def multiscale_mse(a: torch.Tensor, b: torch.Tensor, levels: int = 5, mode: str = "avg") -> torch.Tensor:
-    """MSE summed over the two images' pyramids (see `pyramid`)."""
-    return sum(mse(x, y) for x, y in zip(pyramid(a, levels, mode), pyramid(b, levels, mode)))
+    """MSE summed over the two images' pyramids (see `pyramid`): the paper's multiscale loss."""
+    return multiscale(mse, a, b, levels, mode)
 
 
 def loss(distance: torch.Tensor, target: Target, kind: str | Callable = "multiscale_pixel",
@@ -165,4 +174,4 @@ def loss(distance: torch.Tensor, target: Target, kind: str | Callable = "multisc
     if distance.shape[-2:] != target.mask.shape or distance.ndim not in (2, 3):
         raise IFSError(f"the distance field is {tuple(distance.shape)} but the target is {target.mask.shape}")
     a, b = named.family.images(distance, target, sigma)
-    return multiscale_mse(a, b, levels, named.family.pool) if named.multiscale else mse(a, b)
+    return multiscale(named.compare, a, b, levels, named.family.pool) if named.multiscale else named.compare(a, b)

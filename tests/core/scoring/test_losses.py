@@ -52,4 +52,20 @@ def test_every_name_is_an_entry_of_the_table():
     assert set(LOSS_KINDS) == set(LOSSES)
     assert loss_kind("multiscale_pixel").family is loss_kind("pixel").family
     with pytest.raises(IFSError, match="unknown loss"):
-        loss_kind("soft_iou")
+        loss_kind("no_such_loss")
+
+
+def test_a_new_entry_brings_its_own_comparison(koch_target, monkeypatch):
+    """A loss is its table entry: one that compares by mean absolute error is computed so, at one scale and over the
+    pyramid, with no other code told of it."""
+    from ifslib.core.scoring import losses
+
+    l1 = lambda a, b: (a - b).abs().mean((-2, -1))  # noqa: E731
+    monkeypatch.setattr(losses, "LOSSES", losses.LOSSES + ("l1", "multiscale_l1"))
+    monkeypatch.setitem(losses.LOSS_KINDS, "l1", losses.LossKind(losses.PIXEL, multiscale=False, compare=l1))
+    monkeypatch.setitem(losses.LOSS_KINDS, "multiscale_l1", losses.LossKind(losses.PIXEL, multiscale=True, compare=l1))
+    d = ifslib.distance_field(ifslib.patterns.koch(), koch_target.mask.shape[0])
+    drawn, wanted = losses.PIXEL.images(d, koch_target, None)
+    torch.testing.assert_close(losses.loss(d, koch_target, "l1"), l1(drawn, wanted))
+    pyramid = zip(losses.pyramid(drawn, 5), losses.pyramid(wanted, 5))
+    torch.testing.assert_close(losses.loss(d, koch_target, "multiscale_l1"), sum(l1(a, b) for a, b in pyramid))
