@@ -65,6 +65,9 @@ class SplatFitOptions:
         CPU either way.
     progress : bool
         A progress bar (tqdm.auto) where someone watches.
+    snapshots : tuple of int
+        Steps after which the fit's maps and probabilities are kept (`SplatFit.snapshots`): 0 is the start (after
+        the screening), ``steps`` the result. A picture of the fit as it goes, at the cost of one IFS a snapshot.
     """
 
     steps: int = 1500
@@ -82,9 +85,16 @@ class SplatFitOptions:
     screen_steps: int = config.SCREEN_STEPS
     device: str = "cpu"
     progress: bool = False
+    snapshots: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
         check_int(self.steps, "steps", 1)
+        if not isinstance(self.snapshots, (tuple, list)):
+            raise IFSError(f"snapshots must be a tuple of steps, got {self.snapshots!r}")
+        for step in self.snapshots:
+            check_int(step, "snapshots' step", 0, maximum=self.steps)
+        # a list from the caller becomes a sorted tuple without repeats, so that options stay hashable
+        object.__setattr__(self, "snapshots", tuple(sorted(set(self.snapshots))))
         if isinstance(self.points_per_pixel, bool) or not isinstance(self.points_per_pixel, (int, float)) \
                 or not 0 < self.points_per_pixel <= 1e4:
             raise IFSError(f"points_per_pixel must be a number in (0, 10000], got {self.points_per_pixel!r}")
@@ -126,12 +136,15 @@ class SplatFit:
         Maps moved by reselection.
     seconds : float
         Wall time of the fit.
+    snapshots : tuple of (int, IFS)
+        For each step of `SplatFitOptions.snapshots`, in order, the step and the fit's maps after it (as `ifs`).
     """
 
     ifs: IFS
     losses: tuple[float, ...]
     reseeds: int
     seconds: float
+    snapshots: tuple[tuple[int, IFS], ...] = ()
 
 
 def read_image(image, kind: str) -> tuple[np.ndarray, str]:
@@ -226,6 +239,7 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
     optimizer = torch.optim.Adam([{"params": [params.raw], "lr": options.map_lr},
                                   {"params": [logits], "lr": options.probability_lr}])
     losses, reseeds, step = [], 0, 0
+    kept = [(0, _result(params, logits))] if 0 in options.snapshots else []
     size = array.shape[0]
     plan = [(f, share) for f, share in zip(config.LEVELS, config.LEVEL_STEPS) if size // f >= 16]
     total_share = sum(share for _, share in plan)
@@ -259,9 +273,11 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
                 if moved is not None:
                     reseeds += 1
                     _forget(optimizer, params.raw, moved)
+            if step in options.snapshots:
+                kept.append((step, _result(params, logits)))
             bar.update(1)
     bar.close()
-    return SplatFit(_result(params, logits), tuple(losses), reseeds, time.perf_counter() - t0)
+    return SplatFit(_result(params, logits), tuple(losses), reseeds, time.perf_counter() - t0, tuple(kept))
 
 
 def _screen(array: np.ndarray, kind: str, maps: int | None, options: SplatFitOptions) -> IFS:
@@ -269,7 +285,7 @@ def _screen(array: np.ndarray, kind: str, maps: int | None, options: SplatFitOpt
     small = level_image(array, 4, kind).numpy() if array.shape[0] >= 64 else array
     fits = [fit_splat(small > 0 if kind == "support" else small, maps, None,
                       dataclasses.replace(options, steps=options.screen_steps, starts=1, seed=options.seed * 1000 + k,
-                                          progress=False, kind=kind))
+                                          progress=False, kind=kind, snapshots=()))
             for k in range(options.starts)]
     return min(fits, key=lambda f: float(np.mean(f.losses[-config.SCREEN_TAIL:]))).ifs
 

@@ -1,5 +1,7 @@
 """The splat fit on small images: it lowers its loss, keeps its maps contractive, fits gray levels' probabilities,
-and refuses bad inputs."""
+keeps the snapshots asked for, and refuses bad inputs."""
+import dataclasses
+
 import numpy as np
 import pytest
 import torch
@@ -73,6 +75,20 @@ def test_screened_starts_keep_the_least_loss(monkeypatch):
     assert starts[3] is min(screens, key=lambda s: s[0])[1]  # the fit goes on from the screen of least loss
 
 
+def test_snapshots_keep_the_start_and_the_steps_asked_for_and_change_nothing():
+    mask = sierpinski(32) > 0
+    options = SplatFitOptions(steps=12, points_per_pixel=2.0, reseed_every=5, seed=0, starts=1)
+    plain = fit_splat(mask, maps=3, options=options)
+    fit = fit_splat(mask, maps=3, options=dataclasses.replace(options, snapshots=[12, 0, 6, 6]))
+    assert plain.snapshots == () and [step for step, _ in fit.snapshots] == [0, 6, 12]
+    assert torch.equal(fit.ifs.maps(), plain.ifs.maps())  # keeping snapshots draws nothing from the seeds
+    start = start_maps(None, 3, mask, torch.Generator().manual_seed(0)).maps().detach().double()
+    first, middle, last = (ifs.maps().detach() for _, ifs in fit.snapshots)
+    assert torch.allclose(first, start, atol=1e-6)
+    assert torch.equal(last, fit.ifs.maps()) and fit.snapshots[-1][1].probabilities == fit.ifs.probabilities
+    assert not torch.equal(middle, first) and not torch.equal(middle, last)
+
+
 def test_a_start_is_topped_up_to_the_maps_asked_for():
     fit = fit_splat(sierpinski(32) > 0, maps=4, start=THREE[:2], options=SplatFitOptions(steps=2, seed=1))
     assert len(fit.ifs.rules) == 4 and fit.seconds > 0
@@ -92,7 +108,8 @@ def test_bad_inputs_are_refused(image, kwargs, message):
 
 
 @pytest.mark.parametrize("field, value", [("steps", 0), ("kind", "gray"), ("map_lr", -1.0), ("anneal_share", 2.0),
-                                          ("points_per_pixel", 0), ("reseed_every", -1), ("progress", "yes")])
+                                          ("points_per_pixel", 0), ("reseed_every", -1), ("progress", "yes"),
+                                          ("snapshots", (-1,)), ("snapshots", (1501,)), ("snapshots", 3)])
 def test_bad_options_are_refused(field, value):
     with pytest.raises(IFSError, match=field):
         SplatFitOptions(**{field: value})
