@@ -71,6 +71,10 @@ def ten(args) -> list[dict]:
     print("| fractal | search maps | search IoU | attractor IoU | attractor Chamfer (px) | recovered | s "
           "| reselections | PSNR | SSIM | F1 | IoU |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    tuned = {k: v for k, v in (("anneal_noise", args.anneal_noise), ("reseed_every", args.reseed_every),
+                                ("map_lr", args.map_lr)) if v is not None}
+    if tuned:
+        print("options changed from the defaults:", tuned)
     for seed in args.seeds:
         truth = ifslib.patterns.random_ifs(10, seed, extent=EXTENT)
         picture = ifslib.render(truth, args.size, method="chaos", points=POINTS, seed=seed).numpy()
@@ -78,7 +82,7 @@ def ten(args) -> list[dict]:
         t0 = time.perf_counter()
         start, searched = searched_start(target, seed, args.pad) if args.start == "search" else (None, {})
         fits = [fit_splat(target, maps=10, start=start,
-                          options=SplatFitOptions(steps=args.steps, seed=s, device=args.device))
+                          options=SplatFitOptions(steps=args.steps, seed=s, device=args.device, **tuned))
                 for s in range(args.starts)]
         fit = min(fits, key=lambda f: float(np.mean(f.losses[-20:])))
         seconds = time.perf_counter() - t0
@@ -176,6 +180,9 @@ def main() -> None:
     parser.add_argument("--pad", default="copies", choices=["copies", "random"],
                         help="with --start search: pad with jittered copies of the largest maps, or random maps")
     parser.add_argument("--seeds", type=int, nargs="+", default=list(range(10)), help="fractals of --ten (0-9)")
+    parser.add_argument("--anneal-noise", type=float, default=None, help="--ten's annealing noise (default the fit's)")
+    parser.add_argument("--reseed-every", type=int, default=None, help="--ten's reselection period (0: never)")
+    parser.add_argument("--map-lr", type=float, default=None, help="--ten's map learning rate (default the fit's)")
     parser.add_argument("--timing-sizes", type=int, nargs="+", default=[256, 1024])
     parser.add_argument("--fern-push-steps", type=int, default=200, help="the push fit's steps before the splat fit")
     parser.add_argument("--fern-points", type=float, default=64.0, help="points per pixel of the fern's splat fit")
@@ -193,7 +200,9 @@ def main() -> None:
         rows = ten(args)
         out = repo_root() / args.out
         out.mkdir(parents=True, exist_ok=True)
-        (out / f"ten_{args.size}_{args.start}.json").write_text(json.dumps(rows, indent=1))
+        changed = "".join(f"_{k}{getattr(args, k)}" for k in ("anneal_noise", "reseed_every", "map_lr")
+                          if getattr(args, k) is not None)
+        (out / f"ten_{args.size}_{args.start}{changed}.json").write_text(json.dumps(rows, indent=1))
 
 
 if __name__ == "__main__":
