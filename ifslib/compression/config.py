@@ -38,6 +38,9 @@ ADAPT_INCREMENT = 1.0
 #: the partitions, in the order a version 2 header numbers them: squares of a quadtree, or rectangles cut
 #: at their strongest edge (`rectangles`; range-coded files only)
 PARTITIONS = ("quadtree", "hv")
+#: the decoder's post-filter weight across block seams (`deblock`) that `method.compress` offers (kept per
+#: file only if it decodes closer): larger hides the blocks' steps, and blurs edges that lie on a seam.
+DEBLOCK = 0.15
 
 
 @dataclass(frozen=True)
@@ -59,6 +62,9 @@ class CodeOptions:
     partition : str
         One of `PARTITIONS`: ``"quadtree"`` (square blocks) or ``"hv"`` (rectangles split at their
         strongest edge, sides from min_block up; adaptive coder only).
+    deblock : float
+        The decoder's post-filter (`deblock`): the weight, 0 to 0.5 in steps of 0.01, each pixel beside a
+        block seam takes from the pixel across it (0: none; adaptive coder only, file version 3).
     """
 
     min_block: int = MIN_BLOCK
@@ -68,6 +74,7 @@ class CodeOptions:
     s_max: float = S_MAX
     coder: str = "adaptive"
     partition: str = "quadtree"
+    deblock: float = 0.0
 
     def __post_init__(self):
         for name in ("min_block", "max_block"):
@@ -88,6 +95,11 @@ class CodeOptions:
             raise IFSError(f"partition must be one of {', '.join(PARTITIONS)}, got {self.partition!r}")
         if self.partition != "quadtree" and self.coder == "fixed":
             raise IFSError("an HV partition needs the adaptive coder (file version 2); version 1 holds quadtrees only")
+        d = self.deblock
+        if isinstance(d, bool) or not isinstance(d, (int, float)) or not (0 <= d <= 0.5 and abs(d * 100 - round(d * 100)) < 1e-9):
+            raise IFSError(f"deblock must be a number from 0 to 0.5 in steps of 0.01 (the file stores hundredths), got {d!r}")
+        if d and self.coder == "fixed":
+            raise IFSError("the deblocking filter needs the adaptive coder (file version 3); version 1 cannot record it")
 
     @property
     def sizes(self) -> list[int]:

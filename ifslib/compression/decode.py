@@ -16,6 +16,7 @@ import torch.nn.functional as F
 from ..errors import IFSError
 from .code import Code
 from .config import DECODE_MAX_ITER, DECODE_TOL
+from .deblock import deblock
 from .domains import downsample
 from .rectangles import isometry_count, rectangle_isometry, rectangle_lattice, rectangle_step
 
@@ -139,8 +140,9 @@ def start_image(p: Plan, start, dtype) -> torch.Tensor:
 
 @dataclass(frozen=True)
 class Decoded:
-    """A decoding: the ``image`` ``(h, w)`` (cropped to the code's size at the scale, clipped to [0, 1]),
-    the ``padded`` fixed point ``(H, W)`` (unclipped), the ``iterations`` run and the last ``change``."""
+    """A decoding: the ``image`` ``(h, w)`` (post-filtered by the code's ``deblock``, cropped to the code's
+    size at the scale, clipped to [0, 1]), the ``padded`` fixed point ``(H, W)`` (unfiltered, unclipped),
+    the ``iterations`` run and the last ``change``."""
 
     image: torch.Tensor
     padded: torch.Tensor
@@ -186,4 +188,4 @@ def decode(code: Code, scale: float = 1.0, start=None, tol: float = DECODE_TOL,
     with torch.no_grad():
         x, k, change = fixed_point(p, code.s(dtype), code.m(dtype), start_image(p, start, dtype), tol, max_iter)
     h, w = p.crop
-    return Decoded(x[:h, :w].clamp(0, 1), x, k, change)
+    return Decoded(deblock(p, x, code.options.deblock)[:h, :w].clamp(0, 1), x, k, change)

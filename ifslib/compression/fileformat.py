@@ -6,6 +6,10 @@ largest blocks (4 bits each), s_bits and m_bits (4 bits each), s_max x 10000 (2 
 payload (4 bytes), then the range-coded fields (`fields`). A wrong, truncated or altered file fails
 the CRC and is refused, never decoded into a wrong image.
 
+Version 3 (a code with ``CodeOptions(deblock > 0)``): version 2's header with one more byte before the
+CRC, the decoder's post-filter weight in hundredths (`deblock`); the CRC covers it. A code without
+the filter is still written as version 2, so version 2 files are rewritten byte for byte.
+
 Version 1 (``CodeOptions(coder="fixed")``, and every file before version 2): ``b"IFSC"``, version,
 height and width, log2 of the smallest and largest blocks, s_bits and m_bits (1 byte each), s_max x
 10000 (2 bytes); then the fixed-length fields (`fixedformat`). All big-endian.
@@ -23,14 +27,15 @@ from .fields import decode_fields, encode_fields
 from .fixedformat import fixed_payload, read_fixed
 
 MAGIC = b"IFSC"
-VERSION = 2
+VERSION = 3
 HEADER = struct.Struct(">4sBHHBBBBH")  # version 1
 HEADER_2 = struct.Struct(">4sBHHBBBHI")
+HEADER_3 = struct.Struct(">4sBHHBBBHBI")
 
 
 def header_bytes(options: CodeOptions) -> int:
     """Bytes of the header a code with ``options`` is written with."""
-    return HEADER.size if options.coder == "fixed" else HEADER_2.size
+    return HEADER.size if options.coder == "fixed" else HEADER_3.size if options.deblock else HEADER_2.size
 
 
 def to_bytes(code: Code) -> bytes:
@@ -41,8 +46,12 @@ def to_bytes(code: Code) -> bytes:
         return HEADER.pack(MAGIC, 1, code.height, code.width, lo, hi, o.s_bits, o.m_bits,
                            round(o.s_max * 10000)) + fixed_payload(code)
     payload = encode_fields(code).payload
-    head = HEADER_2.pack(MAGIC, VERSION, code.height, code.width, PARTITIONS.index(o.partition), lo << 4 | hi,
-                         o.s_bits << 4 | o.m_bits, round(o.s_max * 10000), 0)[:-4]
+    layout = (code.height, code.width, PARTITIONS.index(o.partition), lo << 4 | hi, o.s_bits << 4 | o.m_bits,
+              round(o.s_max * 10000))
+    if o.deblock:
+        head = HEADER_3.pack(MAGIC, 3, *layout, round(o.deblock * 100), 0)[:-4]
+    else:
+        head = HEADER_2.pack(MAGIC, 2, *layout, 0)[:-4]
     return head + struct.pack(">I", zlib.crc32(payload, zlib.crc32(head))) + payload
 
 
@@ -62,9 +71,9 @@ def _version(data: bytes) -> int:
     if len(data) < len(MAGIC) + 1:
         raise IFSError("the compressed file is truncated (it ends inside its header); copy it again")
     version = data[4]
-    if version not in (1, 2):
-        raise IFSError(f"this file is format version {version}; this ifslib reads versions 1 and 2")
-    size = HEADER.size if version == 1 else HEADER_2.size
+    if version not in (1, 2, 3):
+        raise IFSError(f"this file is format version {version}; this ifslib reads versions 1 to 3")
+    size = (HEADER, HEADER_2, HEADER_3)[version - 1].size
     if len(data) < size:
         raise IFSError("the compressed file is truncated (it ends inside its header); copy it again")
     return version
@@ -78,24 +87,33 @@ def _read_1(data: bytes) -> Code:
     return Code(o, height, width, **read_fixed(data[HEADER.size:], H, W, o))
 
 
-def _read_2(data: bytes) -> Code:
-    _, _, height, width, partition, blocks, bits, s_max, crc = HEADER_2.unpack_from(data)
-    payload = data[HEADER_2.size:]
-    if zlib.crc32(payload, zlib.crc32(data[:HEADER_2.size - 4])) != crc:
+def _read_2(data: bytes, version: int) -> Code:
+    if version == 2:
+        _, _, height, width, partition, blocks, bits, s_max, crc = HEADER_2.unpack_from(data)
+        deblock, size = 0, HEADER_2.size
+    else:
+        _, _, height, width, partition, blocks, bits, s_max, deblock, crc = HEADER_3.unpack_from(data)
+        size = HEADER_3.size
+    payload = data[size:]
+    if zlib.crc32(payload, zlib.crc32(data[:size - 4])) != crc:
         raise IFSError("the compressed file is corrupt or truncated (its CRC-32 does not match); copy it again")
+    if version == 3 and not 0 < deblock <= 50:
+        raise IFSError(f"the file's header is corrupt (a deblocking weight of {deblock} hundredths; 1 to 50 are valid)")
     if partition >= len(PARTITIONS):
         raise IFSError(f"the file's header is corrupt (partition {partition}; this ifslib knows "
                        f"{', '.join(PARTITIONS)})")
     height, width, o = _options(height, width, lambda: CodeOptions(1 << (blocks >> 4), 1 << (blocks & 15), bits >> 4,
                                                                    bits & 15, s_max / 10000,
-                                                                   partition=PARTITIONS[partition]))
+                                                                   partition=PARTITIONS[partition],
+                                                                   deblock=deblock / 100))
     H, W = -(-height // o.max_block) * o.max_block, -(-width // o.max_block) * o.max_block
     return Code(o, height, width, **decode_fields(payload, H, W, o))
 
 
 def from_bytes(data: bytes) -> Code:
-    """The code in a file's bytes (version 1 or 2), or `IFSError` for a wrong, truncated or corrupt file."""
-    return _read_1(data) if _version(data) == 1 else _read_2(data)
+    """The code in a file's bytes (version 1, 2 or 3), or `IFSError` for a wrong, truncated or corrupt file."""
+    version = _version(data)
+    return _read_1(data) if version == 1 else _read_2(data, version)
 
 
 def write(code: Code, path) -> int:

@@ -23,6 +23,7 @@ from tqdm.auto import tqdm
 from ..errors import IFSError
 from .code import Code
 from .config import DECODE_MAX_ITER, DECODE_TOL, RefineOptions
+from .deblock import deblock
 from .decode import Plan, fixed_point, iterate, plan, shapes, start_image
 from .encode import check_image, pad, search
 from .quantize import dequantize_m, dequantize_s, zero_s
@@ -63,13 +64,13 @@ def implicit_fixed_point(p: Plan, s: torch.Tensor, m: torch.Tensor, start: torch
 
 
 def decoded_error(code: Code, target: torch.Tensor, p: Plan | None = None, start=None) -> tuple[float, torch.Tensor]:
-    """``(mean squared error of the decoded image against target (h, w), the padded fixed point)``."""
+    """``(mean squared error of the decoded, post-filtered image against target (h, w), the padded fixed point)``."""
     p = plan(code) if p is None else p
     start = start_image(p, None, target.dtype) if start is None else start
     with torch.no_grad():
         x, _, _ = fixed_point(p, code.s(target.dtype), code.m(target.dtype), start)
     h, w = target.shape
-    return float(((x[:h, :w].clamp(0, 1) - target) ** 2).mean()), x
+    return float(((deblock(p, x, code.options.deblock)[:h, :w].clamp(0, 1) - target) ** 2).mean()), x
 
 
 def search_again(code: Code, target: torch.Tensor, decoded: torch.Tensor, price: Choice | None = None) -> Code:
@@ -119,8 +120,9 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
         m_level = _levels(m_lat, 0, 2**o.m_bits - 1)
         x = implicit_fixed_point(p, dequantize_s(s_level, o, target.dtype), dequantize_m(m_level, o, target.dtype),
                                  x.detach())
-        loss = ((x[:h, :w] - target) ** 2).mean()
-        err = float(((x[:h, :w].detach().clamp(0, 1) - target) ** 2).mean())
+        out = deblock(p, x, o.deblock)[:h, :w]  # the decoder's output: the filter is linear, after the fixed point
+        loss = ((out - target) ** 2).mean()
+        err = float(((out.detach().clamp(0, 1) - target) ** 2).mean())
         if err < best_err:
             best_err = err
             closer.append(code.with_maps(s_idx=s_level.detach().round().long(), m_idx=m_level.detach().round().long()))

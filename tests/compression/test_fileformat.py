@@ -1,5 +1,7 @@
-"""The file: exact round trips in both versions, old files read as before, and one clear error for a wrong,
+"""The file: exact round trips in every version, old files read as before, and one clear error for a wrong,
 truncated, padded or corrupt file."""
+import struct
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -9,7 +11,7 @@ import torch
 from ifslib.compression.config import CodeOptions
 from ifslib.compression.decode import decode
 from ifslib.compression.encode import encode
-from ifslib.compression.fileformat import HEADER, HEADER_2, from_bytes, read, to_bytes, write
+from ifslib.compression.fileformat import HEADER, HEADER_2, HEADER_3, from_bytes, read, to_bytes, write
 from ifslib.errors import IFSError
 from compression_images import photo
 
@@ -39,6 +41,60 @@ def test_a_version_1_file_of_the_previous_release_decodes_as_it_did():
     assert to_bytes(code) == data  # written again, byte for byte
 
 
+@pytest.mark.parametrize("partition", ["quadtree", "hv"])
+def test_a_version_2_file_of_the_previous_release_decodes_as_it_did(partition):
+    """``data/version2_*.ifsc``: attractor codes of ``photo(40)[:, :36]`` at 1 bpp written by commit c24b3cc
+    (before the deblocking filter), and their decodings: read unfiltered, and written again byte for byte."""
+    data = (DATA / f"version2_{partition}.ifsc").read_bytes()
+    assert data[4] == 2
+    code = from_bytes(data)
+    assert code.options.partition == partition and code.options.deblock == 0
+    assert np.array_equal(decode(code).image.numpy(), np.load(DATA / f"version2_{partition}_decoded.npy"))
+    assert to_bytes(code) == data
+
+
+@pytest.mark.parametrize("partition", ["quadtree", "hv"])
+def test_the_deblocking_weight_round_trips_in_version_3(partition):
+    options = CodeOptions(min_block=4, max_block=16, partition=partition, deblock=0.17)
+    code = encode(photo(40)[:, :36], options, bpp=1.5)
+    data = to_bytes(code)
+    assert data[4] == 3 and data[HEADER_3.size - 5] == 17
+    back = from_bytes(data)
+    assert back.options == options
+    for name in FIELDS:
+        assert torch.equal(getattr(back, name), getattr(code, name)), name
+    assert torch.equal(decode(back).image, decode(code).image)
+    assert to_bytes(back) == data
+
+
+def test_wrong_truncated_and_corrupt_version_3_files():
+    data = to_bytes(encode(photo(32), CodeOptions(min_block=4, max_block=16, deblock=0.25), bpp=1.0))
+    assert data[4] == 3 and data[HEADER_3.size - 5] == 25
+    for cut in (5, HEADER_2.size, HEADER_3.size, len(data) - 1):
+        with pytest.raises(IFSError, match="truncated"):
+            from_bytes(data[:cut])
+    for at in (HEADER_3.size - 5, HEADER_3.size - 1, HEADER_3.size + 2):  # the weight, the CRC, the fields
+        bad = bytearray(data)
+        bad[at] ^= 1
+        with pytest.raises(IFSError, match="corrupt"):
+            from_bytes(bytes(bad))
+    # a weight out of range with a CRC that matches it: refused by name, not decoded
+    for weight in (0, 51):
+        head = data[:HEADER_3.size - 5] + bytes([weight])
+        payload = data[HEADER_3.size:]
+        forged = head + struct.pack(">I", zlib.crc32(payload, zlib.crc32(head))) + payload
+        with pytest.raises(IFSError, match="deblocking weight"):
+            from_bytes(forged)
+
+
+def test_the_filter_needs_the_adaptive_coder_and_hundredths():
+    with pytest.raises(IFSError, match="adaptive coder"):
+        CodeOptions(coder="fixed", deblock=0.1)
+    for bad in (-0.1, 0.6, 0.123, "0.1", True):
+        with pytest.raises(IFSError, match="deblock"):
+            CodeOptions(deblock=bad)
+
+
 def test_wrong_truncated_padded_and_corrupt_version_1_files():
     data = to_bytes(encode(photo(32), CodeOptions(min_block=4, max_block=16, coder="fixed"), bpp=1.0))
     with pytest.raises(IFSError, match="IFSC"):
@@ -49,8 +105,8 @@ def test_wrong_truncated_padded_and_corrupt_version_1_files():
         from_bytes(data[:-3])
     with pytest.raises(IFSError, match="after its code"):
         from_bytes(data + b"\x00")
-    with pytest.raises(IFSError, match="version 3"):
-        from_bytes(data[:4] + b"\x03" + data[5:])
+    with pytest.raises(IFSError, match="version 4"):
+        from_bytes(data[:4] + b"\x04" + data[5:])
     with pytest.raises(IFSError, match="header is corrupt"):
         from_bytes(data[:HEADER.size - 4] + b"\x09" + data[HEADER.size - 3:])  # s_bits = 9
 
