@@ -54,11 +54,13 @@ def cmd_compress(args: argparse.Namespace) -> None:
     t0 = time.perf_counter()
     image = read_gray(args.image)
     code = compress(image, bpp=args.bpp, quality=args.quality, method=args.method,
-                    options=CodeOptions(partition=args.partition), progress=not args.quiet and draw_bars())
+                    options=CodeOptions(partition=args.partition), progress=not args.quiet and draw_bars(),
+                    deblock=args.deblock)
     size = write(code, args.output)
     psnr = peak_signal_noise_ratio(image, decode(code).image.numpy(), data_range=1.0)
     print(f"wrote {args.output}: {size:,} bytes ({8 * size / image.size:.3f} bpp), {len(code)} blocks, "
-          f"{args.method} coding; decoded PSNR {psnr:.2f} dB; {time.perf_counter() - t0:.1f} s")
+          f"{args.method} coding, deblocking {code.options.deblock:g}; decoded PSNR {psnr:.2f} dB; "
+          f"{time.perf_counter() - t0:.1f} s")
 
 
 def cmd_decompress(args: argparse.Namespace) -> None:
@@ -89,6 +91,16 @@ def _rate(value: str) -> float:
     return number
 
 
+def _weight(value: str) -> float:
+    try:
+        number = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {value!r}") from None
+    if not (0 <= number <= 0.5 and abs(number * 100 - round(number * 100)) < 1e-9):
+        raise argparse.ArgumentTypeError(f"expected a weight from 0 to 0.5 in steps of 0.01, got {value!r}")
+    return round(number * 100) / 100
+
+
 def add_parsers(sub) -> None:
     """Add ``compress`` and ``decompress`` to the subparsers ``sub``."""
     c = sub.add_parser("compress", help="fractal-compress a gray image (colour is converted to gray)",
@@ -104,6 +116,10 @@ def add_parsers(sub) -> None:
                         "the default)")
     c.add_argument("--partition", choices=("quadtree", "hv"), default="quadtree",
                    help="quadtree (squares; the default) or hv (rectangles cut at their strongest edge; with --bpp)")
+    c.add_argument("--deblock", type=_weight, metavar="W",
+                   help="the decoder's post-filter: each pixel beside a block seam takes weight W (0 to 0.5, "
+                        "in steps of 0.01) from the pixel across it, recorded in the file and kept only if it "
+                        "decodes closer; 0: none (default: the coder's tuned weight)")
     c.add_argument("--quiet", action="store_true", help="no progress bars")
     c.add_argument("-o", "--output", required=True, help="compressed file to write (.ifsc)")
     c.set_defaults(run=cmd_compress)

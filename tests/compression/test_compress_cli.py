@@ -42,6 +42,26 @@ def test_an_hv_partition_from_the_command_line(tmp_path, png, capsys):
     assert tuple(choices) == PARTITIONS  # the command line's list is the coder's
 
 
+def test_the_deblocking_filter_from_the_command_line(tmp_path, png, capsys):
+    import subprocess
+    import sys
+
+    from ifslib.compression import read
+
+    packed = tmp_path / "off.ifsc"
+    assert main(["compress", str(png), "-o", str(packed), "--bpp", "1.0", "--deblock", "0", "--quiet"]) == 0
+    assert read(packed).options.deblock == 0 and packed.read_bytes()[4] == 2 and "deblocking 0;" in capsys.readouterr().out
+    packed = tmp_path / "on.ifsc"
+    run = subprocess.run([sys.executable, "-m", "ifslib", "compress", str(png), "-o", str(packed), "--bpp", "1.0",
+                          "--deblock", "0.2", "--quiet"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert read(packed).options.deblock in (0, 0.2) and f"deblocking {read(packed).options.deblock:g};" in run.stdout
+    for bad in ("0.6", "-0.1", "0.123", "x"):
+        run = subprocess.run([sys.executable, "-m", "ifslib", "compress", str(png), "-o", str(tmp_path / "b.ifsc"),
+                              "--bpp", "1.0", "--deblock", bad], capture_output=True, text=True)
+        assert run.returncode == 2 and "--deblock" in run.stderr and not (tmp_path / "b.ifsc").exists()
+
+
 @pytest.mark.parametrize("mode, top", [("L", 255), ("RGB", 255), ("I;16", 65535)])
 def test_an_image_file_is_read_as_gray_levels_in_0_1_unclipped(tmp_path, mode, top):
     gray = photo(40).numpy().astype(float)
@@ -121,7 +141,8 @@ def test_help_names_the_subcommands(capsys):
     assert "compress" in capsys.readouterr().out
     with pytest.raises(SystemExit):
         main(["compress", "--help"])
-    assert "--method {collage,attractor}" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "--method {collage,attractor}" in said and "--deblock W" in said
     with pytest.raises(SystemExit):
         main(["decompress", "--help"])
     said = " ".join(capsys.readouterr().out.split())
