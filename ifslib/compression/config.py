@@ -96,10 +96,13 @@ class CodeOptions:
         if self.partition != "quadtree" and self.coder == "fixed":
             raise IFSError("an HV partition needs the adaptive coder (file version 2); version 1 holds quadtrees only")
         d = self.deblock
-        if isinstance(d, bool) or not isinstance(d, (int, float)) or not (0 <= d <= 0.5 and abs(d * 100 - round(d * 100)) < 1e-9):
-            raise IFSError(f"deblock must be a number from 0 to 0.5 in steps of 0.01 (the file stores hundredths), got {d!r}")
+        if (isinstance(d, bool) or not isinstance(d, (int, float))
+                or not (0 <= d <= 0.5 and abs(d * 100 - round(d * 100)) < 1e-9)):
+            raise IFSError(f"deblock must be a number from 0 to 0.5 in steps of 0.01 (the file stores hundredths), "
+                           f"got {d!r}")
         if d and self.coder == "fixed":
-            raise IFSError("the deblocking filter needs the adaptive coder (file version 3); version 1 cannot record it")
+            raise IFSError("the deblocking filter needs the adaptive coder (file version 3); "
+                           "version 1 cannot record it")
 
     @property
     def sizes(self) -> list[int]:

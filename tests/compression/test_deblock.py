@@ -33,7 +33,8 @@ def brute(image: np.ndarray, label: np.ndarray, a: float) -> np.ndarray:
 def labels(code, scale=1.0) -> np.ndarray:
     p = plan(code, scale)
     label = np.empty(p.height * p.width, dtype=int)
-    for i, (y, x, h, w) in enumerate(zip(code.y.tolist(), code.x.tolist(), code.heights.tolist(), code.widths.tolist())):
+    blocks = zip(code.y.tolist(), code.x.tolist(), code.heights.tolist(), code.widths.tolist())
+    for i, (y, x, h, w) in enumerate(blocks):
         grid = np.zeros((p.height, p.width), dtype=bool)
         grid[round(y * scale):round((y + h) * scale), round(x * scale):round((x + w) * scale)] = True
         label[grid.reshape(-1)] = i

@@ -31,7 +31,8 @@ def test_the_filter_is_kept_only_where_it_decodes_closer(method):
     assert decoded_error(code, image)[0] <= decoded_error(other, image)[0]
     assert len(to_bytes(code)) <= 1.0 * 32 * 32 / 8
     # a filter named in the options is used as given; version 1 has none to try
-    assert compress(image, bpp=1.0, method=method, options=replace(O, deblock=0.3), refinement=refinement).options.deblock == 0.3
+    given = compress(image, bpp=1.0, method=method, options=replace(O, deblock=0.3), refinement=refinement)
+    assert given.options.deblock == 0.3
     fixed = compress(image, bpp=1.0, method=method, options=replace(O, coder="fixed"), refinement=refinement)
     assert fixed.options.deblock == 0 and to_bytes(fixed)[4] == 1
 
