@@ -16,9 +16,10 @@ The pipeline, one module a stage::
     encode     the collage coder: a code of the image at a rate -> Code
     code       Code: the blocks and their quantized maps
     fileformat the file: a header naming the version, then the fields (range-coded, or fixed in version 1)
-    decode     iterate the maps from any start, at any multiple of 0.5 -> the attractor
+    decode     iterate the maps from any start, at any multiple of 0.5 -> the attractor, post-filtered
+    deblock    the post-filter: pixels facing across a block seam averaged (the weight in file version 3)
     refine     attractor coding: the code refined through the decoder's fixed point, in no more bits
-    method     compress(image, bpp, method="collage" | "attractor")
+    method     compress(image, bpp, method="collage" | "attractor"), the post-filter kept where it helps
 
 Typical use::
 
