@@ -106,8 +106,12 @@ def timed(fn, repeat: int = 1):
     return out, statistics.median(times)
 
 
+#: the decoder's post-filter weight `compress` offers (None: the coder's `config.DEBLOCK`; --deblock sets it)
+DEBLOCK_WEIGHT = None
+
+
 def fractal(gray: np.ndarray, bpp: float, method: str, options: CodeOptions = CodeOptions()) -> dict:
-    code, t_enc = timed(lambda: compress(gray, bpp=bpp, method=method, options=options))
+    code, t_enc = timed(lambda: compress(gray, bpp=bpp, method=method, options=options, deblock=DEBLOCK_WEIGHT))
     decoded, t_dec = timed(lambda: decode(code), 3)
     data = to_bytes(code)
     _, t_read = timed(lambda: from_bytes(data), 3)
@@ -157,6 +161,9 @@ def summary(rows, codecs) -> None:
     gains = [r["att"]["psnr"] - r["col"]["psnr"] for r in rows]
     print(f"\nattractor - collage: mean {np.mean(gains):+.2f} dB, smallest {min(gains):+.2f} dB, "
           f"{sum(g >= 0.5 for g in gains)} of {len(gains)} cells at +0.5 dB or more")
+    kept = [sum(r[k]["code"].options.deblock > 0 for r in rows) for k in ("att", "col")]
+    print(f"post-filter kept (decoded closer with it): {kept[0]} of {len(rows)} attractor files, "
+          f"{kept[1]} of {len(rows)} collage files")
     other = [r["held"] - r["col"]["psnr"] for r in rows]
     print(f"partition held - collage: mean {np.mean(other):+.2f} dB, from {min(other):+.2f} to {max(other):+.2f}")
     if rows[0]["v1"] is not None:
@@ -199,7 +206,7 @@ def zoom(names, size, bpp) -> None:
         # finer detail than the 1x image: an interpolated truth, which favours bicubic interpolation
         reference = ("the original" if side == 2 * size else
                      f"downsized from {side} px" if side > 2 * size else f"enlarged from {side} px")
-        code = compress(gray, bpp=bpp)
+        code = compress(gray, bpp=bpp, deblock=DEBLOCK_WEIGHT)
         two = decode(code, 2).image.numpy()
         one = decode(code).image.numpy().astype(np.float32)
         cubic = np.clip(np.asarray(Image.fromarray(one, mode="F").resize((2 * size, 2 * size), Image.BICUBIC)), 0, 1)
@@ -227,7 +234,14 @@ def main() -> None:
     parser.add_argument("--no-fixed", action="store_true", help="skip the fixed-length fields' column")
     parser.add_argument("--partition", choices=PARTITIONS, default="quadtree",
                         help="the fractal coders' partition (hv: no fixed-field column, version 1 holds quadtrees only)")
+    parser.add_argument("--deblock", type=float, default=None,
+                        help="the decoder's post-filter weight the coders offer (default: config.DEBLOCK; 0: none, "
+                             "the coder before the filter)")
     args = parser.parse_args()
+    global DEBLOCK_WEIGHT
+    DEBLOCK_WEIGHT = args.deblock
+    if args.deblock is not None:
+        print(f"post-filter weight offered: {args.deblock:g}")
     options = CodeOptions(s_bits=args.s_bits, m_bits=args.m_bits, partition=args.partition)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; torch threads {torch.get_num_threads()}; "
           f"Pillow JPEG 2000: {features.check('jpg_2000')}, WebP: {features.check('webp')}, "
