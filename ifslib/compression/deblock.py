@@ -5,32 +5,25 @@ Blocks are coded apart, so their seams show as steps at low rates. With weight `
 ``deblock``), the pixels ``p | q`` either side of a boundary become ``(1 - a) p + a q`` and
 ``a p + (1 - a) q``: ``a = 0.5`` sets both to their mean. Columns are filtered, then rows. The filter is
 linear and follows the blocks of either partition (squares or rectangles): it is a mask built once per
-plan and two array operations, differentiable, so the attractor coder can fit what it outputs.
+plan and two array operations, differentiable, so the attractor coder can fit what it outputs. The blocks come
+as an image of labels (`ifslib.compression.decode.block_labels`), so this module needs nothing of the decoder.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import torch
 
-if TYPE_CHECKING:  # decode imports this module
-    from .decode import Plan
+
+def boundaries(labels: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """``(across columns (H, W - 1), across rows (H - 1, W))``: True between two pixels of different blocks, for
+    ``labels`` ``(H, W)``, each pixel's block."""
+    return labels[:, 1:] != labels[:, :-1], labels[1:] != labels[:-1]
 
 
-def boundaries(p: Plan) -> tuple[torch.Tensor, torch.Tensor]:
-    """``(across columns (H, W - 1), across rows (H - 1, W))``: True between two pixels of different blocks."""
-    label = torch.empty(p.height * p.width, dtype=torch.long)
-    for g in p.groups:
-        label[g.dst] = g.leaves[:, None]
-    label = label.reshape(p.height, p.width)
-    return label[:, 1:] != label[:, :-1], label[1:] != label[:-1]
-
-
-def deblock(p: Plan, image: torch.Tensor, strength: float) -> torch.Tensor:
-    """``image`` ``(H, W)`` (padded, at the plan's scale) with its block seams smoothed at weight ``strength``."""
+def deblock(labels: torch.Tensor, image: torch.Tensor, strength: float) -> torch.Tensor:
+    """``image`` ``(H, W)`` with the seams between the blocks of ``labels`` ``(H, W)`` smoothed at weight ``strength``."""
     if strength == 0:
         return image
-    cols, rows = boundaries(p)
+    cols, rows = boundaries(labels)
     a = torch.as_tensor(strength, dtype=image.dtype)
     step = a * torch.where(cols, image[:, 1:] - image[:, :-1], 0)
     image = image + torch.nn.functional.pad(step, (0, 1)) - torch.nn.functional.pad(step, (1, 0))

@@ -87,6 +87,14 @@ def plan(code: Code, scale: float = 1.0) -> Plan:
     return Plan(H, W, (round(code.height * scale), round(code.width * scale)), tuple(groups), order)
 
 
+def block_labels(p: Plan) -> torch.Tensor:
+    """``(height, width)`` int64: each pixel of the plan's padded image labelled by its range block."""
+    label = torch.empty(p.height * p.width, dtype=torch.long)
+    for g in p.groups:
+        label[g.dst] = g.leaves[:, None]
+    return label.reshape(p.height, p.width)
+
+
 def iterate(p: Plan, image: torch.Tensor, s: torch.Tensor, m: torch.Tensor) -> torch.Tensor:
     """One application of the operator: ``(H, W)`` -> ``(H, W)`` (padded), differentiable in image, s and m.
 
@@ -188,4 +196,4 @@ def decode(code: Code, scale: float = 1.0, start=None, tol: float = DECODE_TOL,
     with torch.no_grad():
         x, k, change = fixed_point(p, code.s(dtype), code.m(dtype), start_image(p, start, dtype), tol, max_iter)
     h, w = p.crop
-    return Decoded(deblock(p, x, code.options.deblock)[:h, :w].clamp(0, 1), x, k, change)
+    return Decoded(deblock(block_labels(p), x, code.options.deblock)[:h, :w].clamp(0, 1), x, k, change)
