@@ -95,6 +95,12 @@ def block_labels(p: Plan) -> torch.Tensor:
     return label.reshape(p.height, p.width)
 
 
+def post_filter(p: Plan, x: torch.Tensor, weight: float) -> torch.Tensor:
+    """The padded fixed point ``x`` as the decoder outputs it: its block seams smoothed at ``weight`` (`deblock`;
+    0: ``x`` itself, no labels built)."""
+    return deblock(block_labels(p), x, weight) if weight else x
+
+
 def iterate(p: Plan, image: torch.Tensor, s: torch.Tensor, m: torch.Tensor) -> torch.Tensor:
     """One application of the operator: ``(H, W)`` -> ``(H, W)`` (padded), differentiable in image, s and m.
 
@@ -196,4 +202,4 @@ def decode(code: Code, scale: float = 1.0, start=None, tol: float = DECODE_TOL,
     with torch.no_grad():
         x, k, change = fixed_point(p, code.s(dtype), code.m(dtype), start_image(p, start, dtype), tol, max_iter)
     h, w = p.crop
-    return Decoded(deblock(block_labels(p), x, code.options.deblock)[:h, :w].clamp(0, 1), x, k, change)
+    return Decoded(post_filter(p, x, code.options.deblock)[:h, :w].clamp(0, 1), x, k, change)

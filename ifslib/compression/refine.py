@@ -23,8 +23,7 @@ from tqdm.auto import tqdm
 from ..errors import IFSError
 from .code import Code
 from .config import DECODE_MAX_ITER, DECODE_TOL, RefineOptions
-from .deblock import deblock
-from .decode import Plan, block_labels, fixed_point, iterate, plan, shapes, start_image
+from .decode import Plan, fixed_point, iterate, plan, post_filter, shapes, start_image
 from .encode import check_image, pad, search
 from .quantize import dequantize_m, dequantize_s, zero_s
 from .rates import Choice, domain_cost
@@ -70,7 +69,7 @@ def decoded_error(code: Code, target: torch.Tensor, p: Plan | None = None, start
     with torch.no_grad():
         x, _, _ = fixed_point(p, code.s(target.dtype), code.m(target.dtype), start)
     h, w = target.shape
-    return float(((deblock(block_labels(p), x, code.options.deblock)[:h, :w].clamp(0, 1) - target) ** 2).mean()), x
+    return float(((post_filter(p, x, code.options.deblock)[:h, :w].clamp(0, 1) - target) ** 2).mean()), x
 
 
 def search_again(code: Code, target: torch.Tensor, decoded: torch.Tensor, price: Choice | None = None) -> Code:
@@ -112,7 +111,6 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
     opt = torch.optim.Adam([s_lat, m_lat], lr=lr)
     best_err, x = decoded_error(code, target, p)
     closer = []  # each code closer than all before it: the last that fits in the budget is returned
-    labels = block_labels(p)
     for _ in tqdm(range(steps), desc="attractor descent", disable=not progress, leave=False):
         s_level = _levels(s_lat, 0, 2 * zero - 1)
         # a non-flat block keeps a non-zero s (its domain's bits stay in the file); a flat one stays flat
@@ -121,7 +119,7 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
         m_level = _levels(m_lat, 0, 2**o.m_bits - 1)
         x = implicit_fixed_point(p, dequantize_s(s_level, o, target.dtype), dequantize_m(m_level, o, target.dtype),
                                  x.detach())
-        out = deblock(labels, x, o.deblock)[:h, :w]  # the decoder's output: the filter is linear, after the fixed point
+        out = post_filter(p, x, o.deblock)[:h, :w]  # the decoder's output: the filter is linear, after the fixed point
         loss = ((out - target) ** 2).mean()
         err = float(((out.detach().clamp(0, 1) - target) ** 2).mean())
         if err < best_err:
