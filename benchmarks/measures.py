@@ -2,13 +2,15 @@
 
     python benchmarks/measures.py            # every goal (about 30 min of one core)
     python benchmarks/measures.py --quick    # smaller sizes, a few minutes
+    python benchmarks/measures.py --collage  # the fern's and the lopsided triangle's maps from their gray images
 
 Prints, for the fern (Barnsley's probabilities), the Koch curve and the Sierpinski triangle (even
 probabilities) and the triangle with (0.5, 0.3, 0.2): the L1 distances of the normalised images of
 the chaos game's histogram (10^8 points, with its expected noise), the cylinders' measure and the
 deterministic push at 256 px; the fern's probabilities fitted with the maps given, maps and
 probabilities fitted from a jittered start, and from the maps the fractal search reads from the
-image's support (the fern and the lopsided triangle: density correlation); box counting on 10^6
+image's support and by the collage search from its gray levels (the fern and the lopsided triangle:
+density correlation); box counting on 10^6
 chaos-game points against Moran's root for the triangle, the Koch curve and the carpet.
 """
 from __future__ import annotations
@@ -25,6 +27,7 @@ from ifslib.measures.measure_fit import (MeasureFitOptions, correlation, fit_mea
 from ifslib.measures.measure import (CylinderOptions, MeasureOptions, chaos_measure, cylinder_measure, invariant_measure,
                                    l1_distance, measure_from_maps)
 from ifslib.measures import dimension
+from ifslib.measures.collage_search import CollageSearchOptions, fit_measure_from_collage
 
 BARNSLEY = (0.01, 0.85, 0.07, 0.07)
 #: (pattern, probabilities, supersample): the finer the cells, the closer (the Koch curve's few lit cells are cheap).
@@ -97,6 +100,29 @@ def support_fits(size: int, fit_size: int, steps: int) -> None:
               f", {time.perf_counter() - t0:.1f} s", flush=True)
 
 
+def collage_fits(size: int, fit_size: int, steps: int, only: tuple[str, ...] = ()) -> None:
+    """The same images, the maps read from their gray levels by the collage search (`fit_measure_from_collage`)."""
+    for name, p in (("fern", BARNSLEY), ("sierpinski_triangle", (0.5, 0.3, 0.2))):
+        if only and name not in only:
+            continue
+        image = chaos_measure(with_probabilities(name, p), size, n=4_000_000)
+        t0 = time.perf_counter()
+        fit = fit_measure_from_collage(image, len(p), MeasureFitOptions(steps=steps, map_lr=0.001, fit_maps=True),
+                                       CollageSearchOptions(size=fit_size))
+        target = pool_measure(image, fit_size)
+        with torch.no_grad():
+            before = correlation(measure_from_maps(fit.start.maps(), fit.start.measure_probabilities(), fit_size,
+                                                   MeasureFitOptions().measure), target)
+        seconds = time.perf_counter() - t0
+        drawn = correlation(chaos_measure(fit.ifs.to(torch.float64), fit_size, n=4_000_000), target)
+        scales = np.linalg.svd(fit.ifs.maps().detach().numpy()[:, :2, :2])[1]
+        print(f"{name} from its {size} px gray image's collage, fitted at {fit_size} px: density correlation "
+              f"{before:.3f} (search's maps) -> {fit.correlation:.3f} (the chaos game's histogram of the fit, "
+              f"4 million points: {drawn:.3f}), probabilities "
+              f"{', '.join(f'{x:.4f}' for x in fit.probabilities)}, singular values "
+              f"{', '.join(f'{a:.2f}/{b:.3f}' for a, b in scales)}, {seconds:.1f} s", flush=True)
+
+
 def dimensions(points: int, finest: int) -> None:
     print(f"box counting on {points:,} chaos-game points, boxes 1/8 .. 1/{finest}")
     for name in ("sierpinski_triangle", "koch", "sierpinski_carpet"):
@@ -111,11 +137,14 @@ def dimensions(points: int, finest: int) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="smaller sizes (not the goals' sizes)")
+    parser.add_argument("--collage", action="store_true", help="the collage search's fits alone (about 5 min)")
     args = parser.parse_args()
-    if args.quick:
-        measures(128, 10_000_000, True), fits(32, 60), support_fits(128, 32, 60), dimensions(300_000, 256)
+    if args.collage:
+        collage_fits(128, 64, 300)
+    elif args.quick:
+        measures(128, 10_000_000, True), fits(32, 60), support_fits(128, 32, 60), collage_fits(128, 32, 60), dimensions(300_000, 256)
     else:
-        measures(256, 100_000_000, False), fits(64, 150), support_fits(128, 64, 200), dimensions(1_000_000, 512)
+        measures(256, 100_000_000, False), fits(64, 150), support_fits(128, 64, 200), collage_fits(128, 64, 300), dimensions(1_000_000, 512)
 
 
 if __name__ == "__main__":

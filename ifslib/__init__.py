@@ -76,6 +76,7 @@ _PUBLIC = {
     "cylinder_measure": ("measures.measure", "cylinder_measure"),
     "dimension": ("measures.dimension", None), "fit_measure": ("measures.measure_fit", "fit_measure"),
     "fit_measure_from_support": ("measures.measure_fit", "fit_measure_from_support"),
+    "fit_measure_from_collage": ("measures.collage_search", "fit_measure_from_collage"),
     "compression": ("compression", None), "sweep": ("studies.sweep", None),
     # the teaching modules load matplotlib
     "exercises": ("teaching.exercises", None), "figures": ("teaching.figures", None),
