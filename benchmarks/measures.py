@@ -83,36 +83,36 @@ def fits(size: int, steps: int) -> None:
           f"{', '.join(f'{x:.4f}' for x in both.probabilities)}, {time.perf_counter() - t0:.1f} s", flush=True)
 
 
+def start_correlation(fit, target: torch.Tensor, size: int) -> float:
+    """Density correlation of the maps a fit started from (``fit.start``, with its probabilities) with ``target``."""
+    start = fit.start.to(torch.float64)
+    with torch.no_grad():
+        return correlation(measure_from_maps(start.maps(), start.measure_probabilities(), size,
+                                             MeasureFitOptions().measure), target)
+
+
 def support_fits(size: int, fit_size: int, steps: int) -> None:
     for name, p in (("fern", BARNSLEY), ("sierpinski_triangle", (0.5, 0.3, 0.2))):
         image = chaos_measure(with_probabilities(name, p), size, n=4_000_000)
         t0 = time.perf_counter()
         fit = fit_measure_from_support(image, len(p), MeasureFitOptions(steps=steps, map_lr=0.001, fit_maps=True),
                                        fit_size=fit_size)
-        target = pool_measure(image, fit_size)
-        start = fit.start.to(torch.float64)
-        with torch.no_grad():
-            before = correlation(measure_from_maps(start.maps(), start.measure_probabilities(), fit_size,
-                                                   MeasureFitOptions().measure), target)
+        before = start_correlation(fit, pool_measure(image, fit_size), fit_size)
         print(f"{name} from its {size} px support's search, fitted at {fit_size} px: density correlation {before:.3f} "
               f"(search's maps) -> {fit.correlation:.3f}, probabilities "
               f"{', '.join(f'{x:.4f}' for x in fit.probabilities)}"
               f", {time.perf_counter() - t0:.1f} s", flush=True)
 
 
-def collage_fits(size: int, fit_size: int, steps: int, only: tuple[str, ...] = ()) -> None:
+def collage_fits(size: int, fit_size: int, steps: int) -> None:
     """The same images, the maps read from their gray levels by the collage search (`fit_measure_from_collage`)."""
     for name, p in (("fern", BARNSLEY), ("sierpinski_triangle", (0.5, 0.3, 0.2))):
-        if only and name not in only:
-            continue
         image = chaos_measure(with_probabilities(name, p), size, n=4_000_000)
         t0 = time.perf_counter()
         fit = fit_measure_from_collage(image, len(p), MeasureFitOptions(steps=steps, map_lr=0.001, fit_maps=True),
                                        CollageSearchOptions(size=fit_size))
         target = pool_measure(image, fit_size)
-        with torch.no_grad():
-            before = correlation(measure_from_maps(fit.start.maps(), fit.start.measure_probabilities(), fit_size,
-                                                   MeasureFitOptions().measure), target)
+        before = start_correlation(fit, target, fit_size)
         seconds = time.perf_counter() - t0
         drawn = correlation(chaos_measure(fit.ifs.to(torch.float64), fit_size, n=4_000_000), target)
         scales = np.linalg.svd(fit.ifs.maps().detach().numpy()[:, :2, :2])[1]

@@ -120,7 +120,7 @@ class _Pushes:
         self.points, self.mass = torch.as_tensor(pixel - self.centre), torch.as_tensor(mass, dtype=torch.float32)
         self.grid = linear_grid(options.turns, SEARCH.grid_phases, SEARCH.grid_scales, SEARCH.grid_ratios)
         self.scale = np.linalg.svd(self.grid)[1][:, 0].round(3)   # each part's larger singular value
-        self.n, self.blur = n, options.blur
+        self.n = n
         # the correlation is circular: wide enough that a push, reaching at most `reach` pixels from its centre of
         # mass (and its blur), wraps round onto the zero padding and never onto the image's n x n corner
         reach = float(np.linalg.norm(self.grid, 2, axis=(1, 2)).max() * self.points.norm(dim=1).max())
@@ -137,7 +137,7 @@ class _Pushes:
 
     def best_atoms(self, residuals: list[np.ndarray], count: int, each_scale: bool = False,
                    chunk: int = 512) -> list[np.ndarray]:
-        """For each residual ``(n * n,)``: ``(count, 3, 3)`` plane maps, the copies whose blurred push correlates
+        """For each residual ``(n * n,)``: ``(count, 2, 3)`` plane maps, the copies whose blurred push correlates
         best with it (each linear part at its best translation; correlation over the push's norm); with
         ``each_scale``, ``count`` of each of the grid's scales."""
         n, side = self.n, self.side
@@ -158,7 +158,7 @@ class _Pushes:
             top = np.concatenate([rows[g][np.argsort(-rows[g][:, 0], kind="stable")[:count]] for g in groups])
             part, where = top[:, 1].astype(np.int64), top[:, 2].astype(np.int64)
             cands = np.stack([np.zeros_like(part), part, where // n, where % n], 1)
-            out.append(_homogeneous(plane_maps(self.grid, cands, self.centre, n)))
+            out.append(torch.as_tensor(plane_maps(self.grid, cands, self.centre, n)))
         return out
 
     def _canvases(self, linear: np.ndarray) -> torch.Tensor:
@@ -173,13 +173,6 @@ class _Pushes:
             index = ((r0 + dr).long() % side) * side + (c0 + dc).long() % side
             canvas.scatter_add_(1, index, w.float() * self.mass[None])
         return canvas.view(-1, side, side)
-
-
-def _homogeneous(maps: np.ndarray) -> torch.Tensor:
-    """``(C, 2, 3)`` maps as ``(C, 3, 3)`` float64."""
-    out = np.zeros((len(maps), 3, 3))
-    out[:, :2], out[:, 2, 2] = maps, 1.0
-    return torch.as_tensor(out)
 
 
 def _blurred_push(image: torch.Tensor, one_map: torch.Tensor, blur: float) -> np.ndarray:
@@ -232,16 +225,16 @@ def _scale_beams(grown: list) -> list:
 
 def refine_collage(image: torch.Tensor, maps: torch.Tensor, probabilities: np.ndarray, steps: int, lr: float,
                    scales: int = 5) -> tuple[torch.Tensor, torch.Tensor, float]:
-    """Adam on the multiscale collage error ``|sum_i p_i T_i# f - f|`` of maps ``(m, 3, 3)`` and probabilities
-    (softmax of logits) against the image ``f`` ``(n, n)``; returns the maps, the probabilities and the error."""
+    """Adam on the multiscale collage error ``|sum_i p_i T_i# f - f|`` of maps ``(m, 2, 3)`` or ``(m, 3, 3)`` and
+    probabilities (softmax of logits) against the image ``f`` ``(n, n)``; returns the maps ``(m, 2, 3)``, the
+    probabilities and the error."""
     n = image.shape[0]
     linear = maps[:, :2].clone().requires_grad_(True)
     logits = torch.log(torch.as_tensor(np.maximum(probabilities, 1e-3))).requires_grad_(True)
-    bottom = torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64).expand(len(maps), 1, 3)
     adam = torch.optim.Adam([linear, logits], lr=lr)
 
     def error() -> torch.Tensor:
-        collage = push_mass(image, torch.cat([linear, bottom], 1), torch.softmax(logits, 0))
+        collage = push_mass(image, linear, torch.softmax(logits, 0))
         return multiscale_mse(collage * n * n, image * n * n, scales)
 
     for _ in range(steps):
@@ -252,7 +245,7 @@ def refine_collage(image: torch.Tensor, maps: torch.Tensor, probabilities: np.nd
             u, s, vh = torch.linalg.svd(linear[:, :, :2])
             linear[:, :, :2] = u @ torch.diag_embed(s.clamp(max=MAX_COLLAGE_SCALE)) @ vh
     with torch.no_grad():
-        return torch.cat([linear, bottom], 1).detach(), torch.softmax(logits, 0).detach(), float(error())
+        return linear.detach(), torch.softmax(logits, 0).detach(), float(error())
 
 
 def collage_search(image, maps: int, options: CollageSearchOptions = CollageSearchOptions()) -> list[Collage]:
