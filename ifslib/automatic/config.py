@@ -148,11 +148,24 @@ class AutoFitConfig:
     # IoU a map costs between the kinds of an ambiguous figure (1 - attractor IoU + this a map, the least kept): the
     # search's map_cost over 40, else a 24-map shape could never beat a fractal
     kind_map_cost: float = 0.001
+    # a fractal whose attractor IoU after its stage is below this is polished by the splat fit too (0: never); a fit
+    # already recovered (docs/results/fractals.md's 0.85) keeps its time
+    splat_below: float = 0.85
+    # the splat polish's steps (at most the fit's budget), all at the target's size: every map and probability at
+    # once on the chaos game's coverage; about 50 s at 256² on one thread
+    splat_steps: int = 200
+    # its learning rate for the maps' raw parameters, with no annealing and no reselection: the splat fit's own 0.03
+    # with both moves maps off the search's places (many1: attractor IoU 0.798 -> 0.567; 0.005 at full size: 0.840;
+    # docs/results/literature.md, "The splat polish")
+    splat_lr: float = 0.005
 
     def __post_init__(self):
         check_loss(self.polish_loss)
         check_loss(self.fractal_loss)
         _check(self, skip=("polish_loss", "fractal_loss"))
+        _share(self, "splat_below")
+        if not self.splat_lr > 0:
+            raise IFSError(f"splat_lr must be a learning rate > 0, got {self.splat_lr!r}")
 
 
 @dataclass(frozen=True)

@@ -6,9 +6,11 @@ Each candidate start is fitted at the coarsest size of the pyramid for the same 
 shape then gets a stage at full size with the pixel loss (`FIT.polish_loss`), which fills the slivers
 between copies, or, ending on the attractor (the default), the attractor stage with that loss. A
 fractal's plan (its maps and their number chosen by the search) goes straight to the attractor
-stage (`FIT.fractal_stage_steps`, `FIT.fractal_loss`). A plan with rivals (a figure that may be a fractal
-or a shape) has each of its kinds fitted so, and the one whose attractor scores best for its number
-of maps is kept (`choose_kind`). The plan is taken as it is: nothing here calls discovery again.
+stage (`FIT.fractal_stage_steps`, `FIT.fractal_loss`); when its attractor's IoU stays below `FIT.splat_below`, the
+splat fit (`ifslib.splatting`) polishes every map and probability at once and the better attractor is kept. A plan
+with rivals (a figure that may be a fractal or a shape) has each of its kinds fitted so, and the one whose attractor
+scores best for its number of maps is kept (`choose_kind`). The plan is taken as it is: nothing here calls discovery
+again.
 """
 from __future__ import annotations
 
@@ -25,6 +27,7 @@ from ..core.fitting.options import RunOptions
 from ..core.fitting.frame import Frame
 from ..core.fitting.pyramid import attractor_stage, climb, with_early_stop
 from ..core.fitting.result import FitResult, Stage
+from ..core.raster.distance import resolve_device
 from ..core.fitting.strategies import Strategy, register_strategy
 
 #: The section of `ifslib.automatic.config.AUTO` this module reads: its tuned numbers, each with what it trades.
@@ -127,13 +130,50 @@ def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
     if end_on_attractor:
         result, stage = attractor_stage(frame, start, options.replace(loss=FIT.fractal_loss), label, steps=budget)
         result, iou = _no_worse_than_start(start, result, frame, stage)
+        stages = [stage]
+        if iou < FIT.splat_below:
+            result, iou, polish = _splat_polish(result, iou, frame, options)
+            stages.append(polish)
     else:
         result = frame.run(start, budget, options.replace(depth=start.depth), desc=f"{label} · {frame.target.size}²")
-        stage = Stage(size=frame.target.size, steps=result.history.cost, stopped=result.history.stopped,
-                      best_loss=result.best_loss)
+        stages = [Stage(size=frame.target.size, steps=result.history.cost, stopped=result.history.stopped,
+                        best_loss=result.best_loss)]
     searched = tuple(Candidate(row.maps, start.depth, "score", row.score, 0, row.seconds) for row in plan.search)
     run = AutoRun(plan.kind, len(start.rules), searched, dict(plan.pattern))
-    return _finish(result, run, [stage], stage.steps), iou
+    return _finish(result, run, stages, sum(s.steps for s in stages)), iou
+
+
+def _splat_polish(result: FitResult, iou: float, frame: Frame,
+                  options: RunOptions) -> tuple[FitResult, float, Stage]:
+    """A fractal's fit whose attractor falls short (IoU ``iou`` below `FIT.splat_below`) polished by the splat fit
+    (`ifslib.splatting.fit_splat`: every map and probability at once, on the chaos game's coverage at the target's
+    size, without annealing or reselection, at `FIT.splat_lr`); the polished maps are returned when their attractor's IoU at the
+    target's size is higher, else ``result``, and the stage says which.
+
+    The attractor stage moves maps by the gradient of drawn leaves, one pixel loss; the splat fit sees every map's
+    share of the figure through the chaos game's points, and the probabilities with them.
+    """
+    from ..splatting.fit import SplatFitOptions, fit_splat
+    from ..splatting.strategy import fitted_ifs, scored_loss
+
+    start = result.best
+    steps = min(frame.steps, FIT.splat_steps)
+    device = resolve_device(options.device).type
+    fit = fit_splat(frame.target, start=start, options=SplatFitOptions(
+        steps=steps, map_lr=FIT.splat_lr, anneal_noise=0.0, reseed_every=0, seed=frame.seed, kind="support",
+        coarse_to_fine=False, device=device if device in ("cpu", "cuda") else "cpu", progress=frame.progress))
+    polished = fitted_ifs(fit.ifs.maps().detach(), fit.ifs.probabilities, start)
+    after = evaluate(polished, frame.target, depth=ATTRACTOR)["iou"]
+    stage = Stage(size=frame.target.size, steps=len(fit.losses), stopped="steps", best_loss=fit.losses[-1],
+                  depth=ATTRACTOR, method="splat", loss="coverage")
+    if after <= iou:
+        stage.kept_start = (f"the splat fit's attractor IoU {after:.3f} is not above the stage's {iou:.3f} at "
+                            f"{frame.target.size}²: the stage's maps kept")
+        return result, iou, stage
+    # the run's own loss of the polished attractor, so that best_loss stays the loss the history is in
+    best_loss = scored_loss(polished, frame, options.replace(loss=FIT.fractal_loss), ATTRACTOR)
+    return FitResult(best=polished, final=polished, history=result.history, best_loss=best_loss,
+                     best_step=result.best_step), after, stage
 
 
 def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -> tuple[FitResult, float]:

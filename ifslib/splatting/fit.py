@@ -68,6 +68,9 @@ class SplatFitOptions:
     snapshots : tuple of int
         Steps after which the fit's maps and probabilities are kept (`SplatFit.snapshots`): 0 is the start (after
         the screening), ``steps`` the result. A picture of the fit as it goes, at the cost of one IFS a snapshot.
+    coarse_to_fine : bool
+        Run the steps over `config.LEVELS` (a quarter, half and the whole size); False: every step at the image's
+        own size, to polish maps already placed to a pixel (a coarse level blurs their detail away).
     """
 
     steps: int = 1500
@@ -86,6 +89,7 @@ class SplatFitOptions:
     device: str = "cpu"
     progress: bool = False
     snapshots: tuple[int, ...] = ()
+    coarse_to_fine: bool = True
 
     def __post_init__(self) -> None:
         check_int(self.steps, "steps", 1)
@@ -118,8 +122,9 @@ class SplatFitOptions:
             raise IFSError(f"anneal_noise must be a number >= 0, got {self.anneal_noise!r}")
         if self.device not in ("cpu", "cuda") or (self.device == "cuda" and not torch.cuda.is_available()):
             raise IFSError(f"device must be 'cpu', or 'cuda' where torch has CUDA, got {self.device!r}")
-        if not isinstance(self.progress, bool):
-            raise IFSError(f"progress must be True or False, got {self.progress!r}")
+        for name in ("progress", "coarse_to_fine"):
+            if not isinstance(getattr(self, name), bool):
+                raise IFSError(f"{name} must be True or False, got {getattr(self, name)!r}")
 
 
 @dataclass(frozen=True)
@@ -241,7 +246,8 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
     losses, reseeds, step = [], 0, 0
     kept = [(0, _result(params, logits))] if 0 in options.snapshots else []
     size = array.shape[0]
-    plan = [(f, share) for f, share in zip(config.LEVELS, config.LEVEL_STEPS) if size // f >= 16]
+    levels = zip(config.LEVELS, config.LEVEL_STEPS) if options.coarse_to_fine else [(1, 1.0)]
+    plan = [(f, share) for f, share in levels if size // f >= 16]
     total_share = sum(share for _, share in plan)
     bar = tqdm(total=options.steps, desc="fit splat", disable=not (options.progress and draw_bars()))
     for index, (factor, share) in enumerate(plan):

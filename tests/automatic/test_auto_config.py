@@ -38,6 +38,9 @@ def test_every_field_has_a_line_on_what_it_trades():
     (StartConfig, {"shape_choices": ((8, 0),)}, "shape_choices"),
     (AutoFitConfig, {"polish_loss": "typo"}, "unknown loss"),
     (AutoFitConfig, {"probe_steps": 0}, "probe_steps"),
+    (AutoFitConfig, {"splat_below": 1.5}, "splat_below is a share"),
+    (AutoFitConfig, {"splat_lr": 0.0}, "splat_lr must be a learning rate"),
+    (AutoFitConfig, {"splat_steps": 0}, "splat_steps"),
 ])
 def test_a_bad_number_is_refused_when_the_config_is_built(section, changes, message):
     with pytest.raises(ifslib.IFSError, match=message):

@@ -85,6 +85,49 @@ def test_a_fractal_fit_never_returns_an_attractor_worse_than_its_start(monkeypat
     assert fitted.best.points.detach().equal(truth.points.detach()) and fitted.history.stages[0].kept_start is None
 
 
+def test_a_fractal_that_falls_short_is_polished_by_the_splat_fit_and_the_better_attractor_kept(monkeypatch):
+    import dataclasses
+
+    from ifslib.automatic import fit_plan as automatic
+    from ifslib.core.fitting.result import FitResult, History, Stage
+    from ifslib.splatting import fit as splat
+
+    truth = ifslib.patterns.random_ifs(3, 1)
+    target = ifslib.load_target(ifslib.render(truth, 64, method="chaos", points=200_000, seed=1).numpy(), 64)
+    moved = truth.clone(truth.points.detach() + 0.04)  # every copy off its place: the attractor falls short
+    before = ifslib.evaluate(moved, target, depth="attractor")["iou"]
+    assert before < automatic.FIT.splat_below
+
+    def unmoved(frame, start, options, label, *, steps=None, max_leaves=None):  # a stage that leaves the maps
+        history = History(step=[0], loss=[0.5], seconds=[0.0], stopped="steps", cost=1)
+        return (FitResult(start.clone(), start.clone(), history, 0.5, 0),
+                Stage(size=64, steps=1, stopped="steps", best_loss=0.5, depth="attractor"))
+
+    monkeypatch.setattr(automatic, "attractor_stage", unmoved)
+    polished = ifslib.fit(_fractal_plan(moved.clone(), iou=before), target, steps=150, progress=False)
+    stage = polished.history.stages[-1]
+    after = ifslib.evaluate(polished.best, target, depth="attractor")["iou"]
+    assert stage.method == "splat" and stage.steps == 150 and stage.kept_start is None
+    assert after > before + 0.05 and len(polished.best.rules) == 3
+    assert polished.history.cost == 1 + 150 and len(polished.history.stages) == 2
+    assert polished.best.meta["history"]["stages"][-1]["method"] == "splat"
+
+    # a polish that draws worse is not kept, and the stage says why
+    worse = truth.clone(truth.points.detach() * 0.5)
+    worse.probabilities = (0.2, 0.3, 0.5)
+    real = splat.fit_splat
+    monkeypatch.setattr(splat, "fit_splat", lambda image, start=None, options=None:
+                        dataclasses.replace(real(image, start=start, options=options), ifs=worse))
+    kept = ifslib.fit(_fractal_plan(moved.clone(), iou=before), target, steps=5, progress=False)
+    assert kept.best.points.detach().equal(moved.points.detach())
+    assert "the stage's maps kept" in kept.history.stages[-1].kept_start
+
+    # a fit already recovered, or splat_below 0, gets no polish
+    monkeypatch.setattr(automatic, "FIT", dataclasses.replace(automatic.FIT, splat_below=0.0))
+    plain = ifslib.fit(_fractal_plan(moved.clone(), iou=before), target, steps=5, progress=False)
+    assert [s.method for s in plain.history.stages] != [] and all(s.method != "splat" for s in plain.history.stages)
+
+
 def test_the_kind_is_chosen_on_full_precision_scores_and_written_rounded():
     from ifslib.automatic.fit_plan import choose_kind
     from ifslib.automatic.choice import AutoRun, Kind

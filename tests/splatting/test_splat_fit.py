@@ -89,6 +89,24 @@ def test_snapshots_keep_the_start_and_the_steps_asked_for_and_change_nothing():
     assert not torch.equal(middle, first) and not torch.equal(middle, last)
 
 
+def test_levels_run_coarse_to_fine_unless_the_fit_polishes_at_full_size(monkeypatch):
+    import ifslib.splatting.fit as fit_module
+    sizes, real = [], fit_module.splat_measure
+
+    def spy(maps, p, size, options):
+        sizes.append(size)
+        return real(maps, p, size, options)
+
+    monkeypatch.setattr(fit_module, "splat_measure", spy)
+    mask = sierpinski(64) > 0
+    options = SplatFitOptions(steps=10, points_per_pixel=2.0, reseed_every=0, seed=0, starts=1)
+    fit_splat(mask, start=THREE, options=options)
+    assert sizes == [16] * 6 + [32] * 2 + [64] * 2  # config.LEVEL_STEPS of 10 steps
+    sizes.clear()
+    fit_splat(mask, start=THREE, options=dataclasses.replace(options, coarse_to_fine=False))
+    assert sizes == [64] * 10
+
+
 def test_a_start_is_topped_up_to_the_maps_asked_for():
     fit = fit_splat(sierpinski(32) > 0, maps=4, start=THREE[:2], options=SplatFitOptions(steps=2, seed=1))
     assert len(fit.ifs.rules) == 4 and fit.seconds > 0
@@ -109,7 +127,8 @@ def test_bad_inputs_are_refused(image, kwargs, message):
 
 @pytest.mark.parametrize("field, value", [("steps", 0), ("kind", "gray"), ("map_lr", -1.0), ("anneal_share", 2.0),
                                           ("points_per_pixel", 0), ("reseed_every", -1), ("progress", "yes"),
-                                          ("snapshots", (-1,)), ("snapshots", (1501,)), ("snapshots", 3)])
+                                          ("snapshots", (-1,)), ("snapshots", (1501,)), ("snapshots", 3),
+                                          ("coarse_to_fine", 1)])
 def test_bad_options_are_refused(field, value):
     with pytest.raises(IFSError, match=field):
         SplatFitOptions(**{field: value})
