@@ -54,8 +54,9 @@ class CollageSearchOptions:
         Rotations of the grid's linear parts (36: every 10 degrees); the refinement turns a copy the
         rest of the way. More, closer atoms, each step's FFTs grow with them.
     blur : float
-        Gaussian blur (pixels) of the image and its pushes before they are compared: a copy a pixel
-        off still correlates. Larger, smoother but less sharp choices.
+        Gaussian blur of the image and its pushes before they are compared, as a share of the frame's side
+        (1/64: a pixel at 64², half a pixel at 32²): a copy a pixel off still correlates. Larger, smoother but less
+        sharp choices; a blur of the same share draws the same picture at every ``size``.
     atoms : int
         Copies each set may add at a step (those best correlated with its residual): more, more
         least-squares solves.
@@ -72,7 +73,7 @@ class CollageSearchOptions:
 
     size: int = 64
     turns: int = 36
-    blur: float = 1.0
+    blur: float = 1 / 64
     atoms: int = 40
     first_atoms: int = 6
     beams: int = 3
@@ -84,6 +85,8 @@ class CollageSearchOptions:
         check_int(self.size, "size", 8)
         check_int(self.turns, "turns", 1, maximum=720)
         check_positive(self.blur, "blur")
+        if not self.blur < 0.25:
+            raise IFSError(f"blur is a share of the frame's side below 0.25 (1/64: a pixel at 64²), got {self.blur!r}")
         check_int(self.atoms, "atoms", 1)
         check_int(self.first_atoms, "first_atoms", 1)
         check_int(self.beams, "beams", 1)
@@ -92,6 +95,10 @@ class CollageSearchOptions:
         if not isinstance(self.progress, bool):
             raise IFSError(f"progress must be True or False, got {self.progress!r}")
 
+    @property
+    def blur_pixels(self) -> float:
+        """The blur's standard deviation in pixels at ``size``."""
+        return self.blur * self.size
 
 @dataclass(frozen=True)
 class Collage:
@@ -124,10 +131,10 @@ class _Pushes:
         # the correlation is circular: wide enough that a push, reaching at most `reach` pixels from its centre of
         # mass (and its blur), wraps round onto the zero padding and never onto the image's n x n corner
         reach = float(np.linalg.norm(self.grid, 2, axis=(1, 2)).max() * self.points.norm(dim=1).max())
-        self.side = side = next_fast_len(n + int(np.ceil(reach + 4 * options.blur)) + 2, real=True)
+        self.side = side = next_fast_len(n + int(np.ceil(reach + 4 * options.blur_pixels)) + 2, real=True)
         kernel = np.zeros((side, side), np.float32)
         kernel[0, 0] = 1.0
-        self.kernel = torch.fft.rfft2(torch.as_tensor(ndimage.gaussian_filter(kernel, options.blur, mode="wrap")))
+        self.kernel = torch.fft.rfft2(torch.as_tensor(ndimage.gaussian_filter(kernel, options.blur_pixels, mode="wrap")))
         # Parseval on a half spectrum: the columns that stand for two (their mirror images) count twice
         twice = torch.full((side // 2 + 1,), 2.0)
         twice[0] = 1.0
@@ -184,7 +191,7 @@ def _blurred_push(image: torch.Tensor, one_map: torch.Tensor, blur: float) -> np
 def _pursuit(image: torch.Tensor, maps: int, options: CollageSearchOptions) -> list[tuple[list, np.ndarray, float]]:
     """Matching pursuit: the `beams` sets of ``maps`` copies of least residual, each as (maps, p, residual)."""
     pushes = _Pushes(image, options)
-    wanted = ndimage.gaussian_filter(image.numpy(), options.blur).ravel()
+    wanted = ndimage.gaussian_filter(image.numpy(), options.blur_pixels).ravel()
     scale = float(np.linalg.norm(wanted))
     beams = [([], [], wanted, scale)]   # (maps, their blurred pushes, residual, its norm)
     for step in tqdm(range(maps), desc="collage search", disable=not options.progress, leave=False):
@@ -195,7 +202,7 @@ def _pursuit(image: torch.Tensor, maps: int, options: CollageSearchOptions) -> l
         atoms = pushes.best_atoms([b[2] for b in beams], options.first_atoms if first else options.atoms, first)
         for (chosen, columns, _, _), offers in zip(beams, atoms):
             for atom in offers:
-                block = np.stack(columns + [_blurred_push(image, atom, options.blur)], 1)
+                block = np.stack(columns + [_blurred_push(image, atom, options.blur_pixels)], 1)
                 p, norm = nnls(block, wanted)
                 grown.append((chosen + [atom], [*columns, block[:, -1]], wanted - block @ p, norm))
         grown.sort(key=lambda b: b[3])

@@ -12,8 +12,8 @@ from ifslib.measures.collage_search import (CollageSearchOptions, _Pushes, colla
 from ifslib.measures.measure import MeasureOptions, chaos_measure
 from ifslib.measures.measure_fit import MeasureFitOptions, pool_measure
 
-#: The triangle at 32 px: a blur of half a pixel (one pixel smooths its half-size copies away), 12 turns.
-SMALL = CollageSearchOptions(size=32, turns=12, blur=0.5, refine_steps=200)
+#: The triangle at 32 px: the default blur, half a pixel there (one pixel smooths its half-size copies away), 12 turns.
+SMALL = CollageSearchOptions(size=32, turns=12, refine_steps=200)
 QUICK = MeasureOptions(iterations=12, supersample=1, refine=1, max_lost=1.0)
 
 
@@ -46,7 +46,7 @@ def test_the_fft_correlation_and_norm_are_the_brute_force_ones():
     rng = np.random.default_rng(0)
     image = torch.zeros(24, 24, dtype=torch.float64)
     image[4:20, 6:18] = torch.as_tensor(rng.random((16, 12)))
-    pushes = _Pushes(image / image.sum(), CollageSearchOptions(size=24, turns=4, blur=1.0))
+    pushes = _Pushes(image / image.sum(), CollageSearchOptions(size=24, turns=4, blur=1 / 24))
     residual = rng.random((24, 24))
     side, n = pushes.side, 24
     spectrum = torch.fft.rfft2(torch.nn.functional.pad(torch.as_tensor(residual), (0, side - n, 0, side - n)))
@@ -95,9 +95,13 @@ def test_refining_lowers_the_collage_error_and_keeps_maps_contracting(lopsided):
     assert float(p.sum()) == pytest.approx(1)
 
 
+def test_the_blur_is_a_share_of_the_frame():
+    assert CollageSearchOptions().blur_pixels == 1.0 and CollageSearchOptions(size=32).blur_pixels == 0.5
+
+
 def test_the_same_sets_at_one_and_two_threads(lopsided):
     _, image = lopsided
-    options = CollageSearchOptions(size=32, turns=6, blur=0.5, refine_steps=20, beams=2)
+    options = CollageSearchOptions(size=32, turns=6, refine_steps=20, beams=2)
     before = torch.get_num_threads()
     try:
         runs = []
@@ -118,6 +122,7 @@ def test_the_same_sets_at_one_and_two_threads(lopsided):
     (lambda img: collage_search(-img, 3), ">= 0"),
     (lambda img: fit_measure_from_collage(img, 3, options="slow"), "MeasureFitOptions"),
     (lambda img: CollageSearchOptions(blur=0), "blur"),
+    (lambda img: CollageSearchOptions(blur=1.0), "share of the frame"),
     (lambda img: CollageSearchOptions(turns=0), "turns"),
     (lambda img: CollageSearchOptions(progress="yes"), "progress"),
 ])
