@@ -27,7 +27,6 @@ from ..core.fitting.options import RunOptions
 from ..core.fitting.frame import Frame
 from ..core.fitting.pyramid import attractor_stage, climb, with_early_stop
 from ..core.fitting.result import FitResult, Stage
-from ..core.raster.distance import resolve_device
 from ..core.fitting.strategies import Strategy, register_strategy
 
 #: The section of `ifslib.automatic.config.AUTO` this module reads: its tuned numbers, each with what it trades.
@@ -147,21 +146,19 @@ def _splat_polish(result: FitResult, iou: float, frame: Frame,
                   options: RunOptions) -> tuple[FitResult, float, Stage]:
     """A fractal's fit whose attractor falls short (IoU ``iou`` below `FIT.splat_below`) polished by the splat fit
     (`ifslib.splatting.fit_splat`: every map and probability at once, on the chaos game's coverage at the target's
-    size, without annealing or reselection, at `FIT.splat_lr`); the polished maps are returned when their attractor's IoU at the
-    target's size is higher, else ``result``, and the stage says which.
+    size, without annealing or reselection, at `FIT.splat_lr`); the polished maps are returned when their
+    attractor's IoU at the target's size is higher, else ``result``, and the stage says which.
 
     The attractor stage moves maps by the gradient of drawn leaves, one pixel loss; the splat fit sees every map's
     share of the figure through the chaos game's points, and the probabilities with them.
     """
     from ..splatting.fit import SplatFitOptions, fit_splat
-    from ..splatting.strategy import fitted_ifs, scored_loss
+    from ..splatting.strategy import fitted_ifs, scored_loss, splat_device
 
     start = result.best
-    steps = min(frame.steps, FIT.splat_steps)
-    device = resolve_device(options.device).type
     fit = fit_splat(frame.target, start=start, options=SplatFitOptions(
-        steps=steps, map_lr=FIT.splat_lr, anneal_noise=0.0, reseed_every=0, seed=frame.seed, kind="support",
-        coarse_to_fine=False, device=device if device in ("cpu", "cuda") else "cpu", progress=frame.progress))
+        steps=min(frame.steps, FIT.splat_steps), map_lr=FIT.splat_lr, anneal_noise=0.0, reseed_every=0,
+        seed=frame.seed, kind="support", coarse_to_fine=False, device=splat_device(options), progress=frame.progress))
     polished = fitted_ifs(fit.ifs.maps().detach(), fit.ifs.probabilities, start)
     after = evaluate(polished, frame.target, depth=ATTRACTOR)["iou"]
     stage = Stage(size=frame.target.size, steps=len(fit.losses), stopped="steps", best_loss=fit.losses[-1],

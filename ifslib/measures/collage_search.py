@@ -100,6 +100,7 @@ class CollageSearchOptions:
         """The blur's standard deviation in pixels at ``size``."""
         return self.blur * self.size
 
+
 @dataclass(frozen=True)
 class Collage:
     """One set the search kept: ``ifs`` (affine rules with ``probabilities``), its relative residual after the
@@ -134,7 +135,8 @@ class _Pushes:
         self.side = side = next_fast_len(n + int(np.ceil(reach + 4 * options.blur_pixels)) + 2, real=True)
         kernel = np.zeros((side, side), np.float32)
         kernel[0, 0] = 1.0
-        self.kernel = torch.fft.rfft2(torch.as_tensor(ndimage.gaussian_filter(kernel, options.blur_pixels, mode="wrap")))
+        blurred = ndimage.gaussian_filter(kernel, options.blur_pixels, mode="wrap")
+        self.kernel = torch.fft.rfft2(torch.as_tensor(blurred))
         # Parseval on a half spectrum: the columns that stand for two (their mirror images) count twice
         twice = torch.full((side // 2 + 1,), 2.0)
         twice[0] = 1.0

@@ -48,10 +48,15 @@ def splat_options(frame: Frame, options: RunOptions) -> SplatFitOptions:
     if scale > MAX_LR_SCALE:
         raise IFSError(f"strategy 'splat' scales its learning rates by lr / {DEFAULT_LR:g}, at most {MAX_LR_SCALE} "
                        f"times: give an lr of at most {MAX_LR_SCALE * DEFAULT_LR:g}, not {options.lr:g}")
-    device = resolve_device(options.device).type
     return SplatFitOptions(steps=frame.steps, seed=frame.seed, progress=frame.progress, kind="support",
-                           device=device if device in ("cpu", "cuda") else "cpu",
-                           map_lr=BASE.map_lr * scale, probability_lr=BASE.probability_lr * scale)
+                           device=splat_device(options), map_lr=BASE.map_lr * scale,
+                           probability_lr=BASE.probability_lr * scale)
+
+
+def splat_device(options: RunOptions) -> str:
+    """Where the splat fit of a run goes: the run's device when it is the CPU or CUDA, else the CPU."""
+    device = resolve_device(options.device).type
+    return device if device in ("cpu", "cuda") else "cpu"
 
 
 def check_start(ifs: IFS) -> torch.Tensor:

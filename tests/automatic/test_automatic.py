@@ -122,7 +122,7 @@ def test_a_fractal_that_falls_short_is_polished_by_the_splat_fit_and_the_better_
     assert kept.best.points.detach().equal(moved.points.detach())
     assert "the stage's maps kept" in kept.history.stages[-1].kept_start
 
-    # a fit already recovered, or splat_below 0, gets no polish
+    # splat_below 0 turns the polish off
     monkeypatch.setattr(automatic, "FIT", dataclasses.replace(automatic.FIT, splat_below=0.0))
     plain = ifslib.fit(_fractal_plan(moved.clone(), iou=before), target, steps=5, progress=False)
     assert [s.method for s in plain.history.stages] != [] and all(s.method != "splat" for s in plain.history.stages)
