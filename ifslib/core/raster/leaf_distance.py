@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import torch
 
+from ...errors import IFSError
 from ..geometry.leaves import Leaves
 from ..geometry.primitives import PARAM_WIDTH, affine_sdf, local_sdf
+from ..geometry.shapes import SHAPES
 
 
 def leaf_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, inverse: torch.Tensor, scale: torch.Tensor,
@@ -121,6 +123,32 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
     return leaf_sdf(kind, x, y, row[:6].T, row[6], row[7:_GEOMETRY].T, forward)
 
 
+def has_slope(table: torch.Tensor | None, kind: str) -> bool:
+    """Whether `sdf_table_slope` can read ``table``: one kind with a `Shape.slope`, similarity words (no forward rows)."""
+    return table is not None and table.shape[0] == _GEOMETRY and SHAPES[kind].slope is not None
+
+
+def sdf_table_slope(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor
+                    ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor]:
+    """`sdf_table`'s distances, bit for bit, and their gradients in ``(x, y)``, for a table `has_slope` accepts.
+
+    A similarity word's leaf measures ``s d(q)`` at ``q = M x + c``, so its gradient is ``s M^T`` times the
+    primitive's own (`ifslib.core.geometry.shapes.Shape.slope`).
+
+    Returns
+    -------
+    distance, gx, gy, reach : torch.Tensor
+        ``(N,)`` each, no gradient. ``reach`` is the `Shape.slope` reach in plane units: the gradient's
+        direction is good to about the rounding of a coordinate divided by it.
+    """
+    row = table.index_select(1, leaf)
+    m0, m1, m2, m3, m4, m5, scale = row[:7]
+    qx = m0 * x + m1 * y + m2
+    qy = m3 * x + m4 * y + m5
+    d, gx, gy, reach = SHAPES[kind].slope(qx, qy, row[7:_GEOMETRY])
+    return scale * d, scale * (m0 * gx + m3 * gy), scale * (m1 * gx + m4 * gy), scale * reach
+
+
 def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     """Signed distance from every point to every leaf (the paper's algorithm).
 
@@ -144,4 +172,4 @@ def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     return torch.stack(per_prim, -1).reshape(x.shape[0], -1)
 
 
-__all__ = ["leaf_sdf", "leaf_table", "sdf_dense", "sdf_pairs", "sdf_table"]
+__all__ = ["has_slope", "leaf_sdf", "leaf_table", "sdf_dense", "sdf_pairs", "sdf_table", "sdf_table_slope"]

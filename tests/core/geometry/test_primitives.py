@@ -92,3 +92,50 @@ def test_each_kind_carries_its_points_radius_and_packing():
     assert [k for k, s in SHAPES.items() if s.radius == "required"] == ["disk"]
     with pytest.raises(IFSError, match="radius > 0"):
         Primitive("disk", (0,))
+
+
+def _slope_cases():
+    """Each kind with a slope, its packed parameters, and points on its edge, its centre and inside it."""
+    from ifslib.core.geometry.primitives import PARAM_WIDTH
+
+    def row(*v):
+        return torch.tensor(list(v) + [0.0] * (PARAM_WIDTH - len(v)), dtype=torch.float64)
+
+    return {
+        "bare segment": ("segment", row(-0.2, -0.1, 0.3, 0.2, 0.0), [[0.05, 0.05], [-0.2, -0.1], [0.3, 0.2]]),
+        "thick segment": ("segment", row(-0.2, -0.1, 0.3, 0.2, 0.05), [[0.05, 0.05], [0.0, 0.05]]),
+        "box": ("box", row(-0.3, -0.1, 0.2, 0.3, 0.0), [[-0.05, 0.1], [-0.3, 0.0], [0.2, 0.3], [0.0, 0.3],
+                                                       [-0.1, 0.2], [-0.25, 0.25]]),
+        "disk": ("disk", row(0.1, -0.2, 0.15), [[0.1, -0.2], [0.25, -0.2], [0.12, -0.15]]),
+    }
+
+
+@pytest.mark.parametrize("case", sorted(_slope_cases()))
+def test_each_slope_is_its_distance_and_a_subgradient(case):
+    # the nearest-leaf search bounds a leaf by its tangent plane (ifslib.core.raster.nearest): the slope's
+    # value must be `local`'s bit for bit, its gradient autograd's off the kinks, and the plane must stay
+    # below the distance everywhere, at the kinks too (the edge, the centre, a corner, the medial axis)
+    from ifslib.core.geometry.shapes import SHAPES
+
+    kind, params, special = _slope_cases()[case]
+    shape = SHAPES[kind]
+    g = torch.Generator().manual_seed(3)
+    q = torch.cat([torch.tensor(special, dtype=torch.float64), torch.rand(400, 2, generator=g, dtype=torch.float64) - 0.5])
+    qx, qy = q[:, 0].clone().requires_grad_(), q[:, 1].clone().requires_grad_()
+    d = shape.local(qx, qy, params.unbind(-1))
+    value, gx, gy, reach = shape.slope(qx.detach(), qy.detach(), params.unbind(-1))
+    assert torch.equal(value, d.detach())
+    wx, wy = torch.autograd.grad(d.sum(), [qx, qy])
+    smooth = slice(len(special), None)  # random points: off every kink
+    torch.testing.assert_close(gx[smooth], wx[smooth], rtol=0, atol=1e-12)
+    torch.testing.assert_close(gy[smooth], wy[smooth], rtol=0, atol=1e-12)
+    assert (torch.hypot(gx, gy) <= 1 + 1e-12).all()
+    # the reach is the length of the vector the gradient is the direction of: where it is finite, the
+    # distance from the nearest point of the segment, the centre or the box (offset by the radius)
+    finite = torch.isfinite(reach)
+    assert finite.any() and (reach[finite] >= 0).all()
+    assert (reach[finite] - (value[finite] + (params[2] if kind == "disk" else params[4] if kind == "segment" else 0))
+            ).abs().max() < 1e-12
+    # the tangent plane at every point stays below the distance at every other point (convexity)
+    plane = value[:, None] + gx[:, None] * (q[None, :, 0] - q[:, None, 0]) + gy[:, None] * (q[None, :, 1] - q[:, None, 1])
+    assert (plane <= value[None, :] + 1e-12).all()

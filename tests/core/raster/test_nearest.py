@@ -1,4 +1,5 @@
 """`ifslib.core.raster.nearest`: the nearest-leaf search is exact, chunked, for tiny images and warm-started along a fit."""
+import pytest
 import torch
 
 import ifslib
@@ -49,3 +50,65 @@ def test_warm_started_search_equals_brute_force_along_a_whole_fit(pattern_name):
             ifs.points.grad[fixed] = 0
         opt.step()
     assert changed > 0  # the winners did move: the warm start was put to the test
+
+
+def test_the_tangent_plane_bound_is_exact_and_prunes_more(pattern_name):
+    # on every kind (similar and sheared words, mixed kinds) and an image side that is not a power of two:
+    # the brute force's distances; with the tangent planes (segments, boxes and disks under similarity words)
+    # the winners of the Lipschitz bound alone, from fewer distance evaluations
+    ifs = perturbed(PATTERNS[pattern_name](), seed=3, dtype=torch.float32)
+    leaves = expand(ifs, 3)
+    size = 45
+    x, y = pixel_centres(size, dtype=torch.float32)
+    got = nearest_leaf(leaves, size)
+    brute = sdf_dense(leaves, x, y).detach().min(dim=1).values
+    assert (got.distance - brute).abs().max().item() <= 1e-6
+    finer = nearest_leaf(leaves, 256)
+    plain = nearest_leaf(leaves, size, tangent=False)
+    assert torch.equal(got.leaf, plain.leaf) and torch.equal(got.distance, plain.distance)
+    if pattern_name in ("koch", "carpet", "grid2"):
+        assert got.pairs < plain.pairs
+    else:
+        assert got.pairs == plain.pairs
+    if pattern_name == "koch":  # segments of 8 px at 256²: many near-ties, and the plane drops most of them
+        assert finer.pairs < 0.85 * nearest_leaf(leaves, 256, tangent=False).pairs
+
+
+def _least_over_children(leaves, size, level, side):
+    """``(4 ** (level + 1), leaves)``: each leaf's least distance over the pixel centres of each block of level + 1."""
+    x, y = pixel_centres(size, dtype=leaves.inverse.dtype)
+    dense = sdf_dense(leaves, x, y).detach().T.reshape(-1, 1, size, size)
+    padded = torch.full((dense.shape[0], 1, side, side), float("inf"), dtype=dense.dtype)
+    padded[..., :size, :size] = dense
+    child = side >> (level + 1)
+    return -torch.nn.functional.max_pool2d(-padded, child)[:, 0].flatten(1).T  # (blocks, leaves), row-major
+
+
+@pytest.mark.parametrize("name", ["koch", "carpet", "rosette6"])
+@pytest.mark.parametrize("seed", range(3))
+def test_the_bound_never_exceeds_a_leaf_s_least_distance_over_a_child(name, seed):
+    # the pruning test's lower bound, at every level, against each leaf's least distance over each child
+    # block's pixels (the dense field); rosette6's thick segments put block centres on their spines, where
+    # a float32 gradient's direction is noise and the plane alone would drop a winner
+    from ifslib.core.raster import nearest
+
+    ifs = perturbed(ifslib.patterns.by_name(name, depth=3), scale=0.02, seed=seed, dtype=torch.float32)
+    leaves = expand(ifs, 3).detach()
+    size = 96
+    tree = nearest._quadtree(leaves, size, None, True)
+    assert tree.slopes
+    stack, checked = [nearest._first_task(tree)], 0
+    while stack:
+        task = stack.pop()
+        d, slope, _, best = nearest._block_minimum(tree, task)
+        if task.level == tree.top:
+            continue
+        lower = nearest._lower(tree, d, slope, task.level)
+        least = _least_over_children(leaves, size, task.level, tree.side)
+        child = (2 * task.rows[task.pair_block, None] + tree.quad_r) * (1 << task.level + 1) \
+            + 2 * task.cols[task.pair_block, None] + tree.quad_c
+        truth = least[child, task.pair_leaf[:, None]]
+        assert (lower <= truth + 1e-7).all(), f"level {task.level}: the bound exceeds the distance"
+        checked += lower.numel()
+        stack += nearest._children(tree, task, d, slope, best, nearest.MAX_PAIRS)
+    assert checked > 0

@@ -22,6 +22,24 @@ def local(qx, qy, params):
     return outside + inside
 
 
+def slope(qx, qy, params):
+    """`local` and its gradient: outside, the unit vector from the nearest point; inside and on the edge, the
+    outward normal of the nearest edge (at a corner or a tie, either edge's: both are subgradients)."""
+    lx, ly, hx, hy = params[:4]
+    cx, cy = (lx + hx) / 2, (ly + hy) / 2
+    dx = (qx - cx).abs() - (hx - lx) / 2
+    dy = (qy - cy).abs() - (hy - ly) / 2
+    ox, oy = dx.clamp_min(0), dy.clamp_min(0)
+    outside = safe_norm(ox, oy)
+    inside = torch.maximum(dx, dy).clamp_max(0)
+    sx, sy = torch.sign(qx - cx), torch.sign(qy - cy)
+    within = (ox == 0) & (oy == 0)
+    across = dx >= dy  # the nearest edge is a vertical one
+    gx = torch.where(within, torch.where(across, sx, 0), sx * ox / outside)
+    gy = torch.where(within, torch.where(across, 0, sy), sy * oy / outside)
+    return outside + inside, gx, gy, torch.where(within, torch.inf, outside)
+
+
 def affine(x, y, qx, qy, forward, smallest, params):
     """The exact signed distance to the parallelogram ``T(box)``: the distance to the nearest of its four image
     edges, negative inside."""
@@ -44,4 +62,4 @@ def affine(x, y, qx, qy, forward, smallest, params):
     return torch.where(inside, -edges, edges)
 
 
-SHAPE = Shape("box", points=2, radius="unused", pack=pack, local=local, affine=affine)
+SHAPE = Shape("box", points=2, radius="unused", pack=pack, local=local, affine=affine, slope=slope)

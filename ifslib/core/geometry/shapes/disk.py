@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import torch
 
-from .shape import PARAM_WIDTH, Shape, safe_norm
+from .shape import PARAM_WIDTH, Shape, norm_slope, safe_norm
 
 
 def pack(corners: list[torch.Tensor], radius: float) -> torch.Tensor:
@@ -17,6 +17,12 @@ def local(qx, qy, params):
     return safe_norm(qx - cx, qy - cy) - r
 
 
+def slope(qx, qy, params):
+    """`local` and its gradient: the unit vector from the centre (0 at the centre)."""
+    cx, cy, r = params[:3]
+    return norm_slope(qx - cx, qy - cy, r)
+
+
 def affine(x, y, qx, qy, forward, smallest, params):
     """``smallest * d_disk(q)``: a lower bound of the distance to the ellipse ``T(disk)`` (exact for a similarity),
     with the ellipse itself as its zero set. It is 1-Lipschitz, because ``T^-1`` stretches distances by at most
@@ -24,4 +30,4 @@ def affine(x, y, qx, qy, forward, smallest, params):
     return smallest * local(qx, qy, params)
 
 
-SHAPE = Shape("disk", points=1, radius="required", pack=pack, local=local, affine=affine)
+SHAPE = Shape("disk", points=1, radius="required", pack=pack, local=local, affine=affine, slope=slope)

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import torch
 
-from .shape import PARAM_WIDTH, Shape, linear_image, segment_distance
+from .shape import PARAM_WIDTH, Shape, linear_image, norm_slope, segment_distance, segment_offset
 
 
 def pack(corners: list[torch.Tensor], radius: float) -> torch.Tensor:
@@ -18,6 +18,12 @@ def local(qx, qy, params):
     return segment_distance(qx - ax, qy - ay, bx - ax, by - ay) - r
 
 
+def slope(qx, qy, params):
+    """`local` and its gradient: the unit vector from the segment's nearest point (0 on the segment)."""
+    ax, ay, bx, by, r = params[:5]
+    return norm_slope(*segment_offset(qx - ax, qy - ay, bx - ax, by - ay), r)
+
+
 def affine(x, y, qx, qy, forward, smallest, params):
     """The exact distance to the image segment ``[T a, T b]``, less ``smallest * radius``: a thick segment under
     a shear is drawn as the capsule of radius ``smallest * radius`` around its image (for a similarity, exactly
@@ -29,4 +35,4 @@ def affine(x, y, qx, qy, forward, smallest, params):
     return segment_distance(x - sx - tx, y - sy - ty, ux, uy) - smallest * r
 
 
-SHAPE = Shape("segment", points=2, radius="optional", pack=pack, local=local, affine=affine)
+SHAPE = Shape("segment", points=2, radius="optional", pack=pack, local=local, affine=affine, slope=slope)
