@@ -50,6 +50,14 @@ def sheared_mixed(depth=2, dtype=torch.float64):
     return ifslib.IFS(points, base.rules, prims, depth=depth, fixed=base.fixed, dtype=dtype)
 
 
+def sheared_disks(depth=2, dtype=torch.float64):
+    """The sheared maps drawing a disk alone (one kind under affine maps)."""
+    base = sheared(depth=depth, dtype=dtype)
+    points = torch.cat([base.points.detach(), torch.tensor([[0.05, 0.1]], dtype=dtype)])
+    prims = [{"kind": "disk", "points": [len(points) - 1], "radius": 0.1}]
+    return ifslib.IFS(points, base.rules, prims, depth=depth, fixed=base.fixed, dtype=dtype)
+
+
 PATTERNS = {
     "affine": lambda: sheared(),
     "affine_mixed": lambda: sheared_mixed(),

@@ -124,8 +124,12 @@ def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, 
 
 
 def has_slope(table: torch.Tensor | None, kind: str) -> bool:
-    """Whether `sdf_table_slope` can read ``table``: one kind with a `Shape.slope`, similarity words (no forward rows)."""
-    return table is not None and table.shape[0] == _GEOMETRY and SHAPES[kind].slope is not None
+    """Whether `sdf_table_slope` can read ``table``: one kind, with a `Shape.slope` for similarity words (no forward
+    rows) or a `Shape.affine_slope` for affine ones."""
+    if table is None:
+        return False
+    shape = SHAPES[kind]
+    return (shape.slope if table.shape[0] == _GEOMETRY else shape.affine_slope) is not None
 
 
 def sdf_table_slope(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor
@@ -133,7 +137,8 @@ def sdf_table_slope(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Te
     """`sdf_table`'s distances, bit for bit, and their gradients in ``(x, y)``, for a table `has_slope` accepts.
 
     A similarity word's leaf measures ``s d(q)`` at ``q = M x + c``, so its gradient is ``s M^T`` times the
-    primitive's own (`ifslib.core.geometry.shapes.Shape.slope`).
+    primitive's own (`ifslib.core.geometry.shapes.Shape.slope`); an affine word's comes from the kind's
+    `Shape.affine_slope`, in the plane.
 
     Returns
     -------
@@ -145,6 +150,8 @@ def sdf_table_slope(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Te
     m0, m1, m2, m3, m4, m5, scale = row[:7]
     qx = m0 * x + m1 * y + m2
     qy = m3 * x + m4 * y + m5
+    if table.shape[0] > _GEOMETRY:
+        return SHAPES[kind].affine_slope(x, y, qx, qy, row[:6].T, row[_GEOMETRY:].T, scale, row[7:_GEOMETRY].T.unbind(-1))
     d, gx, gy, reach = SHAPES[kind].slope(qx, qy, row[7:_GEOMETRY])
     return scale * d, scale * (m0 * gx + m3 * gy), scale * (m1 * gx + m4 * gy), scale * reach
 

@@ -44,8 +44,9 @@ ROUNDING_ULPS = 16
 #: Above this many (block, leaf) pairs a level is processed in chunks of blocks.
 MAX_PAIRS = 1 << 20
 #: The walk starts at the deepest level whose blocks x leaves stay within this many pairs: with few
-#: leaves the top levels prune little and cost only per-level overhead.
-START_PAIRS = 1 << 16
+#: leaves the top levels prune little and cost only per-level overhead. With the tangent planes they
+#: prune more: 2^14 took 5-30 % less time than 2^16 on the notebooks' starts at 64²-256² (one thread).
+START_PAIRS = 1 << 14
 
 
 @dataclass

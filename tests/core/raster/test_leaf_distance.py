@@ -1,5 +1,5 @@
-"""`ifslib.core.raster.leaf_distance`: the table lookups give `sdf_pairs`'s distances bit for bit, and the slope
-lookup autograd's gradients, for the tables that carry them."""
+"""`ifslib.core.raster.leaf_distance`: the slope lookup gives `sdf_table`'s distances bit for bit and autograd's
+gradients, for similarity and sheared words of each kind; tables of mixed kinds have none."""
 import pytest
 import torch
 
@@ -7,7 +7,7 @@ import ifslib
 from ifslib.core.geometry.leaves import expand
 from ifslib.core.raster.leaf_distance import has_slope, leaf_table, sdf_pairs, sdf_table, sdf_table_slope
 
-from conftest import PATTERNS, perturbed
+from conftest import PATTERNS, perturbed, sheared, sheared_disks
 
 
 def _disks(depth=2, dtype=torch.float64):
@@ -18,14 +18,16 @@ def _disks(depth=2, dtype=torch.float64):
                       fixed=koch.fixed, dtype=dtype)
 
 
-SIMILAR = {"koch": lambda: ifslib.patterns.koch(), "carpet": lambda: ifslib.patterns.sierpinski_carpet(),
-           "disks": _disks}
+#: one kind a pattern, under similarity words (the table's 12 rows) or sheared ones (18 rows: the forward maps)
+SLOPED = {"koch": lambda: ifslib.patterns.koch(), "carpet": lambda: ifslib.patterns.sierpinski_carpet(),
+          "disks": _disks, "sheared boxes": lambda: sheared("box"), "sheared segments": lambda: sheared("segment"),
+          "sheared disks": sheared_disks}
 
 
-@pytest.mark.parametrize("name", sorted(SIMILAR))
+@pytest.mark.parametrize("name", sorted(SLOPED))
 @pytest.mark.parametrize("dtype", [torch.float32, torch.float64])
 def test_the_slope_lookup_is_the_table_s_distance_and_autograd_s_gradient(name, dtype):
-    ifs = perturbed(SIMILAR[name](), seed=5, dtype=dtype)
+    ifs = perturbed(SLOPED[name](), seed=5, dtype=dtype)
     leaves = expand(ifs, 2)
     table = leaf_table(leaves)
     assert has_slope(table, leaves.kinds[0])
@@ -39,14 +41,16 @@ def test_the_slope_lookup_is_the_table_s_distance_and_autograd_s_gradient(name, 
     assert torch.equal(d, sdf_table(table, leaves.kinds[0], x, y, leaf))
     xr, yr = x.clone().requires_grad_(), y.clone().requires_grad_()
     wx, wy = torch.autograd.grad(sdf_pairs(leaves.detach(), xr, yr, leaf).sum(), [xr, yr])
-    tol = 1e-4 if dtype == torch.float32 else 1e-10
-    torch.testing.assert_close(gx, wx, rtol=0, atol=tol)
-    torch.testing.assert_close(gy, wy, rtol=0, atol=tol)
+    # two roundings of one direction: they may differ by what the search allows for (ROUNDING_ULPS / reach)
+    from ifslib.core.raster.nearest import ROUNDING_ULPS
+
+    allowed = 1e-5 + 2 * ROUNDING_ULPS * torch.finfo(dtype).eps / reach
+    assert (torch.hypot(gx - wx, gy - wy) <= allowed).all()
+    assert (torch.hypot(gx - wx, gy - wy) <= 1e-5).float().mean() > 0.99
 
 
-@pytest.mark.parametrize("name", ["affine", "affine_mixed", "mixed"])
-def test_affine_words_and_mixed_kinds_have_no_slope_lookup(name):
-    # a sheared word's distance is measured in the plane and a table of mixed kinds is None: the search
-    # falls back to the Lipschitz bound for them
+@pytest.mark.parametrize("name", ["affine_mixed", "mixed"])
+def test_mixed_kinds_have_no_slope_lookup(name):
+    # a table of mixed kinds is None: the search falls back to the Lipschitz bound for them
     leaves = expand(PATTERNS[name](), 2)
-    assert not has_slope(leaf_table(leaves), leaves.kinds[0])
+    assert leaf_table(leaves) is None and not has_slope(leaf_table(leaves), leaves.kinds[0])

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import torch
 
-from .shape import PARAM_WIDTH, Shape, linear_image, safe_norm, segment_distance
+from .shape import PARAM_WIDTH, Shape, linear_image, safe_norm, segment_offset
 
 
 def pack(corners: list[torch.Tensor], radius: float) -> torch.Tensor:
@@ -40,26 +40,46 @@ def slope(qx, qy, params):
     return outside + inside, gx, gy, torch.where(within, torch.inf, outside)
 
 
-def affine(x, y, qx, qy, forward, smallest, params):
-    """The exact signed distance to the parallelogram ``T(box)``: the distance to the nearest of its four image
-    edges, negative inside."""
+def _image_edges(x, y, forward, params):
+    """The parallelogram ``T(box)``: each image edge's offset to ``x`` (stacked ``(4, ...)`` x and y) and whether
+    ``x`` is inside."""
     image, tx, ty = linear_image(forward)
     lx, ly, hx, hy = params[:4]
     ox, oy = image(lx, ly)
     wx, wy = x - ox - tx, y - oy - ty             # x relative to the image of the lower-left corner
     ex, ey = image(hx - lx, torch.zeros_like(hx))   # the image of the box's horizontal side
     fx, fy = image(torch.zeros_like(hy), hy - ly)   # and of its vertical side
-    edges = torch.stack([
-        segment_distance(wx, wy, ex, ey),                   # bottom: from lower-left along e
-        segment_distance(wx - fx, wy - fy, ex, ey),         # top: from upper-left along e
-        segment_distance(wx, wy, fx, fy),                   # left: from lower-left along f
-        segment_distance(wx - ex, wy - ey, fx, fy),         # right: from lower-right along f
-    ]).amin(0)
+    offsets = [
+        segment_offset(wx, wy, ex, ey),                   # bottom: from lower-left along e
+        segment_offset(wx - fx, wy - fy, ex, ey),         # top: from upper-left along e
+        segment_offset(wx, wy, fx, fy),                   # left: from lower-left along f
+        segment_offset(wx - ex, wy - ey, fx, fy),         # right: from lower-right along f
+    ]
     # inside when w = u e + v f with 0 < u, v < 1 (Cramer's rule, without dividing by det [e, f])
     det = ex * fy - ey * fx
     u_det, v_det = wx * fy - wy * fx, ex * wy - ey * wx
     inside = (u_det * det > 0) & (v_det * det > 0) & (u_det.abs() < det.abs()) & (v_det.abs() < det.abs())
+    return torch.stack([o[0] for o in offsets]), torch.stack([o[1] for o in offsets]), inside
+
+
+def affine(x, y, qx, qy, forward, smallest, params):
+    """The exact signed distance to the parallelogram ``T(box)``: the distance to the nearest of its four image
+    edges, negative inside."""
+    vx, vy, inside = _image_edges(x, y, forward, params)
+    edges = safe_norm(vx, vy).amin(0)
     return torch.where(inside, -edges, edges)
 
 
-SHAPE = Shape("box", points=2, radius="unused", pack=pack, local=local, affine=affine, slope=slope)
+def affine_slope(x, y, qx, qy, inverse, forward, smallest, params):
+    """`affine` and its gradient in the plane: the unit vector from the nearest edge's nearest point, turned
+    outward inside (at a tie, either edge's: both are subgradients)."""
+    vx, vy, inside = _image_edges(x, y, forward, params)
+    edges, nearest = safe_norm(vx, vy).min(0)
+    sign = torch.where(inside, -1.0, 1.0).to(edges.dtype) / edges
+    gx = vx.gather(0, nearest[None])[0] * sign
+    gy = vy.gather(0, nearest[None])[0] * sign
+    return torch.where(inside, -edges, edges), gx, gy, edges
+
+
+SHAPE = Shape("box", points=2, radius="unused", pack=pack, local=local, affine=affine, slope=slope,
+              affine_slope=affine_slope)

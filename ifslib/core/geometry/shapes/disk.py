@@ -30,4 +30,12 @@ def affine(x, y, qx, qy, forward, smallest, params):
     return smallest * local(qx, qy, params)
 
 
-SHAPE = Shape("disk", points=1, radius="required", pack=pack, local=local, affine=affine, slope=slope)
+def affine_slope(x, y, qx, qy, inverse, forward, smallest, params):
+    """`affine` and its gradient in the plane, ``smallest M^T`` times the disk's own for the inverse's linear part ``M``."""
+    d, gx, gy, reach = slope(qx, qy, params)
+    m0, m1, _, m3, m4, _ = inverse.unbind(-1)
+    return smallest * d, smallest * (m0 * gx + m3 * gy), smallest * (m1 * gx + m4 * gy), smallest * reach
+
+
+SHAPE = Shape("disk", points=1, radius="required", pack=pack, local=local, affine=affine, slope=slope,
+              affine_slope=affine_slope)

@@ -35,4 +35,14 @@ def affine(x, y, qx, qy, forward, smallest, params):
     return segment_distance(x - sx - tx, y - sy - ty, ux, uy) - smallest * r
 
 
-SHAPE = Shape("segment", points=2, radius="optional", pack=pack, local=local, affine=affine, slope=slope)
+def affine_slope(x, y, qx, qy, inverse, forward, smallest, params):
+    """`affine` and its gradient in the plane: the unit vector from the image segment's nearest point."""
+    image, tx, ty = linear_image(forward)
+    ax, ay, bx, by, r = params[:5]
+    sx, sy = image(ax, ay)
+    ux, uy = image(bx - ax, by - ay)
+    return norm_slope(*segment_offset(x - sx - tx, y - sy - ty, ux, uy), smallest * r)
+
+
+SHAPE = Shape("segment", points=2, radius="optional", pack=pack, local=local, affine=affine, slope=slope,
+              affine_slope=affine_slope)

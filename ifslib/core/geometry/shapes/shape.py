@@ -41,6 +41,10 @@ class Shape:
         vector that gradient is the direction of (inf where the direction is exact): rounding moves that
         vector by a few ulps, so the direction is only as good as ``ulps / reach``. The nearest-leaf search
         uses it for a tighter bound (`ifslib.core.raster.nearest`); None where a kind has none.
+    affine_slope : callable, optional
+        ``affine_slope(x, y, qx, qy, inverse, forward, smallest, params) -> (distance, gx, gy, reach)``: `affine`'s
+        value, bit for bit, its gradient in the plane, and the reach (as ``slope``'s, in plane units);
+        ``inverse`` is ``(..., 6)``, the map's inverse. None where a kind has none.
     """
 
     kind: str
@@ -49,7 +53,8 @@ class Shape:
     pack: Callable[[list[torch.Tensor], float], torch.Tensor]
     local: Callable[..., torch.Tensor]
     affine: Callable[..., torch.Tensor]
-    slope: Callable[..., tuple[torch.Tensor, torch.Tensor, torch.Tensor]] | None = None
+    slope: Callable[..., tuple[torch.Tensor, ...]] | None = None
+    affine_slope: Callable[..., tuple[torch.Tensor, ...]] | None = None
 
 
 def safe_norm(x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
