@@ -11,13 +11,18 @@ from ..geometry.primitives import PARAM_WIDTH, affine_sdf, local_sdf
 from ..geometry.shapes import SHAPES
 
 
+def _pull_back(inverse: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """``q = T_w^-1 x``, the points in the primitive's frame, for the inverse maps ``inverse`` ``(..., 6)``."""
+    return (inverse[..., 0] * x + inverse[..., 1] * y + inverse[..., 2],
+            inverse[..., 3] * x + inverse[..., 4] * y + inverse[..., 5])
+
+
 def leaf_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, inverse: torch.Tensor, scale: torch.Tensor,
              params: torch.Tensor, forward: torch.Tensor | None) -> torch.Tensor:
     """A leaf's signed distance at ``x``: ``scale * d(T_w^-1 x)`` for a similarity word, and
     `ifslib.core.geometry.primitives.affine_sdf` when the word's map ``forward`` (``(..., 6)``) is given.
     ``inverse`` is ``(..., 6)``, the word's inverse map; every tensor broadcasts against ``x``."""
-    qx = inverse[..., 0] * x + inverse[..., 1] * y + inverse[..., 2]
-    qy = inverse[..., 3] * x + inverse[..., 4] * y + inverse[..., 5]
+    qx, qy = _pull_back(inverse, x, y)
     if forward is None:
         return scale * local_sdf(kind, qx, qy, params)
     return affine_sdf(kind, x, y, qx, qy, forward, scale, params)
@@ -147,12 +152,12 @@ def sdf_table_slope(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Te
         direction is good to about the rounding of a coordinate divided by it.
     """
     row = table.index_select(1, leaf)
-    m0, m1, m2, m3, m4, m5, scale = row[:7]
-    qx = m0 * x + m1 * y + m2
-    qy = m3 * x + m4 * y + m5
+    inverse, scale = row[:6].T, row[6]
+    qx, qy = _pull_back(inverse, x, y)
     if table.shape[0] > _GEOMETRY:
-        return SHAPES[kind].affine_slope(x, y, qx, qy, row[:6].T, row[_GEOMETRY:].T, scale, row[7:_GEOMETRY].T.unbind(-1))
+        return SHAPES[kind].affine_slope(x, y, qx, qy, inverse, row[_GEOMETRY:].T, scale, row[7:_GEOMETRY].T.unbind(-1))
     d, gx, gy, reach = SHAPES[kind].slope(qx, qy, row[7:_GEOMETRY])
+    m0, m1, _, m3, m4, _ = row[:6]
     return scale * d, scale * (m0 * gx + m3 * gy), scale * (m1 * gx + m4 * gy), scale * reach
 
 

@@ -12,11 +12,15 @@ def pack(corners: list[torch.Tensor], radius: float) -> torch.Tensor:
     return torch.cat([torch.minimum(a, b), torch.maximum(a, b), a.new_zeros(*a.shape[:-1], PARAM_WIDTH - 4)], -1)
 
 
-def local(qx, qy, params):
+def _from_centre(qx, qy, params):
+    """``q`` relative to the box's centre, and how far beyond its half-widths it lies along each axis."""
     lx, ly, hx, hy = params[:4]
-    cx, cy = (lx + hx) / 2, (ly + hy) / 2
-    dx = (qx - cx).abs() - (hx - lx) / 2
-    dy = (qy - cy).abs() - (hy - ly) / 2
+    rx, ry = qx - (lx + hx) / 2, qy - (ly + hy) / 2
+    return rx, ry, rx.abs() - (hx - lx) / 2, ry.abs() - (hy - ly) / 2
+
+
+def local(qx, qy, params):
+    _, _, dx, dy = _from_centre(qx, qy, params)
     outside = safe_norm(dx.clamp_min(0), dy.clamp_min(0))
     inside = torch.maximum(dx, dy).clamp_max(0)
     return outside + inside
@@ -25,14 +29,11 @@ def local(qx, qy, params):
 def slope(qx, qy, params):
     """`local` and its gradient: outside, the unit vector from the nearest point; inside and on the edge, the
     outward normal of the nearest edge (at a corner or a tie, either edge's: both are subgradients)."""
-    lx, ly, hx, hy = params[:4]
-    cx, cy = (lx + hx) / 2, (ly + hy) / 2
-    dx = (qx - cx).abs() - (hx - lx) / 2
-    dy = (qy - cy).abs() - (hy - ly) / 2
+    rx, ry, dx, dy = _from_centre(qx, qy, params)
     ox, oy = dx.clamp_min(0), dy.clamp_min(0)
     outside = safe_norm(ox, oy)
     inside = torch.maximum(dx, dy).clamp_max(0)
-    sx, sy = torch.sign(qx - cx), torch.sign(qy - cy)
+    sx, sy = torch.sign(rx), torch.sign(ry)
     within = (ox == 0) & (oy == 0)
     across = dx >= dy  # the nearest edge is a vertical one
     gx = torch.where(within, torch.where(across, sx, 0), sx * ox / outside)
