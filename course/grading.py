@@ -36,6 +36,7 @@ from run_edition import with_quick_values  # noqa: E402  one way to inject the q
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 CONFIG = Path(__file__).resolve().parent / "nbgrader_config.py"
+CHECKS = Path(__file__).resolve().parent / "nbgrader_checks.py"
 ASSIGNMENT = "ifs"
 
 
@@ -51,6 +52,7 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[
     folder = course / "source" / ASSIGNMENT
     folder.mkdir(parents=True)
     shutil.copy2(CONFIG, course / "nbgrader_config.py")
+    shutil.copy2(CHECKS, course / "nbgrader_checks.py")
     names = []
     for path in sorted(source.glob("*.ipynb")):
         book = nbformat.read(path, as_version=4)
@@ -58,7 +60,8 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[
             # a graded notebook without a parameters cell gets no grading cell (it has nothing to shrink)
             teaching = ({} if parameters_index(book) is None else
                         load_script("notebooks/run.py", "ifslib_notebooks_run").teaching_parameters(path))
-            book = with_grading_cell(with_quick_values(book) if quick else book, path.stem, teaching)
+            book = lock_lesson(with_grading_cell(with_quick_values(book) if quick else book, path.stem, teaching),
+                               path.stem)
             nbformat.write(book, folder / path.name)
             names.append(path.stem)
     if not names:
@@ -66,8 +69,32 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[
     return names
 
 
-def nbgrader(course: Path, *args: str) -> None:
-    """Run the ``nbgrader`` command of this Python's environment in ``course``; raise on failure."""
+def lock_lesson(book, name: str):
+    """``book`` with every code cell that is not an answer locked (nbgrader restores a locked cell from
+    the source before it grades): the lesson's values and helpers a test reads are the instructor's,
+    whatever a submission did to them. Returns ``book``, changed in place."""
+    for k, cell in enumerate(book.cells):
+        if cell.cell_type == "code" and not cell.metadata.get("nbgrader"):
+            cell.metadata["nbgrader"] = {"grade": False, "solution": False, "locked": True,
+                                         "grade_id": f"{name}-lesson-{k}", "schema_version": 3}
+    return book
+
+
+def check_images() -> None:
+    """Refuse to grade when the paper's target images cannot be found: correct work would score 0."""
+    from ifslib.data import missing_images
+
+    missing = missing_images()
+    if missing:
+        raise SystemExit(
+            f"the paper's target images are not found ({', '.join(missing)}): notebooks 02 and 04 read them, "
+            "and every submission would lose their points. Set IFSLIB_DATA to a folder holding koch.png, "
+            "sierpinski.png, apple.png and flower.png (docs/guide/course.md#grading says where to get them), "
+            "or connect this machine to the network once so that ifslib downloads them, then grade again.")
+
+
+def nbgrader(course: Path, *args: str) -> str:
+    """Run the ``nbgrader`` command of this Python's environment in ``course``; raise on failure, else its log."""
     bin_folder = Path(sys.executable).parent
     command = [str(bin_folder / "nbgrader"), *args, "--force"]
     # nbgrader runs alembic (its database migrations) by name: this environment's, first on the PATH
@@ -75,6 +102,7 @@ def nbgrader(course: Path, *args: str) -> None:
     done = subprocess.run(command, cwd=course, capture_output=True, text=True, env=env)
     if done.returncode:
         raise SystemExit(f"{' '.join(command[1:])} failed in {course}:\n{done.stdout}\n{done.stderr}")
+    return done.stdout + done.stderr
 
 
 def generate(course: Path) -> Path:
@@ -92,19 +120,23 @@ class Score:
     auto_max: float
     written: int         # written answer cells (markdown, graded by a person)
     manual_cells: int    # of them, those nbgrader left for manual grading (an unchanged one gets 0 at once)
+    alarms: int = 0      # nbgrader's tamper alarms ("Attribute ... has changed") in its autograde
+    not_trusted: int = 0  # findings of nbgrader_checks.ScanCells (constructs that change the checks)
 
     def line(self) -> str:
         return (f"{self.student}: auto points {self.auto:g} of {self.auto_max:g}, "
-                f"manual cells {self.manual_cells} of {self.written} written answers")
+                f"manual cells {self.manual_cells} of {self.written} written answers, "
+                f"{self.alarms} tamper alarms, {self.not_trusted} untrusted constructs")
 
 
 def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
     """Submit each folder as a student, run ``nbgrader autograde`` and read the gradebook."""
+    logs = {}
     for student, folder in submissions.items():
         target = course / "submitted" / student / ASSIGNMENT
         shutil.copytree(folder, target, dirs_exist_ok=True)
         started = time.perf_counter()
-        nbgrader(course, "autograde", ASSIGNMENT, "--student", student)
+        logs[student] = nbgrader(course, "autograde", ASSIGNMENT, "--student", student, "--create")
         print(f"  autograded {student} in {time.perf_counter() - started:.0f} s", flush=True)
     from nbgrader.api import Gradebook
 
@@ -116,7 +148,8 @@ def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
             tests = [g for g in grades if g.cell_type == "code"]
             written = [g for g in grades if g.cell_type == "markdown"]
             scores.append(Score(student, sum(g.auto_score or 0 for g in tests), sum(g.max_score for g in tests),
-                                len(written), sum(bool(g.needs_manual_grade) for g in written)))
+                                len(written), sum(bool(g.needs_manual_grade) for g in written),
+                                logs[student].count("has changed!"), logs[student].count("untrusted:")))
             failed = [g.name for g in tests if (g.auto_score or 0) < g.max_score]
             if failed and student == "instructor":
                 print(f"  {student}: tests that failed: {', '.join(failed)}", flush=True)
@@ -127,15 +160,20 @@ def check(course: Path, names: list[str]) -> int:
     """Autograde the solved source, the blank release and a lazy submission (``lazy_submission.py``);
     0 when they score full, 0 and under half of the auto-graded points, else 1."""
     from lazy_submission import passed_tests, write_lazy
+    from tricks_submission import write_tricks
 
     release, lazy_folder = course / "release" / ASSIGNMENT, course / "lazy" / ASSIGNMENT
+    tricks_folder = course / "tricks" / ASSIGNMENT
     write_lazy(release, lazy_folder)
-    scores = autograde(course, {"instructor": course / "source" / ASSIGNMENT, "blank": release, "lazy": lazy_folder})
+    write_tricks(release, tricks_folder)
+    scores = autograde(course, {"instructor": course / "source" / ASSIGNMENT, "blank": release, "lazy": lazy_folder,
+                                "tricks": tricks_folder})
     for score in scores:
         print(score.line(), flush=True)
-    walked = passed_tests(course / "gradebook.db", ASSIGNMENT, "lazy")
-    print(f"  lazy: the tests it passed ({len(walked)}): {', '.join(walked) or 'none'}", flush=True)
-    instructor, blank, lazy = scores
+    for student in ("lazy", "tricks"):
+        walked = passed_tests(course / "gradebook.db", ASSIGNMENT, student)
+        print(f"  {student}: the tests it passed ({len(walked)}): {', '.join(walked) or 'none'}", flush=True)
+    instructor, blank, lazy, tricks = scores
     problems = [problem for failed, problem in [
         (instructor.auto != instructor.auto_max or instructor.auto_max == 0,
          "the instructor's source does not get every auto-graded point"),
@@ -144,6 +182,10 @@ def check(course: Path, names: list[str]) -> int:
         (blank.auto != 0, "the blank release gets auto-graded points"),
         (lazy.auto >= lazy.auto_max / 2,
          f"the lazy submission gets {lazy.auto:g} of {lazy.auto_max:g} auto-graded points, not under half"),
+        (tricks.auto >= tricks.auto_max / 2,
+         f"the submission of tricks gets {tricks.auto:g} of {tricks.auto_max:g} auto-graded points, not under half"),
+        (instructor.alarms or blank.alarms, "nbgrader raised a tamper alarm on a submission that changed no locked cell"),
+        (instructor.not_trusted, "the instructor's source has constructs the checks do not trust"),
     ] if failed]
     for problem in problems:
         print(f"FAILED: {problem}", flush=True)
@@ -158,6 +200,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true",
                         help="autograde the source (full), the release (0) and a lazy submission (under half)")
     args = parser.parse_args(argv)
+    check_images()
     names = layout(args.course, args.source, args.quick)
     release = generate(args.course)
     print(f"released {', '.join(names)} in {release}", flush=True)

@@ -14,3 +14,19 @@ c.ClearSolutions.text_stub = "YOUR ANSWER HERE"
 # Autograding runs each notebook top to bottom: at the teaching sizes the longest lessons (02, 04, 06)
 # take minutes on one CPU thread, each cell well under this limit.
 c.ExecutePreprocessor.timeout = 600
+
+# Tests that do not trust the student's kernel (nbgrader_checks.py, copied beside this file): the
+# student's cells are read before the notebook runs, and the tests their tricks could fool get 0;
+# feedback leaves out the hidden tests and the tracebacks that would quote them.
+import os  # noqa: E402
+import sys  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from nbconvert.preprocessors import ClearMetadataPreprocessor, CSSHTMLHeaderPreprocessor  # noqa: E402
+from nbgrader.preprocessors import (AssignLatePenalties, CheckCellMetadata, Execute, GetGrades,  # noqa: E402
+                                    IgnorePattern, LimitOutput, SaveAutoGrades)
+from nbgrader_checks import FailFooled, HideTests, ScanCells  # noqa: E402
+
+c.Autograde.autograde_preprocessors = [ScanCells, Execute, FailFooled, IgnorePattern, ClearMetadataPreprocessor,
+                                       LimitOutput, SaveAutoGrades, AssignLatePenalties, CheckCellMetadata]
+c.GenerateFeedback.preprocessors = [GetGrades, HideTests, CSSHTMLHeaderPreprocessor]

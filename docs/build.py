@@ -5,15 +5,14 @@
    every ``notebooks/*.ipynb`` (the numbered series, and pages index.md lists by name, such as
    the glossary) and the pages under ``docs/`` (results, guides, the API
    reference, whose per-name pages autosummary generates there). In the book's copy of a notebook
-   each exercise's solution (a ``### BEGIN SOLUTION`` block) is folded: the cell is split into the
-   code around the block, shown, and the block, a cell of its own tagged ``hide-input``, which
-   MyST-NB shows behind a "Show the solution" toggle (`fold_solutions`); each figure gets its
-   caption as alt text (``docs/slides.py`` finds the caption, as the slides show it).
+   the exercises are as the student edition has them: each solution stubbed, the hidden tests cut,
+   no output of an answer or test cell (`student_exercises`); each figure gets its caption as alt
+   text (``docs/slides.py`` finds the caption, as the slides show it).
 2. Run ``sphinx-build -W --keep-going -n -E`` with ``docs/conf.py`` into ``build/book/html``
    (MyST-NB, stored outputs only, no execution, no network; autodoc imports ``ifslib``).
 3. Check the result: index.html shows the README's title; each notebook page exists and holds
    at least one ``<img`` (its stored figure outputs), each with an alt text that is no file name,
-   and its solutions only folded; each results page (``docs/results/*.md``) exists and opens with
+   and no solution or hidden test; each results page (``docs/results/*.md``) exists and opens with
    a ``bash`` block, the command that regenerates it; every name of ``ifslib.__all__`` has an entry in the API reference; and no page loads a script or a style
    sheet from the network (MathJax is the book's own copy, from the npm package ``make book``
    installs into ``build/npm``).
@@ -25,7 +24,6 @@ Exit status is non-zero on any warning, error or failed check.
 from __future__ import annotations
 
 import argparse
-import copy
 import re
 import shutil
 import sys
@@ -99,7 +97,7 @@ def assemble() -> None:
     shutil.copytree(DOCS, SRC / "docs", ignore=_not_pages)
     # the numbered series and the notebooks index.md lists by name (the glossary), each a page
     for nb in sorted((ROOT / "notebooks").glob("*.ipynb")):
-        fold_solutions(nb, SRC / "notebooks" / nb.name)
+        student_exercises(nb, SRC / "notebooks" / nb.name)
     # index.md's toctrees glob docs/results/* and docs/* so that a page added there joins the book
     # without an edit here; a glob that matches no page yet is dropped (Sphinx would warn, and -W fail)
     lines = (DOCS / "index.md").read_text(encoding="utf-8").splitlines()
@@ -119,56 +117,35 @@ def _student():
     return load_script("notebooks/student.py", "ifslib_student_edition")
 
 
-#: The toggle's words, for MyST-NB's cell-level options (``metadata.mystnb``).
-FOLD = {"code_prompt_show": "Show the solution", "code_prompt_hide": "Hide the solution"}
+def student_exercises(source: Path, target: Path) -> int:
+    """Copy the notebook ``source`` to ``target`` with its exercises as the student edition has them.
 
-
-def fold_solutions(source: Path, target: Path) -> int:
-    """Copy the notebook ``source`` to ``target`` with each marked solution in a folded cell of its own.
-
-    A code cell with ``### BEGIN SOLUTION`` blocks becomes its pieces in order: the code around a
-    block (the exercise and its check, shown as the student sees them) and each block's lines
-    without the markers, tagged ``hide-input``. The cell's outputs stay under its last piece, so the
-    check's verdict follows the check. A markdown cell's blocks (a written answer's model answer and
-    rubric) are folded in place, in a ``<details>`` block. Each figure's alt text is its caption
-    (MyST-NB's own is the image file's name, a hash). Returns the number of solutions folded.
+    Each marked solution (code or a written answer's model answer and rubric) is replaced by the
+    student edition's stub, the hidden tests are cut from the test cells, and the outputs of answer and
+    test cells are dropped (they print the answers): a student reading the book while an assignment is
+    open learns no answer from it. Each figure's alt text is its caption (MyST-NB's own is the image
+    file's name, a hash). Returns the number of exercise cells stubbed.
     """
     import nbformat
 
     student = _student()
     book = nbformat.read(source, as_version=4)
-    # each figure's alt text, its caption (else MyST-NB's alt is the image file's name, a hash)
     for index, alt in _slides().alt_texts(book).items():
         options = book.cells[index].metadata.setdefault("mystnb", {})
         options["image"] = {**options.get("image", {}), "alt": alt}
-    cells, folded = [], 0
+    stubbed = 0
     for cell in book.cells:
         try:
-            pieces = student.split(cell.source)
+            answer = student.is_exercise(cell)
+            stub = student.CODE_STUB if cell.cell_type == "code" else student.MARKDOWN_STUB
+            cell.source = student.HIDDEN.sub("", student.student_source(cell.source, stub))
         except student.MarkerError as error:
             sys.exit(f"{source.name}: {error}")
-        pieces = [piece for piece in pieces if piece.text.strip()]
-        if cell.cell_type == "markdown":   # a written answer: its model answer and rubric folded in place
-            folded += sum(piece.solution for piece in pieces)
-            cell.source = "".join(f"<details><summary>Show the model answer</summary>\n\n{piece.text}\n</details>\n"
-                                  if piece.solution else piece.text for piece in pieces)
-            cells.append(cell)
-            continue
-        if not any(piece.solution for piece in pieces):
-            cells.append(cell)
-            continue
-        for k, piece in enumerate(pieces):
-            part = nbformat.v4.new_code_cell(piece.text.rstrip("\n"), metadata=copy.deepcopy(cell.metadata))
-            part.id = f"{cell.get('id', 'cell')}-{k}"
-            if piece.solution:
-                folded += 1
-                part.metadata["tags"] = [*part.metadata.get("tags", []), "hide-input"]
-                part.metadata["mystnb"] = {**part.metadata.get("mystnb", {}), **FOLD}
-            cells.append(part)
-        cells[-1].outputs, cells[-1].execution_count = cell.outputs, cell.execution_count
-    book.cells = cells
+        stubbed += answer
+        if cell.cell_type == "code" and (answer or student.is_test(cell)):
+            cell.outputs, cell.execution_count = [], None
     nbformat.write(book, target)
-    return folded
+    return stubbed
 
 
 def _complete_api(page: Path) -> None:
@@ -230,16 +207,17 @@ def check() -> list[str]:
 
 
 def check_folded(nb: Path, page: Path, body: str) -> list[str]:
-    """The page of ``nb`` shows each of its solution lines only inside a folded block (``<details>``)."""
+    """The page of ``nb`` shows none of its solution lines and none of its hidden tests' lines."""
     import html
     import nbformat
 
-    solutions = _student().solution_lines(nbformat.read(nb, as_version=4))
-    shown = html.unescape(re.sub(r"<[^>]+>", "", re.sub(r"<details.*?</details>", "", body, flags=re.S)))
+    book = nbformat.read(nb, as_version=4)
+    answers = _student().solution_lines(book) | _student().hidden_lines(book)
+    shown = html.unescape(re.sub(r"<[^>]+>", "", body))
     # whole lines: a solution line may be a part of a longer line that the page rightly shows
-    unfolded = sorted(solutions & {line.strip() for line in shown.splitlines()})
-    if "BEGIN SOLUTION" in body or unfolded:
-        return [f"{page.relative_to(ROOT)}: a solution shown unfolded: {(unfolded or ['its markers'])[0]!r}"]
+    found = sorted(answers & {line.strip() for line in shown.splitlines()})
+    if "BEGIN SOLUTION" in body or "BEGIN HIDDEN TESTS" in body or found:
+        return [f"{page.relative_to(ROOT)}: an answer or a hidden test shown: {(found or ['its markers'])[0]!r}"]
     return []
 
 

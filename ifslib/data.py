@@ -64,3 +64,17 @@ def path(name: str, base_url: str | None = None, timeout: float = 30.0) -> Path:
         fh.write(payload)
     os.replace(tmp, cached)
     return cached
+
+
+def missing_images(timeout: float = 10.0) -> list[str]:
+    """The paper's images that can be neither found (``IFSLIB_DATA``, the cache) nor downloaded now.
+
+    Downloads those it can into the cache, so that a later run finds them offline.
+    """
+    missing = []
+    for name in NAMES:
+        try:
+            path(name, timeout=timeout)
+        except IFSError:
+            missing.append(f"{name}.png")
+    return missing

@@ -356,12 +356,27 @@ def test_every_notebook_figure_has_a_caption_for_its_alt_text():
 def test_the_books_copy_of_a_notebook_carries_the_alt_texts(tmp_path):
     build = load_module("ifslib_docs_build", ROOT / "docs" / "build.py")
     source = ROOT / "notebooks" / "10_fractal_compression.ipynb"
-    build.fold_solutions(source, tmp_path / source.name)
+    build.student_exercises(source, tmp_path / source.name)
     copy = nbformat.read(tmp_path / source.name, as_version=4)
     alts = [c.metadata["mystnb"]["image"]["alt"] for c in copy.cells
             if c.cell_type == "code" and any("image/png" in o.get("data", {}) for o in c.get("outputs", []))]
     assert alts and all(not HASHLIKE.match(a) for a in alts)
     assert "The decoder's iterates from a black size² image (128²), with their PSNR against the photograph." in alts
+
+
+def test_the_books_copy_shows_the_exercises_as_the_student_edition_has_them(tmp_path):
+    """No worked answer, hidden test or answer's output in the book's copy (students read the book)."""
+    build = load_module("ifslib_docs_build", ROOT / "docs" / "build.py")
+    student = load_module("ifslib_student_edition", ROOT / "notebooks" / "student.py")
+    for name in ("00_tutorial.ipynb", "09_measures_and_dimension.ipynb"):
+        source = ROOT / "notebooks" / name
+        assert build.student_exercises(source, tmp_path / name) > 0
+        instructor, copy = nbformat.read(source, as_version=4), nbformat.read(tmp_path / name, as_version=4)
+        shown = {line.strip() for c in copy.cells for line in c.source.splitlines()}
+        shown |= {line.strip() for c in copy.cells if c.cell_type == "code" for o in c.outputs
+                  for line in "".join(o.get("text", "")).splitlines()}
+        assert not shown & (student.solution_lines(instructor) | student.hidden_lines(instructor)), name
+        assert not [c for c in copy.cells if student.is_exercise(c) and c.cell_type == "code" and c.outputs]
 
 
 def test_outline_lists_each_slide_with_its_heading_and_words(real_decks):

@@ -144,20 +144,16 @@ def test_write_edition_releases_exercise_notebooks_through_nbgrader(tmp_path):
     assert "YOUR CODE HERE" in released and "BEGIN SOLUTION" not in released
 
 
-def test_book_folds_each_solution_into_a_hidden_cell(tmp_path):
+def test_book_shows_each_exercise_as_the_student_edition_has_it(tmp_path):
     instructor = notebook(exercise(MATRIX), exercise(FUNCTION, "loss"))
     nbformat.write(instructor, tmp_path / "in.ipynb")
-    assert book_build.fold_solutions(tmp_path / "in.ipynb", tmp_path / "out.ipynb") == 2
-    folded = nbformat.read(tmp_path / "out.ipynb", as_version=4)
-    nbformat.validate(folded)
-    pieces = folded.cells[2:]
-    assert [("hide-input" in c.metadata["tags"]) for c in pieces] == [False, True, False] * 2
-    assert pieces[1].source == "r3 = np.sqrt(3)\nT3 = [[1 / 6, r3 / 6, 1 / 2], [-r3 / 6, 1 / 6, r3 / 6], [0, 0, 1]]"
-    assert pieces[1].metadata["mystnb"]["code_prompt_show"] == "Show the solution"
-    assert [bool(c.outputs) for c in pieces] == [False, False, True] * 2  # the verdict under the check
-    assert pieces[0].source == "T3 = None   # your answer: a 3 x 3 list or array"
-    assert "BEGIN SOLUTION" not in nbformat.writes(folded)
-    assert len({c.id for c in folded.cells}) == len(folded.cells)
+    assert book_build.student_exercises(tmp_path / "in.ipynb", tmp_path / "out.ipynb") == 2
+    shown = nbformat.read(tmp_path / "out.ipynb", as_version=4)
+    nbformat.validate(shown)
+    text = nbformat.writes(shown)
+    assert "BEGIN SOLUTION" not in text and "r3 / 6" not in text
+    assert student.CODE_STUB in shown.cells[2].source
+    assert not [c for c in shown.cells if c.cell_type == "code" and c.outputs]  # no answer, no verdict
 
 
 REAL = sorted((ROOT / "notebooks").glob("*.ipynb"))
@@ -210,15 +206,15 @@ def test_quick_values_are_injected_after_the_parameters_cell_as_papermill_does()
     assert len(grading.with_quick_values(plain).cells) == len(plain.cells)   # no quick values: unchanged
 
 
-def test_book_folds_a_written_answers_model_answer_in_place(tmp_path):
+def test_book_stubs_a_written_answers_model_answer_and_its_check_finds_one_shown(tmp_path):
     written = v4.new_markdown_cell("### BEGIN SOLUTION\n**Model answer.** By induction on $K$.\n\n"
                                    "**Rubric (2 points).** 1 point: the base case.\n### END SOLUTION",
                                    metadata={"nbgrader": {**GRADER, "grade_id": "proof", "points": 2}})
     nbformat.write(notebook(v4.new_markdown_cell("**Exercise 4.** Prove it."), written), tmp_path / "in.ipynb")
-    assert book_build.fold_solutions(tmp_path / "in.ipynb", tmp_path / "out.ipynb") == 1
+    assert book_build.student_exercises(tmp_path / "in.ipynb", tmp_path / "out.ipynb") == 1
     cell = nbformat.read(tmp_path / "out.ipynb", as_version=4).cells[-1]
-    assert cell.source.startswith("<details><summary>Show the model answer</summary>")
-    assert "BEGIN SOLUTION" not in cell.source and "**Rubric (2 points).**" in cell.source
+    assert "Model answer" not in cell.source and "Rubric" not in cell.source
     page = book_build.ROOT / "build" / "lesson.html"  # only named in the messages
-    folded = "<p>Prove it.</p><details><summary>Show</summary><p>By induction on K.</p></details>"
-    assert book_build.check_folded(tmp_path / "in.ipynb", page, folded) == []
+    assert book_build.check_folded(tmp_path / "in.ipynb", page, "<p>Prove it.</p><p>YOUR ANSWER HERE</p>") == []
+    shown = "<p>Prove it.</p>\n**Model answer.** By induction on $K$.\n"
+    assert book_build.check_folded(tmp_path / "in.ipynb", page, shown)

@@ -15,8 +15,9 @@ with the library's own one switched off, and raises ``AssertionError`` with a hi
 * `koch_target`, `carpet_target` and `two_map_target` read pictures shipped with the package
   (``targets/*.png``): a student fits the picture; the maps that drew it are not installed.
 """
-from .harness import LIBRARY, WriteItYourself, as_matrix, as_number, library_off, random_maps, run_answer
+from .harness import LIBRARY, WriteItYourself, as_matrix, as_number, library_off, plain, random_maps, run_answer
+from .library import ALLOWED, BANS
 from .targets import SIZES, carpet_target, koch_target, two_map_target
 
-__all__ = ["LIBRARY", "WriteItYourself", "library_off", "run_answer", "as_matrix", "as_number", "random_maps",
+__all__ = ["LIBRARY", "ALLOWED", "BANS", "plain", "WriteItYourself", "library_off", "run_answer", "as_matrix", "as_number", "random_maps",
            "SIZES", "koch_target", "carpet_target", "two_map_target"]

@@ -16,7 +16,7 @@ import numpy as np
 import torch
 
 from ...errors import IFSError
-from .library import LIBRARY
+from .library import ALLOWED, LIBRARY
 
 
 class WriteItYourself(RuntimeError):
@@ -260,8 +260,59 @@ def _filled(cell) -> bool:
     return True
 
 
+class _Watch:
+    """While a student's function runs, every call into ifslib outside ``allowed`` is refused.
+
+    A profile hook (`sys.setprofile`, and `threading.setprofile` for threads the function starts) sees
+    each Python call with the module it runs in (``frame.f_globals["__name__"]``): the library's own code
+    is refused by module, however it was reached (a re-export, a private helper, a copy of a function
+    made with the library's globals). A refusal is recorded before it is raised, so an answer that
+    catches it still fails; so does one that removes the hook.
+    """
+
+    def __init__(self, allowed: frozenset[str]):
+        self.allowed = allowed
+        self.refused: list[str] = []
+
+    def __call__(self, frame, event, arg):
+        if event == "call":
+            module = frame.f_globals.get("__name__") or ""
+            # "ifslib" itself only resolves its lazy names (a module's attribute), which are watched in turn
+            if module.startswith("ifslib.") and not self._allows(module):
+                name = f"{module}.{frame.f_code.co_name}"
+                self.refused.append(name)
+                raise WriteItYourself(name)
+        elif event == "c_call" and arg in _PROFILE_SETTERS and frame.f_code is not _Watch.__exit__.__code__:
+            self.refused.append(f"sys.{getattr(arg, '__name__', 'setprofile')}")
+            raise WriteItYourself("sys.setprofile")
+
+    def _allows(self, module: str) -> bool:
+        return module in self.allowed or any(module.startswith(a + ".") for a in self.allowed)
+
+    def __enter__(self):
+        self.before = sys.getprofile()
+        sys.setprofile(self)
+        threading.setprofile(self)
+        return self
+
+    def __exit__(self, *exc):
+        intact = sys.getprofile() is self
+        sys.setprofile(self.before)
+        threading.setprofile(None)
+        if not intact:
+            self.refused.append("the check's watch (sys.setprofile)")
+        return False
+
+
+_PROFILE_SETTERS = (sys.setprofile, sys.settrace, threading.setprofile, threading.settrace)
+
+
 def run_answer(answer, exercise: str, *args):
     """The student's function called on ``args`` while the library's own ``exercise`` functions are off.
+
+    While it runs, `LIBRARY`'s functions for ``exercise`` are switched off and every call into a module
+    of ifslib other than `ALLOWED`'s is refused (`_Watch`); what it returns is read as plain values
+    (`plain`), so an object that claims to equal anything is refused too.
 
     Parameters
     ----------
@@ -275,7 +326,7 @@ def run_answer(answer, exercise: str, *args):
     Returns
     -------
     object
-        What ``answer`` returned.
+        What ``answer`` returned, as `plain` values.
 
     Raises
     ------
@@ -287,24 +338,70 @@ def run_answer(answer, exercise: str, *args):
                               f"got {type(answer).__name__}.")
     held = _held_library(answer)
     assert held is None, f"that is {held.split('.')[0]}'s own function ({held}); write the {exercise} yourself."
+    watch = _Watch(ALLOWED.get(exercise, frozenset()) | {"ifslib.errors", __package__})
     try:
-        with library_off(exercise, answer):
-            return answer(*args)
+        with library_off(exercise, answer), watch:
+            result = answer(*args)
     except WriteItYourself as off:
-        whose, short = off.name.split(".")[0], off.name.rsplit(".", 1)[-1]
-        raise AssertionError(f"your function calls {whose}'s own {short} ({off.name}), directly or through "
-                             f"another function: write the {exercise} yourself (numpy and scipy's building "
-                             "blocks are fine).") from None
+        raise _calls_library(off.name, exercise) from None
     except AssertionError:
         raise
     except Exception as exc:  # noqa: BLE001  a student's bug is answered with a hint, not torch's traceback
+        if watch.refused:
+            raise _calls_library(watch.refused[0], exercise) from None
         raise AssertionError(f"your function raised {type(exc).__name__}: {exc}") from None
+    if watch.refused:
+        raise _calls_library(watch.refused[0], exercise)
+    return plain(result, f"your {exercise}")
+
+
+def _calls_library(name: str, exercise: str) -> AssertionError:
+    whose, short = name.split(".")[0], name.rsplit(".", 1)[-1]
+    return AssertionError(f"your function calls {whose}'s own {short} ({name}), directly or through another "
+                          f"function: write the {exercise} yourself (numpy and scipy's building blocks are fine).")
+
+
+#: Exact types a test reads as they are; a subclass (which may redefine ``==``) is refused.
+_NUMBERS = (bool, int, float, np.bool_, np.int8, np.int16, np.int32, np.int64, np.uint8, np.uint16, np.uint32,
+            np.uint64, np.float16, np.float32, np.float64)
+
+
+def plain(value, name: str = "your answer"):
+    """``value`` as plain data a test can compare without trusting it: exact numbers, strings, tuples,
+    lists, dicts, float or bool arrays, tensors; ``AssertionError`` for anything else.
+
+    numpy scalars become Python numbers, arrays plain ``numpy.ndarray`` copies, tensors plain
+    ``torch.Tensor`` (the graph kept, so that a loss still has its gradient); an `ifslib.IFS` or
+    ``None`` is returned as it is. A subclass of a number, string or container is refused: it can
+    answer ``==`` with anything.
+    """
+    from ...core.geometry.ifs import IFS
+
+    kind = type(value)
+    if value is None or kind is IFS:
+        return value
+    if kind in _NUMBERS:
+        return value.item() if isinstance(value, np.generic) else value
+    if kind is str:
+        return value
+    if kind in (tuple, list):
+        return kind(plain(v, name) for v in value)
+    if kind is dict:
+        return {plain(k, name): plain(v, name) for k, v in value.items()}
+    if kind is np.ndarray:
+        assert value.dtype.kind in "biuf", f"{name}: give numbers, got an array of {value.dtype}."
+        return np.array(value, dtype=bool if value.dtype.kind == "b" else float)
+    if kind in (torch.Tensor, torch.nn.Parameter):
+        return value.as_subclass(torch.Tensor) if kind is torch.nn.Parameter else value
+    raise AssertionError(f"{name}: give plain numbers, strings, lists, tuples, dicts or arrays, "
+                         f"got {kind.__module__}.{kind.__qualname__}.")
 
 
 def as_matrix(answer, shape: tuple[int, ...], name: str) -> np.ndarray:
     """``answer`` (a list, array or tensor) as a float64 array of ``shape``; ``AssertionError`` with a hint otherwise."""
     assert answer is not None and answer is not Ellipsis, f"{name}: write your answer first."
     assert not callable(answer), f"{name}: give the numbers themselves, not a function."
+    answer = plain(answer, name)
     try:
         value = np.asarray(answer.detach().numpy() if isinstance(answer, torch.Tensor) else answer, dtype=float)
     except (TypeError, ValueError):
@@ -316,6 +413,7 @@ def as_matrix(answer, shape: tuple[int, ...], name: str) -> np.ndarray:
 
 def as_number(answer, name: str) -> float:
     """``answer`` (an int, a float or a one-number array or tensor) as a finite float; ``AssertionError`` otherwise."""
+    answer = plain(answer, name)
     if isinstance(answer, torch.Tensor) and answer.numel() == 1:
         answer = answer.item()
     elif isinstance(answer, np.ndarray) and answer.size == 1:

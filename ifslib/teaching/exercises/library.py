@@ -57,8 +57,41 @@ LIBRARY = {
                         ("scipy.stats._binomtest", "_binom_wilson_conf_int")],
     # the fractal search's copies matched by moments, and the shape starts' (one per k-means part)
     "copy map": [("ifslib.automatic.fractal.regions", "moment_maps"), ("ifslib.automatic.auto", "shape_maps")],
+    # exercises whose library equivalent is only the watch's (no module of ifslib may be called)
+    "stalled": [], "choose maps": [], "least squares": [],
+    "rotation": [("ifslib.splatting.parameters", "_rotation")],
+    "largest changes": [],
     # the quadtree's flags, and the flags and maps' bits together
     "bit budget": [("ifslib.compression.code", "split_flag_count"), ("ifslib.compression.code", "Code.bits")],
 }
 # read-only, so that an answer cell cannot empty an exercise's list (LIBRARY["iou"] = [])
 LIBRARY = types.MappingProxyType({exercise: tuple(places) for exercise, places in LIBRARY.items()})
+
+#: The modules of ifslib a student's function may call while its test runs (what its inputs are made of:
+#: a target's pixels, a pattern's point count, a compressed code's fields); every other module of ifslib
+#: is refused while it runs (`run_answer`), whatever route reaches it.
+ALLOWED = types.MappingProxyType({
+    "best-fit-line start": frozenset({"ifslib.core.targets", "ifslib.core.geometry.ifs",
+                                      "ifslib.core.raster.nearest"}),
+    "bit budget": frozenset({"ifslib.compression.code", "ifslib.compression.domains",
+                             "ifslib.compression.config", "ifslib.compression.quantize"}),
+    # the exercise asks for a loop over the decoder's pass (iterate_offset) and its plan
+    "largest changes": frozenset({"ifslib.compression.decode", "ifslib.compression.config"}),
+})
+
+#: Names an answer cell (and the cells it reads from) may not mention, by the answer's nbgrader
+#: ``grade_id``: the library's routes to a number or an object the exercise asks the student to work out,
+#: which no switch-off can reach because the answer is a value, not a function.
+BANS = types.MappingProxyType({
+    "00_tutorial-koch-t3": frozenset({"koch_unit", "koch", "koch_like", "maps", "rules", "patterns"}),
+    "00_tutorial-scaled-distance": frozenset({"distance_field", "render", "sdf_dense", "metrics"}),
+    "01_koch_iterations-koch-depth": frozenset({"depth_to_attractor", "attractor_depth", "expand_attractor"}),
+    "02_fitting_gallery-shifted-line": frozenset({"metrics", "scores", "evaluate", "distance_transform_edt"}),
+    "03_gradient_fields-further-out": frozenset({"scores"}),
+    "06_convergence_study-rotation": frozenset({"_rotation", "splatting", "parameters", "rules"}),
+    "05_more_examples-carpet-fit": frozenset({"auto", "automatic", "discover", "fit_plan", "fit_many"}),
+    "06_convergence_study-seeds-needed": frozenset({"binomtest", "proportion_ci", "proportion_confint"}),
+    "07_your_own_image-two-maps": frozenset({"auto", "automatic", "discover", "fit_plan", "fit_many",
+                                             "moment_maps", "shape_maps", "sqrtm_psd"}),
+    "09_measures_and_dimension-box-by-hand": frozenset({"dimension", "box_counting", "box_dimension"}),
+})

@@ -1,0 +1,109 @@
+"""nbgrader's autograde, made not to trust the student's kernel: read the cells a student wrote before
+running them, and give no points to the tests that code could have fooled.
+
+`ScanCells` runs before nbgrader's ``Execute``: it reads the submission's answer cells and the cells the
+student added (every lesson cell is locked in the release, so nbgrader restores it) with
+`ifslib.teaching.exercises.integrity.scan`, in this process, where nothing the kernel runs can reach.
+`FailFooled` runs after ``Execute``: each test the findings touch gets an error output naming the cell
+and the construct, so nbgrader scores it 0 and the feedback says why. A finding that rebinds a name
+touches every test after its cell; a banned mention touches its own exercise's test.
+`HideTests` is for ``generate_feedback``: the hidden tests' lines out of the test cells and each
+error's traceback reduced to its message, so that the feedback holds no line of a hidden test.
+
+``course/nbgrader_config.py`` puts them in nbgrader's pipelines; ``course/grading.py`` copies this file
+beside it.
+"""
+from __future__ import annotations
+
+import re
+
+from nbformat.v4 import new_output
+from nbgrader.api import Gradebook, MissingEntry
+from nbgrader.preprocessors import NbGraderPreprocessor
+
+from ifslib.teaching.exercises import BANS
+from ifslib.teaching.exercises.integrity import bound_names, global_reads, imported_names, scan
+
+SOLUTION = re.compile(r"### BEGIN SOLUTION.*?### END SOLUTION", re.S)
+HIDDEN = re.compile(r"[ \t]*### BEGIN HIDDEN TESTS.*?### END HIDDEN TESTS[ \t]*\n?", re.S)
+
+
+def _meta(cell) -> dict:
+    return cell.metadata.get("nbgrader", {}) or {}
+
+
+def _student(cell) -> bool:
+    """An answer cell, or a cell the student added (the release locks every other code cell)."""
+    meta = _meta(cell)
+    return cell.cell_type == "code" and (meta.get("solution", False) or not meta.get("grade_id"))
+
+
+class ScanCells(NbGraderPreprocessor):
+    """Read the student's cells for what changes the checks (before the notebook runs)."""
+
+    def preprocess(self, nb, resources):
+        code = [(k, c) for k, c in enumerate(nb.cells) if c.cell_type == "code"]
+        mine = [(k, c) for k, c in code if _student(c)]
+        lesson = [c for _, c in code if not _student(c)]
+        stubs = self._stubs(resources, [c for _, c in mine])
+        label = {k: _meta(c).get("grade_id") or f"added cell {k}" for k, c in mine}
+        own = {label[k]: bound_names(stubs.get(label[k], "")) for k, _ in mine}
+        tests = [c for c in lesson if _meta(c).get("grade")]
+        reads = set().union(*(global_reads(c.source) for c in tests)) if tests else set()
+        bound = set().union(*(bound_names(c.source) for c in lesson if not _meta(c).get("grade"))) if lesson else set()
+        findings = scan([(label[k], c.source) for k, c in mine], imported_names(c.source for c in lesson),
+                        (reads & bound) - set().union(set(), *own.values()), own,
+                        {name: BANS[name] for name in label.values() if name in BANS})
+        index = {v: k for k, v in label.items()}
+        resources.setdefault("ifslib_findings", {})[resources["unique_key"]] = [(index[f.cell], f) for f in findings]
+        for _, finding in resources["ifslib_findings"][resources["unique_key"]]:
+            self.log.warning("untrusted: %s: %s", resources["unique_key"], finding)
+        return nb, resources
+
+    def _stubs(self, resources, cells) -> dict[str, str]:
+        """grade_id -> the answer cell as released (the source's solution cut out): the names it asks for."""
+        info = resources.get("nbgrader", {})
+        out = {}
+        try:
+            with Gradebook(info["db_url"]) as book:
+                for cell in cells:
+                    name = _meta(cell).get("grade_id")
+                    if name:
+                        try:
+                            source = book.find_source_cell(name, info["notebook"], info["assignment"]).source
+                        except MissingEntry:
+                            continue
+                        out[name] = SOLUTION.sub("...", source)
+        except KeyError:   # run outside nbgrader (a test): each answer's own cell is its stub
+            out = {_meta(c).get("grade_id"): SOLUTION.sub("...", c.source) for c in cells if _meta(c).get("grade_id")}
+        return out
+
+
+class FailFooled(NbGraderPreprocessor):
+    """Give an error output, so 0 points, to every test the findings of `ScanCells` touch (after it ran)."""
+
+    def preprocess(self, nb, resources):
+        findings = resources.get("ifslib_findings", {}).get(resources["unique_key"], [])
+        for index, finding in findings:
+            later = [k for k in range(index + 1, len(nb.cells)) if _meta(nb.cells[k]).get("grade")
+                     and nb.cells[k].cell_type == "code"]
+            touched = later[:1] if finding.kind == "uses the library's answer" else later
+            for k in touched:
+                nb.cells[k].outputs.append(new_output(
+                    "error", ename="NotTrusted", evalue=f"{finding}: this test is not trusted and gets no points",
+                    traceback=[f"NotTrusted: {finding}"]))
+        return nb, resources
+
+
+class HideTests(NbGraderPreprocessor):
+    """Feedback without the hidden tests: their lines cut from the test cells, tracebacks cut to their message."""
+
+    def preprocess(self, nb, resources):
+        for cell in nb.cells:
+            if cell.cell_type != "code" or not _meta(cell).get("grade"):
+                continue
+            cell.source = HIDDEN.sub("", cell.source)
+            for output in cell.get("outputs", []):
+                if output.output_type == "error":
+                    output.traceback = [f"{output.ename}: {output.evalue}"]
+        return nb, resources
