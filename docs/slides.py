@@ -299,7 +299,7 @@ def pre(text: str, cls: str = "") -> str:
 # ---------------------------------------------------------------------------------------------------
 # Notebooks: sections, exercises, captions, and the slides of a section
 
-#: An exercise's first paragraph: ``**Exercise 2 (apply): a title.**`` or a heading ``### Exercise 2 (code). A title``
+#: An exercise's first paragraph: ``**Exercise 2 (apply): a title.**`` or a heading ``### Exercise 2 (apply). A title``
 EXERCISE = re.compile(r"\s*(?:\*\*(Exercise\b[^*]*?)[.:]?\*\*[.:]?|#{1,6}[ \t]+(Exercise\b[^\n]*?)[.:]?[ \t]*(?:\n|$))\s*")
 #: A figure's caption written under it (notebook 10's convention): ``*Figure: what it shows.*``
 FIGURE_CAPTION = re.compile(r"\s*\*Figure:\s*(.+?)\.?\*(?=\s|$)", re.S)
