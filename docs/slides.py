@@ -299,7 +299,7 @@ def pre(text: str, cls: str = "") -> str:
 # ---------------------------------------------------------------------------------------------------
 # Notebooks: sections, exercises, captions, and the slides of a section
 
-#: An exercise's first paragraph: ``**Exercise 2 (apply): a title.**`` or a heading ``### Exercise 2 (code). A title``
+#: An exercise's first paragraph: ``**Exercise 2 (apply): a title.**`` or a heading ``### Exercise 2 (apply). A title``
 EXERCISE = re.compile(r"\s*(?:\*\*(Exercise\b[^*]*?)[.:]?\*\*[.:]?|#{1,6}[ \t]+(Exercise\b[^\n]*?)[.:]?[ \t]*(?:\n|$))\s*")
 #: A figure's caption written under it (notebook 10's convention): ``*Figure: what it shows.*``
 FIGURE_CAPTION = re.compile(r"\s*\*Figure:\s*(.+?)\.?\*(?=\s|$)", re.S)
@@ -470,9 +470,10 @@ def figure_caption(cells, index: int) -> str:
     """The caption of the figure that the code cell ``cells[index]`` draws, as markdown:
 
     1. a caption written under the cell, ``*Figure: ...*`` (the convention of the later notebooks);
-    2. else the sentence before it that says what it shows (`pointer_sentence`) in the last prose
-       paragraph before the cell, looking back over code cells without a figure, not past a heading,
-       another figure or an exercise's answer;
+    2. else the sentence before it that says what it shows (`pointer_sentence`, without an opening
+       "Below": the caption sits under the figure) in the last prose paragraph before the cell,
+       looking back over code cells without a figure, not past a heading, another figure or an
+       exercise's answer;
     3. else the title its code gives the figure (``suptitle``, ``set_title``);
     4. else the heading of its section.
     """
@@ -492,12 +493,22 @@ def figure_caption(cells, index: int) -> str:
                 head = _HEADING.match(paragraph).group(2).strip()
                 break
             if not blocked and (_prose(paragraph) or exercise_title(paragraph)) and pointer_sentence(paragraph):
-                return pointer_sentence(paragraph)
+                return _under(pointer_sentence(paragraph))
         blocked = blocked or bool(_nbgrader(cell))
         if head:
             break
     # a figure that opens its section is captioned by the heading; one after another figure, by its title
     return (head if not blocked else "") or _code_title(cells[index].source) or head
+
+
+def _under(sentence: str) -> str:
+    """A sentence that points at a figure, as the caption placed under it: "Below, three choices
+    drawn." reads "Three choices drawn." (a caption under its figure cannot say "below")."""
+    text = re.sub(r"^Below\b[,:]?\s*", "", sentence)
+    if text == sentence or not text:
+        return sentence
+    text = text[0].upper() + text[1:]
+    return text[:-1] + "." if text.endswith(":") else text
 
 
 def plain(text: str) -> str:

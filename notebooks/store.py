@@ -5,8 +5,10 @@ slides. `store` executes a notebook top to bottom in a fresh kernel at its teach
 ``parameters`` cell, nothing injected, so the stored cells are the source's), drops the progress
 bars and records the run in ``metadata["ifslib"]["stored"]``: the preset, the torch thread count
 and the parameters it ran with (tests/notebooks/test_stored_runs.py holds the stored notebooks to
-them). `run.py` reads the teaching values and hands them here, and also writes the figure to
-``figures/``; the quick values (``make test``) never reach the stored outputs.
+them), and its time in whole seconds, the one source of the times that the notebooks' first cells
+and docs/guide/teaching.md give (tests/teaching/test_run_times.py holds them to it). `run.py` reads
+the teaching values and hands them here, and also writes the figure to ``figures/``; the quick
+values (``make test``) never reach the stored outputs.
 
 Progress bars are not stored: a tqdm widget's view is stored without its final state, so a
 reader sees it at "0%", and a bar on standard error is hundreds of redraws. The kernels run with
@@ -18,6 +20,7 @@ from __future__ import annotations
 
 import os
 import re
+import time
 from pathlib import Path
 
 import nbformat
@@ -103,6 +106,7 @@ def store(path: Path, dest: Path, figures: Path, parameters: dict, timeout: int 
     this process's ``IFSLIB_THREADS``, with its figure written to ``figures`` (``IFSLIB_FIGURES``:
     an empty ``save_to`` falls back on it), the inline backend and no progress bar.
     """
+    started = time.perf_counter()
     book = nbformat.read(path, as_version=4)
     env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}  # inline: the figures are stored
     env.update(IFSLIB_FIGURES=str(figures), TQDM_DISABLE="1")
@@ -115,6 +119,6 @@ def store(path: Path, dest: Path, figures: Path, parameters: dict, timeout: int 
     meta.pop("threads", None)  # recorded in "stored" now
     threads = env.get("IFSLIB_THREADS", "auto")
     meta["stored"] = {"preset": "teaching", "threads": int(threads) if threads.isdigit() else threads,
-                      "parameters": parameters}
+                      "parameters": parameters, "seconds": round(time.perf_counter() - started)}
     dest.parent.mkdir(parents=True, exist_ok=True)
     nbformat.write(book, dest)

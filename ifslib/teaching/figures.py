@@ -31,7 +31,7 @@ from ..core.raster.render import figure_mask, render  # noqa: E402
 from ..core.targets.target import Target, foreground_points  # noqa: E402
 
 EXTENT = (-0.5, 0.5, -0.5, 0.5)
-#: One colour a map for `copies_image`: orange, blue, green, pink, then again.
+#: One colour a map for `copies_image` up to four maps: orange, blue, green, pink (more: tab10, then tab20).
 COPY_COLOURS = ((1.0, 0.5, 0.05), (0.1, 0.6, 1.0), (0.2, 0.9, 0.2), (1.0, 0.2, 0.6))
 
 
@@ -187,7 +187,8 @@ def copies_image(maps, target: Target) -> np.ndarray:
     """The target in dark gray with each map's copy of it, ``T_i(A)``, tinted in one colour a map.
 
     Each figure pixel centre of ``target`` is carried by each map and the pixel it lands on is
-    blended half way toward that map's colour (`COPY_COLOURS`), so overlapping copies mix.
+    blended half way toward that map's colour (`COPY_COLOURS`; for more than four maps tab10's ten
+    colours, tab20's twenty beyond), so overlapping copies mix; maps past twenty reuse colours.
 
     Parameters
     ----------
@@ -206,12 +207,14 @@ def copies_image(maps, target: Target) -> np.ndarray:
     image = np.zeros((n, n, 3))
     image[np.asarray(target.mask, bool)] = 0.3
     points = foreground_points(target)
+    colours = COPY_COLOURS if len(maps) <= len(COPY_COLOURS) else \
+        plt.get_cmap("tab10" if len(maps) <= 10 else "tab20").colors
     for i, m in enumerate(maps):
         x, y = (points @ m[:, :2].T + m[:, 2]).T
         col = np.rint((x + 0.5) * n - 0.5).astype(int)  # plane units to pixel indices
         row = np.rint((0.5 - y) * n - 0.5).astype(int)
         on = (row >= 0) & (row < n) & (col >= 0) & (col < n)
-        colour = np.array(COPY_COLOURS[i % len(COPY_COLOURS)])
+        colour = np.array(colours[i % len(colours)])
         image[row[on], col[on]] = 0.5 * image[row[on], col[on]] + 0.5 * colour
     return image
 

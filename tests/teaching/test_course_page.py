@@ -195,7 +195,7 @@ def table(text):
 class Exercise:
     notebook: str       # 09_measures_and_dimension
     label: str          # its number as the notebook writes it ("1b"), "" when it has none
-    title: str          # "Exercise 1 (pen and paper). Moran's equation with two scales"
+    title: str          # "Exercise 1 (apply, pen and paper). Moran's equation with two scales"
     written: bool       # answered on paper: a graded markdown cell
     points: int
 

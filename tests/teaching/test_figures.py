@@ -44,6 +44,14 @@ def test_copies_image_moves_a_copy_by_its_translation(square):
     assert np.all(image[~(square.mask | second)] == 0)
 
 
+def test_copies_image_gives_ten_copies_ten_colours(square):
+    # ten copies shrunk to a pixel each, in a row above the figure: ten colours (tab10), none repeated
+    maps = np.array([[[1 / 16, 0, (k - 4.5) / 16], [0, 1 / 16, 0.3]] for k in range(10)])
+    image = figures.copies_image(maps, square)
+    row = image[np.rint((0.5 - 0.3) * 16 - 0.5).astype(int)]
+    assert len({tuple(np.round(c, 6)) for c in row if c.any()}) == 10
+
+
 def test_copies_image_drops_what_lands_outside_the_frame(square):
     far = np.array([[[1.0, 0, 2.0], [0, 1.0, 0]]])   # the copy lies two frames to the right
     image = figures.copies_image(far, square)

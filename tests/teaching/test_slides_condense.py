@@ -271,7 +271,9 @@ def test_a_figure_is_captioned_by_the_sentence_that_points_at_it_else_by_its_tit
              v4.new_code_cell("draw()", outputs=[_png_output()]),
              v4.new_code_cell('fig.suptitle(f"The measure at {size}², two ways")\nplt.show()', outputs=[_png_output()]),
              v4.new_code_cell('ax.set_title(f"iteration {k}: {psnr(x):.1f} dB")', outputs=[_png_output()])]
-    assert slides.figure_caption(cells, 1) == "Below, three choices drawn as histograms."
+    assert slides.figure_caption(cells, 1) == "Three choices drawn as histograms."   # under it: no "Below"
+    colon = [v4.new_markdown_cell("Below: the root, and box counting:"), cells[1]]
+    assert slides.figure_caption(colon, 1) == "The root, and box counting."
     assert slides.figure_caption(cells, 2) == "The measure at `size`², two ways"      # after a figure: its title
     # a sentence that points "above" speaks of an earlier output
     back = [v4.new_markdown_cell("The target above is the library's. The last exercise is a curve drawn at random."),
@@ -324,7 +326,7 @@ def test_lecture_6_shows_its_exercises_and_figures_where_the_notebooks_put_them(
     shown = [s for column in columns for s in column]
     assert not any("statement is not in" in s.body for s in shown)
     assert sum(s.kind == "exercise" for s in shown) == 8
-    table = next(s for s in shown if s.title.startswith("Exercise 3 (by hand)"))
+    table = next(s for s in shown if s.title.startswith("Exercise 3 (recall, by hand)"))
     assert "<table>" in table.body and "318" in table.body        # the counts, on the slide
     title = {s.caption: s.title for s in shown if s.kind == "figure"}
     assert title["The decoder's iterates from a black `size`² image (128²), with their PSNR against the photograph."] \
@@ -383,5 +385,5 @@ def test_outline_lists_each_slide_with_its_heading_and_words(real_decks):
     lecture, columns = real_decks["lecture6"]
     lines = slides.outline(columns)
     assert len(lines) == sum(len(c) for c in columns)
-    assert any(line.startswith(tuple(f"{h}." for h in range(len(columns)))) and " exercise | Exercise 3 (by hand)" in line
+    assert any(line.startswith(tuple(f"{h}." for h in range(len(columns)))) and " exercise | Exercise 3 (recall, by hand)" in line
                and "318" in line for line in lines)
