@@ -12,7 +12,7 @@ export IFSLIB_DATA
 # __pycache__ folders that git ignores)
 export PYTHONDONTWRITEBYTECODE :=
 
-.PHONY: setup setup-grading test test-fast figures book slides student student-binder setup-browser test-browser bench clean
+.PHONY: setup setup-grading test test-fast test-stored figures book slides student student-binder setup-browser test-browser bench clean
 
 # pyproject.toml declares ranges; constraints.txt pins the versions the tests ran with (torch==2.13.0:
 # this machine's local CPU wheel, never a multi-GB CUDA build from the index).
@@ -42,6 +42,16 @@ setup: $(VENV)/.installed $(VENV)/.installed-grading $(VENV)/.installed-docs  ##
 # quick values (metadata["ifslib"]["quick"]) in a temporary copy, and its figure is compared on the same worker
 test: $(VENV)/.installed  ## run the whole test suite (every notebook at its quick values)
 	$(PY) -m pytest -q -n auto --dist loadscope -m "not grading"
+
+# The stored notebooks run again at their teaching values, in a fresh kernel each (nbval, strict: every
+# checked cell's text compared, sanitized by notebooks/nbval-sanitize.cfg, and its pictures by
+# tests/nbval_stored.py), as many at once as the cores hold at one thread each (notebooks/run.py's way).
+# NOTEBOOKS: name prefixes or paths, e.g. `make test-stored NOTEBOOKS="00_tutorial 01 03 glossary"`; all by default.
+NOTEBOOKS ?=
+STORED = $(if $(strip $(NOTEBOOKS)),$(foreach n,$(NOTEBOOKS),$(if $(filter %.ipynb,$(n)),$(n),$(wildcard notebooks/$(n)*.ipynb))),$(wildcard notebooks/[0-9][0-9]_*.ipynb) notebooks/glossary.ipynb)
+test-stored: $(VENV)/.installed  ## the stored notebooks run again and compared with their outputs, pictures included (nbval; NOTEBOOKS="01 03")
+	$(PY) -m pytest -p tests.nbval_stored --nbval --nbval-current-env --nbval-sanitize-with notebooks/nbval-sanitize.cfg \
+		-n auto --dist loadfile -q $(sort $(STORED))
 
 # the inner loop of work: the library's quick tests, without the notebooks' runs and the slow searches
 test-fast: $(VENV)/.installed  ## the library's quick tests: no notebook, no whole fractal search (under a minute)

@@ -64,3 +64,16 @@ def test_no_cell_keeps_the_timestamps_of_another_run(path):
     # cells of the stored run wrongly (and a reader would add them up to the notebook's run time)
     stamped = [k for k, c in enumerate(load(path)["cells"]) if "execution" in c.get("metadata", {})]
     assert not stamped, f"{path.name}: cells {stamped} keep metadata['execution'] timestamps; {again(path)}"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_no_cell_hides_its_result_with_a_trailing_semicolon(path):
+    # make test-stored runs the stored notebooks under nbval, whose kernel executes without storing
+    # history; IPython then reads the ';' of the cell run before, not this one's, so `fig.colorbar(...);`
+    # shows `<matplotlib.colorbar.Colorbar at 0x...>` there and nothing in the stored run. `_ = ...`
+    # hides a result under both.
+    from IPython.core.displayhook import DisplayHook
+
+    cells = [k for k, c in enumerate(load(path)["cells"]) if c["cell_type"] == "code"
+             and DisplayHook.semicolon_at_end_of_expression("".join(c["source"]))]
+    assert not cells, f"{path.name}: cells {cells} end with ';' to hide a result; assign it instead (`_ = ...`)"
