@@ -4,15 +4,20 @@
     python course/grading.py build/course --check    # then autograde the instructor's source and the blank
                                                      # release, and fail unless they score full and 0
 
-The assignment ``ifs`` holds every notebook of ``notebooks/`` with nbgrader cells (every lesson
-but the explorer and the glossary), each at its teaching values with a locked grading cell after its
+One assignment per lecture (``lecture1`` ... ``lecture6``, the decks of ``docs/slides/lectures.yaml``;
+a notebook taught over two lectures is due with the later one), so that each can be due the week of
+its lecture. Each graded notebook is at its teaching values with a locked grading cell after its
 parameters cell (``grading_run.py``): while nbgrader executes it (autograde, Validate) the lesson runs
-at its grading sizes and skips the demonstrations no check needs. ``--quick`` also injects each
-notebook's quick values (``metadata["ifslib"]["quick"]``) after its parameters cell. ``--check`` submits
-three students: ``instructor`` (the source, solved: every auto-graded point), ``blank`` (the release,
-unanswered: 0) and ``lazy`` (the release answered the laziest way, ``lazy_submission.py``: under half),
-autogrades them with nbgrader itself and prints each one's auto-graded points, the cells left for
-manual grading (the written answers) and how long its autograde took.
+at its grading sizes and skips the demonstrations no check needs; every other code cell of the lesson
+is locked, so nbgrader restores it before it grades. ``nbgrader_checks.py`` reads each submission's
+own cells before they run and gives 0 to the tests they could fool, and keeps the hidden tests out of
+the feedback. ``--quick`` also injects each notebook's quick values (``metadata["ifslib"]["quick"]``).
+``--check`` first makes sure the paper's images can be found, then submits four students:
+``instructor`` (the source, solved: every auto-graded point, no tamper alarm, nothing untrusted),
+``blank`` (the release, unanswered: 0), ``lazy`` (``lazy_submission.py``: under half) and ``tricks``
+(``tricks_submission.py``: under half), autogrades them with nbgrader itself, prints each one's points,
+the cells left for manual grading and how long its autograde took, and checks that the feedback
+``nbgrader generate_feedback`` writes holds no line of a hidden test.
 """
 from __future__ import annotations
 
@@ -37,7 +42,19 @@ ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 CONFIG = Path(__file__).resolve().parent / "nbgrader_config.py"
 CHECKS = Path(__file__).resolve().parent / "nbgrader_checks.py"
-ASSIGNMENT = "ifs"
+LECTURES = ROOT / "docs" / "slides" / "lectures.yaml"
+
+
+def lecture_of() -> dict[str, str]:
+    """notebook name -> the assignment it belongs to: the last lecture whose deck holds it (the tutorial,
+    taught over lectures 1 and 2, is due with lecture 2), from ``docs/slides/lectures.yaml``."""
+    import yaml
+
+    out = {}
+    for deck in yaml.safe_load(LECTURES.read_text()):
+        for part in deck["parts"]:
+            out[part["notebook"]] = deck["deck"]
+    return out
 
 
 def is_graded(book) -> bool:
@@ -45,15 +62,16 @@ def is_graded(book) -> bool:
     return any(cell.metadata.get("nbgrader") for cell in book.cells)
 
 
-def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[str]:
-    """Write ``course/nbgrader_config.py`` and ``course/source/ifs/`` (the graded notebooks); returns their names."""
+def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> dict[str, list[str]]:
+    """Write ``course/nbgrader_config.py`` and ``course/source/<lecture>/`` (the graded notebooks, one
+    assignment per lecture: `lecture_of`); returns assignment -> its notebooks' names."""
     if course.exists():
         shutil.rmtree(course)
-    folder = course / "source" / ASSIGNMENT
-    folder.mkdir(parents=True)
+    (course / "source").mkdir(parents=True)
     shutil.copy2(CONFIG, course / "nbgrader_config.py")
     shutil.copy2(CHECKS, course / "nbgrader_checks.py")
-    names = []
+    lectures = lecture_of()
+    names: dict[str, list[str]] = {}
     for path in sorted(source.glob("*.ipynb")):
         book = nbformat.read(path, as_version=4)
         if is_graded(book):
@@ -62,8 +80,12 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> list[
                         load_script("notebooks/run.py", "ifslib_notebooks_run").teaching_parameters(path))
             book = lock_lesson(with_grading_cell(with_quick_values(book) if quick else book, path.stem, teaching),
                                path.stem)
-            nbformat.write(book, folder / path.name)
-            names.append(path.stem)
+            assignment = lectures.get(path.stem)
+            if assignment is None:
+                raise SystemExit(f"{path.name} has exercises but no lecture in {LECTURES.relative_to(ROOT)}")
+            (course / "source" / assignment).mkdir(exist_ok=True)
+            nbformat.write(book, course / "source" / assignment / path.name)
+            names.setdefault(assignment, []).append(path.stem)
     if not names:
         raise SystemExit(f"no notebook in {source} has nbgrader cells")
     return names
@@ -106,9 +128,11 @@ def nbgrader(course: Path, *args: str) -> str:
 
 
 def generate(course: Path) -> Path:
-    """``nbgrader generate_assignment``: the release folder (solutions and hidden tests removed)."""
-    nbgrader(course, "generate_assignment", ASSIGNMENT)
-    return course / "release" / ASSIGNMENT
+    """``nbgrader generate_assignment`` of every assignment laid out: the release folder, one folder an
+    assignment (solutions and hidden tests removed)."""
+    for folder in sorted((course / "source").iterdir()):
+        nbgrader(course, "generate_assignment", folder.name)
+    return course / "release"
 
 
 @dataclass(frozen=True)
@@ -118,37 +142,42 @@ class Score:
     student: str
     auto: float          # points the test cells gave
     auto_max: float
+    seconds: float       # nbgrader autograde's time, every assignment together
     written: int         # written answer cells (markdown, graded by a person)
     manual_cells: int    # of them, those nbgrader left for manual grading (an unchanged one gets 0 at once)
     alarms: int = 0      # nbgrader's tamper alarms ("Attribute ... has changed") in its autograde
     not_trusted: int = 0  # findings of nbgrader_checks.ScanCells (constructs that change the checks)
 
     def line(self) -> str:
-        return (f"{self.student}: auto points {self.auto:g} of {self.auto_max:g}, "
+        return (f"{self.student}: auto points {self.auto:g} of {self.auto_max:g} in {self.seconds:.0f} s, "
                 f"manual cells {self.manual_cells} of {self.written} written answers, "
                 f"{self.alarms} tamper alarms, {self.not_trusted} untrusted constructs")
 
 
 def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
-    """Submit each folder as a student, run ``nbgrader autograde`` and read the gradebook."""
-    logs = {}
-    for student, folder in submissions.items():
-        target = course / "submitted" / student / ASSIGNMENT
-        shutil.copytree(folder, target, dirs_exist_ok=True)
-        started = time.perf_counter()
-        logs[student] = nbgrader(course, "autograde", ASSIGNMENT, "--student", student, "--create")
-        print(f"  autograded {student} in {time.perf_counter() - started:.0f} s", flush=True)
+    """Submit each folder (one subfolder an assignment) as a student, run ``nbgrader autograde`` on each
+    assignment, print its time, and read the gradebook."""
     from nbgrader.api import Gradebook
 
+    logs, seconds = {}, {}
+    for student, folder in submissions.items():
+        logs[student], seconds[student] = "", 0.0
+        for assignment in sorted(p.name for p in folder.iterdir() if p.is_dir()):
+            shutil.copytree(folder / assignment, course / "submitted" / student / assignment, dirs_exist_ok=True)
+            started = time.perf_counter()
+            logs[student] += nbgrader(course, "autograde", assignment, "--student", student, "--create")
+            took = time.perf_counter() - started
+            seconds[student] += took
+            print(f"  autograded {student}'s {assignment} in {took:.0f} s", flush=True)
     scores = []
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as book:
         for student in submissions:
-            grades = [grade for notebook in book.find_submission(ASSIGNMENT, student).notebooks
-                      for grade in notebook.grades]
+            grades = [grade for assignment in book.assignments for notebook in
+                      book.find_submission(assignment.name, student).notebooks for grade in notebook.grades]
             tests = [g for g in grades if g.cell_type == "code"]
             written = [g for g in grades if g.cell_type == "markdown"]
             scores.append(Score(student, sum(g.auto_score or 0 for g in tests), sum(g.max_score for g in tests),
-                                len(written), sum(bool(g.needs_manual_grade) for g in written),
+                                seconds[student], len(written), sum(bool(g.needs_manual_grade) for g in written),
                                 logs[student].count("has changed!"), logs[student].count("untrusted:")))
             failed = [g.name for g in tests if (g.auto_score or 0) < g.max_score]
             if failed and student == "instructor":
@@ -156,23 +185,47 @@ def autograde(course: Path, submissions: dict[str, Path]) -> list[Score]:
     return scores
 
 
-def check(course: Path, names: list[str]) -> int:
+def feedback_leaks(course: Path, student: str) -> list[str]:
+    """``nbgrader generate_feedback`` for ``student``; the lines of hidden tests its HTML holds (none, we hope)."""
+    import html
+    import re
+
+    from nbgrader_checks import HIDDEN
+
+    hidden = set()
+    for path in (course / "source").glob("*/*.ipynb"):
+        for cell in nbformat.read(path, as_version=4).cells:
+            for block in HIDDEN.findall(cell.source):
+                hidden |= {line.strip() for line in block.splitlines()[1:-1] if len(line.strip()) > 12}
+    leaks = []
+    for assignment in sorted(p.name for p in (course / "source").iterdir()):
+        nbgrader(course, "generate_feedback", assignment, "--student", student)
+    for page in (course / "feedback" / student).glob("*/*.html"):
+        text = html.unescape(re.sub(r"<[^>]+>", "", page.read_text(encoding="utf-8")))
+        shown = {line.strip() for line in text.splitlines()}
+        leaks += [f"{page.name}: {line}" for line in sorted(hidden & shown)]
+    return leaks
+
+
+def check(course: Path, names: dict[str, list[str]]) -> int:
     """Autograde the solved source, the blank release and a lazy submission (``lazy_submission.py``);
     0 when they score full, 0 and under half of the auto-graded points, else 1."""
     from lazy_submission import passed_tests, write_lazy
     from tricks_submission import write_tricks
 
-    release, lazy_folder = course / "release" / ASSIGNMENT, course / "lazy" / ASSIGNMENT
-    tricks_folder = course / "tricks" / ASSIGNMENT
-    write_lazy(release, lazy_folder)
-    write_tricks(release, tricks_folder)
-    scores = autograde(course, {"instructor": course / "source" / ASSIGNMENT, "blank": release, "lazy": lazy_folder,
-                                "tricks": tricks_folder})
+    release = course / "release"
+    for assignment in names:
+        write_lazy(release / assignment, course / "lazy" / assignment)
+        write_tricks(release / assignment, course / "tricks" / assignment)
+    scores = autograde(course, {"instructor": course / "source", "blank": release, "lazy": course / "lazy",
+                                "tricks": course / "tricks"})
     for score in scores:
         print(score.line(), flush=True)
     for student in ("lazy", "tricks"):
-        walked = passed_tests(course / "gradebook.db", ASSIGNMENT, student)
+        walked = [t for a in names for t in passed_tests(course / "gradebook.db", a, student)]
         print(f"  {student}: the tests it passed ({len(walked)}): {', '.join(walked) or 'none'}", flush=True)
+    leaks = feedback_leaks(course, "tricks")
+    print(f"  feedback: {len(leaks)} lines of hidden tests in the tricks student's HTML", flush=True)
     instructor, blank, lazy, tricks = scores
     problems = [problem for failed, problem in [
         (instructor.auto != instructor.auto_max or instructor.auto_max == 0,
@@ -186,6 +239,7 @@ def check(course: Path, names: list[str]) -> int:
          f"the submission of tricks gets {tricks.auto:g} of {tricks.auto_max:g} auto-graded points, not under half"),
         (instructor.alarms or blank.alarms, "nbgrader raised a tamper alarm on a submission that changed no locked cell"),
         (instructor.not_trusted, "the instructor's source has constructs the checks do not trust"),
+        (leaks, f"the feedback shows hidden tests: {leaks[:3]}"),
     ] if failed]
     for problem in problems:
         print(f"FAILED: {problem}", flush=True)
@@ -203,7 +257,8 @@ def main(argv: list[str] | None = None) -> int:
     check_images()
     names = layout(args.course, args.source, args.quick)
     release = generate(args.course)
-    print(f"released {', '.join(names)} in {release}", flush=True)
+    for assignment, books in names.items():
+        print(f"released {assignment}: {', '.join(books)} in {release / assignment}", flush=True)
     return check(args.course, names) if args.check else 0
 
 

@@ -173,6 +173,12 @@ def main(argv: list[str] | None = None) -> int:
         for future in [pool.submit(spawn, book) for book in books]:
             future.result()  # re-raises a notebook's error
     print(f"all notebooks: {time.perf_counter() - started:.1f} s")
+    if args.preset == "teaching" and not args.into:   # the guide's table gives each stored run's time
+        from store import write_guide_times
+
+        write_guide_times(root / "docs" / "guide" / "teaching.md",
+                          {b.stem: json.loads(b.read_text())["metadata"]["ifslib"]["stored"]["seconds"]
+                           for b in notebooks() if "stored" in json.loads(b.read_text())["metadata"].get("ifslib", {})})
     return 0
 
 

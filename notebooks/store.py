@@ -97,6 +97,32 @@ def _drop_unshown_widgets(book: nbformat.NotebookNode) -> None:
         del book.metadata["widgets"]
 
 
+#: The first cell's line on the run's time, as the lessons write it.
+HOW_LONG = re.compile(r"(\*\*How long it runs\*\*:\s*(?:about\s+)?)(.*?)( at the teaching values)", re.S)
+#: A row of the table in docs/guide/teaching.md: its notebook, and its last (teaching) column.
+GUIDE_ROW = re.compile(r"^(\|[^|\n]*\|\s*\[[^\]]*\]\(\.\./\.\./notebooks/(\w+)\.ipynb\)(?:\s*\|[^|\n]*){3}\|\s*)"
+                       r"([^|\n]*?)(\s*\|\s*)$", re.M)
+
+
+def as_text(seconds: int) -> str:
+    """A run time as the lessons write it: ``7 min 18 s``, ``44 s``."""
+    minutes, rest = divmod(int(seconds), 60)
+    return f"{minutes} min {rest} s" if minutes else f"{rest} s"
+
+
+def write_time(book, seconds: int) -> None:
+    """The first cell's "How long it runs" line set to the stored run's time (the one source of it)."""
+    first = book.cells[0]
+    first.source = HOW_LONG.sub(lambda m: f"{m.group(1)}{as_text(seconds)}{m.group(3)}", first.source, count=1)
+
+
+def write_guide_times(guide: Path, seconds: dict[str, int]) -> None:
+    """The teaching column of ``guide``'s table set to each stored run's time (``stem -> seconds``)."""
+    text = GUIDE_ROW.sub(lambda m: f"{m.group(1)}{as_text(seconds[m.group(2)]) if m.group(2) in seconds else m.group(3)}"
+                                   f"{m.group(4)}", guide.read_text(encoding="utf-8"))
+    guide.write_text(text, encoding="utf-8")
+
+
 def store(path: Path, dest: Path, figures: Path, parameters: dict, timeout: int = 1800) -> None:
     """Execute the notebook at ``path`` at its teaching values in a fresh kernel, write it with its outputs to ``dest``.
 
@@ -120,5 +146,6 @@ def store(path: Path, dest: Path, figures: Path, parameters: dict, timeout: int 
     threads = env.get("IFSLIB_THREADS", "auto")
     meta["stored"] = {"preset": "teaching", "threads": int(threads) if threads.isdigit() else threads,
                       "parameters": parameters, "seconds": round(time.perf_counter() - started)}
+    write_time(book, meta["stored"]["seconds"])
     dest.parent.mkdir(parents=True, exist_ok=True)
     nbformat.write(book, dest)

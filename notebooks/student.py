@@ -211,8 +211,8 @@ def write_edition(out: Path, source: Path = NOTEBOOKS) -> list[Path]:
         with tempfile.TemporaryDirectory(prefix="course-") as folder:
             grading.layout(Path(folder) / "course", source)
             release = grading.generate(Path(folder) / "course")
-            for name in released:
-                shutil.copy2(release / name, out / name)
+            for name in released:   # one folder an assignment (a lecture)
+                shutil.copy2(next(release.glob(f"*/{name}")), out / name)
     for path in copies:
         shutil.copy2(path, out / path.name)
     print(f"student edition in {_shown(out)} (nbgrader's release): {len(released)} with exercises "
