@@ -7,7 +7,8 @@ student added (every lesson cell is locked in the release, so nbgrader restores 
 `FailFooled` runs after ``Execute``: each test the findings touch gets an error output naming the cell
 and the construct, so nbgrader scores it 0 and the feedback says why. A finding that rebinds a name
 touches every test after its cell; a banned mention touches its own exercise's test.
-`HideTests` is for ``generate_feedback``: the hidden tests' lines out of the test cells and each
+`OverwriteCells` is nbgrader's, without the tamper alarm it raises on every released test cell (they
+lack their hidden tests). `HideTests` is for ``generate_feedback``: the hidden tests' lines out of the test cells and each
 error's traceback reduced to its message, so that the feedback holds no line of a hidden test.
 
 ``course/nbgrader_config.py`` puts them in nbgrader's pipelines; ``course/grading.py`` copies this file
@@ -20,6 +21,7 @@ import re
 from nbformat.v4 import new_output
 from nbgrader.api import Gradebook, MissingEntry
 from nbgrader.preprocessors import NbGraderPreprocessor
+from nbgrader.preprocessors import OverwriteCells as _OverwriteCells
 
 from ifslib.teaching.exercises import BANS
 from ifslib.teaching.exercises.integrity import bound_names, global_reads, imported_names, scan
@@ -107,3 +109,24 @@ class HideTests(NbGraderPreprocessor):
                 if output.output_type == "error":
                     output.traceback = [f"{output.ename}: {output.evalue}"]
         return nb, resources
+
+
+class OverwriteCells(_OverwriteCells):
+    """nbgrader's ``OverwriteCells``, without its tamper alarm on a test cell handed back as released.
+
+    nbgrader stores a test cell's checksum with its hidden tests and releases the cell without them, so
+    every honest submission's test cells read as changed ("Attribute 'checksum' ... has changed"). A
+    locked cell whose source is the stored one less its hidden tests is the released cell: it is put
+    back whole before nbgrader compares, and only a cell the student did change raises the alarm.
+    """
+
+    def preprocess_cell(self, cell, resources, cell_index):
+        grade_id = _meta(cell).get("grade_id")
+        if grade_id and _meta(cell).get("locked"):
+            try:
+                stored = self.gradebook.find_source_cell(grade_id, self.notebook_id, self.assignment_id)
+            except MissingEntry:
+                stored = None
+            if stored is not None and HIDDEN.sub("", stored.source).strip() == cell.source.strip():
+                cell.source = stored.source
+        return super().preprocess_cell(cell, resources, cell_index)
