@@ -1,6 +1,6 @@
 """A lazy student's submission (issue 53): the release with each auto-graded exercise answered the laziest way.
 
-    python course/lazy_submission.py build/course/release/ifs build/lazy/ifs   # write the submission
+    python course/lazy_submission.py build/course/release/lecture2 build/lazy/lecture2   # one assignment
 
 `write_lazy` copies the released notebooks and puts each code answer of `LAZY` in place of nbgrader's
 stub (``...  # YOUR CODE HERE``), at the stub's indentation, its ``before`` lines at the top of the
@@ -224,7 +224,7 @@ def passed_tests(gradebook: Path, assignment: str, student: str) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("release", type=Path, help="the released assignment folder (course/release/ifs)")
+    parser.add_argument("release", type=Path, help="the released assignment folder (course/release/lecture2, ...)")
     parser.add_argument("out", type=Path, help="the submission folder to write (replaced)")
     args = parser.parse_args(argv)
     filled = write_lazy(args.release, args.out)

@@ -3,7 +3,8 @@
 c = get_config()  # noqa: F821  (nbgrader provides get_config)
 
 c.CourseDirectory.course_id = "ifslib"
-# the lessons with exercises form one assignment, "ifs": course/grading.py copies them into source/ifs/
+# the lessons with exercises form one assignment per lecture (lecture1 ... lecture6): course/grading.py
+# copies them into source/<lecture>/
 
 # A solution region becomes one statement, so that a function body stays valid Python and running the
 # student's cell raises nothing: the locked test cell below it says what is missing (nbgrader's default

@@ -1,6 +1,6 @@
 """A submission made of tricks (issue 63): each auto-graded exercise answered by fooling its test.
 
-    python course/tricks_submission.py build/course/release/ifs build/tricks/ifs   # write the submission
+    python course/tricks_submission.py build/course/release/lecture2 build/tricks/lecture2   # one assignment
 
 Where `lazy_submission.py` answers the laziest honest-looking way, this one changes what the tests
 read, as a student who read the tests would: answers whose ``==`` always holds (a subclass of ``int``,

@@ -130,6 +130,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--only", nargs="*", default=[], help="notebook name prefixes, e.g. 02 04")
     parser.add_argument("--into", type=Path, help="teaching preset: write the executed copies and figures here, not in place")
     parser.add_argument("--jobs", type=int, default=0, help="notebooks run at once (default: one per core)")
+    parser.add_argument("--no-guide", action="store_true", help=argparse.SUPPRESS)  # a notebook run by the parent
     args = parser.parse_args(argv)
     if args.preset not in PRESETS:
         parser.error(f"no preset {args.preset!r}: use teaching (the values of each parameters cell, stored in "
@@ -159,7 +160,7 @@ def main(argv: list[str] | None = None) -> int:
             return
         # one process per notebook (this script again, on that notebook only), its output in a log
         log = logs / f"{args.preset}-{book.stem}.log"
-        command = [sys.executable, __file__, "--preset", args.preset, "--only", book.stem, "--jobs", "1"]
+        command = [sys.executable, __file__, "--preset", args.preset, "--only", book.stem, "--jobs", "1", "--no-guide"]
         with open(log, "w") as f:
             code = subprocess.call(command + (["--into", str(args.into)] if args.into else []),
                                    stdout=f, stderr=subprocess.STDOUT)
@@ -173,12 +174,12 @@ def main(argv: list[str] | None = None) -> int:
         for future in [pool.submit(spawn, book) for book in books]:
             future.result()  # re-raises a notebook's error
     print(f"all notebooks: {time.perf_counter() - started:.1f} s")
-    if args.preset == "teaching" and not args.into:   # the guide's table gives each stored run's time
+    if args.preset == "teaching" and not args.into and not args.no_guide:   # the guide's table: each run's time
         from store import write_guide_times
 
+        stored = {b.stem: json.loads(b.read_text())["metadata"].get("ifslib", {}).get("stored", {}) for b in notebooks()}
         write_guide_times(root / "docs" / "guide" / "teaching.md",
-                          {b.stem: json.loads(b.read_text())["metadata"]["ifslib"]["stored"]["seconds"]
-                           for b in notebooks() if "stored" in json.loads(b.read_text())["metadata"].get("ifslib", {})})
+                          {stem: run["seconds"] for stem, run in stored.items() if "seconds" in run})
     return 0
 
 
