@@ -373,7 +373,7 @@ _SCANNED: dict = {}
 def _kernel_check() -> None:
     """Say at once what the grader will not trust: the cells run so far in this IPython kernel, read with
     `integrity.scan` (the grader reads the submission the same way, outside the kernel, and gives the
-    tests after such a cell no points). Each cell is read once; outside IPython nothing is read."""
+    tests after such a cell no points). Each cell's source is read once; outside IPython nothing is read."""
     try:
         from IPython import get_ipython
     except ImportError:
@@ -384,17 +384,16 @@ def _kernel_check() -> None:
         return
     from .integrity import scan
 
-    key = (id(history), len(history))
-    if key not in _SCANNED:
-        _SCANNED.clear()
-        modules = {k for k, v in shell.user_ns.items() if isinstance(v, types.ModuleType)}
-        cells = [(f"[{k}]", source) for k, source in enumerate(history) if source]
-        # a lesson's own imports (io, pathlib) are the lesson's: only what changes the checks is named here
-        _SCANNED[key] = [f for f in scan(cells, modules | {"np", "torch", "ifslib", "math"})
-                         if f.kind != "reaches the interpreter"]
-    if _SCANNED[key]:
-        raise AssertionError(f"{_SCANNED[key][0]}: the grader does not trust a notebook that does this and gives "
-                             "the tests after that cell no points; take it out and run the notebook again.")
+    modules = frozenset({k for k, v in shell.user_ns.items() if isinstance(v, types.ModuleType)}
+                        | {"np", "torch", "ifslib", "math"})
+    for k, source in enumerate(history):
+        key = (source, modules)
+        if source and key not in _SCANNED:
+            # a lesson's own imports (io, pathlib) are the lesson's: only what changes the checks is named here
+            _SCANNED[key] = [f for f in scan([(f"[{k}]", source)], modules) if f.kind != "reaches the interpreter"]
+        if source and _SCANNED[key]:
+            raise AssertionError(f"{_SCANNED[key][0]}: the grader does not trust a notebook that does this and "
+                                 "gives the tests after that cell no points; take it out and run the notebook again.")
 
 
 def plain(value, name: str = "your answer"):
