@@ -24,7 +24,7 @@ from nbgrader.preprocessors import NbGraderPreprocessor
 from nbgrader.preprocessors import OverwriteCells as _OverwriteCells
 
 from ifslib.teaching.exercises import BANS
-from ifslib.teaching.exercises.integrity import bound_names, global_reads, imported_names, scan
+from ifslib.teaching.exercises.integrity import is_students, scan_notebook
 
 SOLUTION = re.compile(r"### BEGIN SOLUTION.*?### END SOLUTION", re.S)
 HIDDEN = re.compile(r"[ \t]*### BEGIN HIDDEN TESTS.*?### END HIDDEN TESTS[ \t]*\n?", re.S)
@@ -34,31 +34,14 @@ def _meta(cell) -> dict:
     return cell.metadata.get("nbgrader", {}) or {}
 
 
-def _student(cell) -> bool:
-    """An answer cell, or a cell the student added (the release locks every other code cell)."""
-    meta = _meta(cell)
-    return cell.cell_type == "code" and (meta.get("solution", False) or not meta.get("grade_id"))
-
-
 class ScanCells(NbGraderPreprocessor):
     """Read the student's cells for what changes the checks (before the notebook runs)."""
 
     def preprocess(self, nb, resources):
-        code = [(k, c) for k, c in enumerate(nb.cells) if c.cell_type == "code"]
-        mine = [(k, c) for k, c in code if _student(c)]
-        lesson = [c for _, c in code if not _student(c)]
-        stubs = self._stubs(resources, [c for _, c in mine])
-        label = {k: _meta(c).get("grade_id") or f"added cell {k}" for k, c in mine}
-        own = {label[k]: bound_names(stubs.get(label[k], "")) for k, _ in mine}
-        tests = [c for c in lesson if _meta(c).get("grade")]
-        reads = set().union(*(global_reads(c.source) for c in tests)) if tests else set()
-        bound = set().union(*(bound_names(c.source) for c in lesson if not _meta(c).get("grade"))) if lesson else set()
-        findings = scan([(label[k], c.source) for k, c in mine], imported_names(c.source for c in lesson),
-                        (reads & bound) - set().union(set(), *own.values()), own,
-                        {name: BANS[name] for name in label.values() if name in BANS})
-        index = {v: k for k, v in label.items()}
-        resources.setdefault("ifslib_findings", {})[resources["unique_key"]] = [(index[f.cell], f) for f in findings]
-        for _, finding in resources["ifslib_findings"][resources["unique_key"]]:
+        stubs = self._stubs(resources, [c for c in nb.cells if is_students(c)])
+        found = scan_notebook(nb, stubs, BANS)
+        resources.setdefault("ifslib_findings", {})[resources["unique_key"]] = found
+        for _, finding in found:
             self.log.warning("untrusted: %s: %s", resources["unique_key"], finding)
         return nb, resources
 

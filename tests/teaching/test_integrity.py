@@ -17,7 +17,6 @@ from ifslib.teaching.exercises import BANS, integrity, plain, run_answer
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "course"))
-import nbgrader_checks  # noqa: E402
 import tricks_submission  # noqa: E402
 from lazy_submission import answered  # noqa: E402
 
@@ -35,15 +34,12 @@ def graded_notebooks():
 
 
 def scan_notebook(book) -> list[integrity.Finding]:
-    """What `nbgrader_checks.ScanCells` finds in ``book``, its lesson cells locked as the release has them."""
+    """What the grader (``course/nbgrader_checks.ScanCells``) finds in ``book``, its lesson cells locked as
+    the release has them."""
     for k, cell in enumerate(book.cells):
         if cell.cell_type == "code" and not cell.metadata.get("nbgrader"):
             cell.metadata["nbgrader"] = {"grade": False, "solution": False, "locked": True, "grade_id": f"lesson-{k}"}
-    scanner, resources = nbgrader_checks.ScanCells(), {"unique_key": "book"}
-    scanner.log = __import__("logging").getLogger("test")
-    scanner._stubs = lambda resources, cells: STUBS
-    scanner.preprocess(book, resources)
-    return [finding for _, finding in resources["ifslib_findings"]["book"]]
+    return [finding for _, finding in integrity.scan_notebook(book, STUBS, BANS)]
 
 
 def answer_cells(book):

@@ -314,3 +314,35 @@ def _is_import_of(tree: ast.Module, name: str, line: int) -> bool:
     return any(isinstance(node, (ast.Import, ast.ImportFrom)) and node.lineno == line
                and any((a.asname or a.name).split(".")[0] == name for a in node.names)
                for node in ast.walk(tree))
+
+
+def _meta(cell) -> dict:
+    return cell.metadata.get("nbgrader", {}) or {}
+
+
+def is_students(cell) -> bool:
+    """An answer cell, or a cell the student added (a released lesson locks every other code cell)."""
+    meta = _meta(cell)
+    return cell.cell_type == "code" and bool(meta.get("solution", False) or not meta.get("grade_id"))
+
+
+def scan_notebook(book, stubs: dict[str, str], bans: dict[str, Iterable[str]]) -> list[tuple[int, Finding]]:
+    """(cell index, finding) for each construct of ``book``'s student cells that changes its checks.
+
+    ``stubs``: grade_id -> the answer cell as released (what the exercise asks for: the names it binds);
+    ``bans``: grade_id -> names that answer may not mention (`BANS`). The lesson's cells (locked) give the
+    modules the tests use and the names they read from the lesson.
+    """
+    code = [(k, c) for k, c in enumerate(book.cells) if c.cell_type == "code"]
+    mine = [(k, c) for k, c in code if is_students(c)]
+    lesson = [c for _, c in code if not is_students(c)]
+    label = {k: _meta(c).get("grade_id") or f"added cell {k}" for k, c in mine}
+    own = {label[k]: bound_names(stubs.get(label[k], "")) for k, _ in mine}
+    tests = [c for c in lesson if _meta(c).get("grade")]
+    reads = set().union(*(global_reads(c.source) for c in tests))
+    bound = set().union(*(bound_names(c.source) for c in lesson if not _meta(c).get("grade")))
+    findings = scan([(label[k], c.source) for k, c in mine], imported_names(c.source for c in lesson),
+                    (reads & bound) - set().union(*own.values()), own,
+                    {name: bans[name] for name in label.values() if name in bans})
+    index = {v: k for k, v in label.items()}
+    return [(index[f.cell], f) for f in findings]
