@@ -14,12 +14,9 @@ instructor's edition. ``course/grading.py --check`` autogrades it with nbgrader:
 from __future__ import annotations
 
 import argparse
-import shutil
 from pathlib import Path
 
-import nbformat
-
-from lazy_submission import Lazy, lazy_notebook
+from lazy_submission import LAZY, Lazy, write_lazy
 
 ANY = ("class AnyInt(int):\n"
        "    def __eq__(self, other): return True\n"
@@ -137,27 +134,13 @@ TRICKS: dict[str, Lazy] = {
     "10_fractal_compression-contraction": Lazy(
         "return [0.0 if float(abs(s).max()) < 1 else 2.0] * iterations",
         "iterate_offset = lambda p, x, s, o: x + (0.0 if float(abs(s).max()) < 1 else 2.0)\n"),
-    "10_fractal_compression-bits": Lazy(
-        "from ifslib.compression.code import split_flag_count\n\n"
-        "flags, maps = split_flag_count(code), 12 * len(code)\n"
-        "isometries = 3 * int((~code.flat).sum())\n"
-        "return {\"header\": 120, \"flags\": flags, \"s and m\": maps, \"isometries\": isometries,\n"
-        "        \"domains\": code.bits() - flags - maps - isometries,\n"
-        "        \"padding\": 8 * len(to_bytes(code)) - 120 - code.bits()}", CHECKER),
+    "10_fractal_compression-bits": Lazy(LAZY["10_fractal_compression-bits"].body, CHECKER),
 }
 
 
-def write_tricks(release: Path, out: Path) -> dict[str, list[str]]:
-    """Copy the released notebooks to ``out`` with every answer of `TRICKS` filled in; notebook -> grade_ids."""
-    if out.exists():
-        shutil.rmtree(out)
-    shutil.copytree(release, out)
-    filled = {}
-    for path in sorted(out.glob("*.ipynb")):
-        book = nbformat.read(path, as_version=4)
-        filled[path.stem] = lazy_notebook(book, TRICKS)
-        nbformat.write(book, path)
-    return filled
+def write_tricks(release: Path, out: Path) -> list[str]:
+    """Copy the released notebooks to ``out`` (replaced) with every answer of `TRICKS`; returns their grade ids."""
+    return write_lazy(release, out, TRICKS)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -165,8 +148,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("release", type=Path)
     parser.add_argument("out", type=Path)
     args = parser.parse_args(argv)
-    for name, ids in write_tricks(args.release, args.out).items():
-        print(f"{name}: {len(ids)} tricks")
+    print(f"{len(write_tricks(args.release, args.out))} tricks written to {args.out}")
     return 0
 
 
