@@ -24,14 +24,10 @@ from nbgrader.preprocessors import NbGraderPreprocessor
 from nbgrader.preprocessors import OverwriteCells as _OverwriteCells
 
 from ifslib.teaching.exercises import BANS
-from ifslib.teaching.exercises.integrity import is_students, scan_notebook
+from ifslib.teaching.exercises.integrity import nbgrader_meta, is_students, scan_notebook
 
 SOLUTION = re.compile(r"### BEGIN SOLUTION.*?### END SOLUTION", re.S)
 HIDDEN = re.compile(r"[ \t]*### BEGIN HIDDEN TESTS.*?### END HIDDEN TESTS[ \t]*\n?", re.S)
-
-
-def _meta(cell) -> dict:
-    return cell.metadata.get("nbgrader", {}) or {}
 
 
 class ScanCells(NbGraderPreprocessor):
@@ -52,7 +48,7 @@ class ScanCells(NbGraderPreprocessor):
         try:
             with Gradebook(info["db_url"]) as book:
                 for cell in cells:
-                    name = _meta(cell).get("grade_id")
+                    name = nbgrader_meta(cell).get("grade_id")
                     if name:
                         try:
                             source = book.find_source_cell(name, info["notebook"], info["assignment"]).source
@@ -60,7 +56,7 @@ class ScanCells(NbGraderPreprocessor):
                             continue
                         out[name] = SOLUTION.sub("...", source)
         except KeyError:   # run outside nbgrader (a test): each answer's own cell is its stub
-            out = {_meta(c).get("grade_id"): SOLUTION.sub("...", c.source) for c in cells if _meta(c).get("grade_id")}
+            out = {nbgrader_meta(c).get("grade_id"): SOLUTION.sub("...", c.source) for c in cells if nbgrader_meta(c).get("grade_id")}
         return out
 
 
@@ -70,7 +66,7 @@ class FailFooled(NbGraderPreprocessor):
     def preprocess(self, nb, resources):
         findings = resources.get("ifslib_findings", {}).get(resources["unique_key"], [])
         for index, finding in findings:
-            later = [k for k in range(index + 1, len(nb.cells)) if _meta(nb.cells[k]).get("grade")
+            later = [k for k in range(index + 1, len(nb.cells)) if nbgrader_meta(nb.cells[k]).get("grade")
                      and nb.cells[k].cell_type == "code"]
             touched = later[:1] if finding.kind == "uses the library's answer" else later
             for k in touched:
@@ -85,7 +81,7 @@ class HideTests(NbGraderPreprocessor):
 
     def preprocess(self, nb, resources):
         for cell in nb.cells:
-            if cell.cell_type != "code" or not _meta(cell).get("grade"):
+            if cell.cell_type != "code" or not nbgrader_meta(cell).get("grade"):
                 continue
             cell.source = HIDDEN.sub("", cell.source)
             for output in cell.get("outputs", []):
@@ -104,8 +100,8 @@ class OverwriteCells(_OverwriteCells):
     """
 
     def preprocess_cell(self, cell, resources, cell_index):
-        grade_id = _meta(cell).get("grade_id")
-        if grade_id and _meta(cell).get("locked"):
+        grade_id = nbgrader_meta(cell).get("grade_id")
+        if grade_id and nbgrader_meta(cell).get("locked"):
             try:
                 stored = self.gradebook.find_source_cell(grade_id, self.notebook_id, self.assignment_id)
             except MissingEntry:

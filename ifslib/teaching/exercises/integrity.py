@@ -316,13 +316,14 @@ def _is_import_of(tree: ast.Module, name: str, line: int) -> bool:
                for node in ast.walk(tree))
 
 
-def _meta(cell) -> dict:
+def nbgrader_meta(cell) -> dict:
+    """A cell's nbgrader metadata ({} for a cell nbgrader does not know)."""
     return cell.metadata.get("nbgrader", {}) or {}
 
 
 def is_students(cell) -> bool:
     """An answer cell, or a cell the student added (a released lesson locks every other code cell)."""
-    meta = _meta(cell)
+    meta = nbgrader_meta(cell)
     return cell.cell_type == "code" and bool(meta.get("solution", False) or not meta.get("grade_id"))
 
 
@@ -336,11 +337,11 @@ def scan_notebook(book, stubs: dict[str, str], bans: dict[str, Iterable[str]]) -
     code = [(k, c) for k, c in enumerate(book.cells) if c.cell_type == "code"]
     mine = [(k, c) for k, c in code if is_students(c)]
     lesson = [c for _, c in code if not is_students(c)]
-    label = {k: _meta(c).get("grade_id") or f"added cell {k}" for k, c in mine}
+    label = {k: nbgrader_meta(c).get("grade_id") or f"added cell {k}" for k, c in mine}
     own = {label[k]: bound_names(stubs.get(label[k], "")) for k, _ in mine}
-    tests = [c for c in lesson if _meta(c).get("grade")]
+    tests = [c for c in lesson if nbgrader_meta(c).get("grade")]
     reads = set().union(*(global_reads(c.source) for c in tests))
-    bound = set().union(*(bound_names(c.source) for c in lesson if not _meta(c).get("grade")))
+    bound = set().union(*(bound_names(c.source) for c in lesson if not nbgrader_meta(c).get("grade")))
     findings = scan([(label[k], c.source) for k, c in mine], imported_names(c.source for c in lesson),
                     (reads & bound) - set().union(*own.values()), own,
                     {name: bans[name] for name in label.values() if name in bans})
