@@ -14,6 +14,7 @@ crosses a border block ``b'``, so ``d(p, b) - U_b >= d(p, b') - V_b'`` with
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import torch
@@ -44,6 +45,36 @@ def _box_gap(lo_a: torch.Tensor, hi_a: torch.Tensor, lo_b: torch.Tensor, hi_b: t
     return torch.hypot(gap[..., 0], gap[..., 1])
 
 
+def _boxes(window: tuple[float, float, float, float], n: int, shift: int, dtype: torch.dtype,
+           device: torch.device) -> tuple[torch.Tensor, torch.Tensor]:
+    """Corners ``(n * n, 2)`` of an ``n x n`` grid of block-sized cells, ``shift`` cells left of and below
+    the window."""
+    x0, y0, x1, y1 = window
+    step = torch.tensor([(x1 - x0) / GRID, (y1 - y0) / GRID], dtype=torch.float64)
+    k = torch.arange(n, dtype=torch.float64) - shift
+    col, row = k.repeat(n), k.repeat_interleave(n)  # id = row * n + col
+    corner = torch.stack([x0 + col * step[0], y0 + row * step[1]], 1)
+    return corner.to(device, dtype), (corner + step).to(device, dtype)
+
+
+@functools.lru_cache(maxsize=8)
+def _tables(window: tuple[float, float, float, float], dtype: torch.dtype, device: torch.device):
+    """A window's blocks and the gaps between them, the same for every `WindowReach` of that window:
+    a fit asks for one a step, and the gaps (a million box pairs) cost more than the step's pruning.
+    Nothing here is changed in place."""
+    lo, hi = _boxes(window, GRID, 0, dtype, device)
+    x0, y0, x1, y1 = window
+    k = torch.arange(GRID, dtype=dtype, device=device)
+    hop = [(k[:, None] - k[None]).abs() * step for step in ((x1 - x0) / GRID, (y1 - y0) / GRID)]  # (GRID, GRID) per axis
+    col, row = torch.arange(GRID).repeat(GRID), torch.arange(GRID).repeat_interleave(GRID)
+    border = ((col == 0) | (col == GRID - 1) | (row == 0) | (row == GRID - 1)).nonzero().flatten().to(device)
+    gap = _box_gap(lo[border], hi[border], lo, hi)  # (border, B)
+    # the cells around the window, a window's width on each side, and their gaps to the border blocks
+    cell_lo, cell_hi = _boxes(window, 3 * GRID, GRID, dtype, device)
+    cell_gap = _box_gap(cell_lo, cell_hi, lo[border], hi[border])  # (cells, border)
+    return lo, hi, hop, gap, cell_gap
+
+
 class WindowReach:
     """Per-block upper bounds ``U_b`` of ``d(x, A)`` over a window, and the pruning test they give.
 
@@ -67,26 +98,9 @@ class WindowReach:
         self.window, self.step, self.margin = window, ((x1 - x0) / GRID, (y1 - y0) / GRID), margin
         self.mid = torch.tensor([(x0 + x1) / 2, (y0 + y1) / 2], dtype=dtype, device=device)
         self.half, self.whole = math.hypot(x1 - x0, y1 - y0) / 2, math.inf
-        self.lo, self.hi = self._boxes(GRID, 0, dtype, device)
-        k = torch.arange(GRID, dtype=dtype, device=device)
-        self.hop = [(k[:, None] - k[None]).abs() * step for step in self.step]  # (GRID, GRID) per axis
-        col, row = torch.arange(GRID).repeat(GRID), torch.arange(GRID).repeat_interleave(GRID)
-        self.border = ((col == 0) | (col == GRID - 1) | (row == 0) | (row == GRID - 1)).nonzero().flatten().to(device)
-        self.gap = _box_gap(self.lo[self.border], self.hi[self.border], self.lo, self.hi)  # (border, B)
-        # the cells around the window, a window's width on each side, and their gaps to the border blocks
-        lo, hi = self._boxes(3 * GRID, GRID, dtype, device)
-        self.cell_gap = _box_gap(lo, hi, self.lo[self.border], self.hi[self.border])  # (cells, border)
+        self.lo, self.hi, self.hop, self.gap, self.cell_gap = _tables(tuple(map(float, window)), dtype, device)
         self.upper = torch.full((GRID * GRID,), math.inf, dtype=dtype, device=device)
         self._spread()
-
-    def _boxes(self, n: int, shift: int, dtype: torch.dtype, device: torch.device):
-        """Corners ``(n * n, 2)`` of an ``n x n`` grid of block-sized cells, ``shift`` cells left of and below
-        the window."""
-        k = torch.arange(n, dtype=torch.float64) - shift
-        col, row = k.repeat(n), k.repeat_interleave(n)  # id = row * n + col
-        corner = torch.stack([self.window[0] + col * self.step[0], self.window[1] + row * self.step[1]], 1)
-        step = torch.tensor(self.step, dtype=torch.float64)
-        return corner.to(device, dtype), (corner + step).to(device, dtype)
 
     def _cell(self, points: torch.Tensor, n: int, shift: int) -> tuple[torch.Tensor, torch.Tensor]:
         """Each point's cell id in the ``n x n`` grid of `_boxes` (clamped to it), and whether it lies in the grid."""
