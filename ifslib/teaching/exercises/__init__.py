@@ -15,9 +15,24 @@ with the library's own one switched off, and raises ``AssertionError`` with a hi
 * `koch_target`, `carpet_target` and `two_map_target` read pictures shipped with the package
   (``targets/*.png``): a student fits the picture; the maps that drew it are not installed.
 """
-from .harness import LIBRARY, WriteItYourself, as_matrix, as_number, library_off, plain, random_maps, run_answer
-from .library import ALLOWED, BANS
-from .targets import SIZES, carpet_target, koch_target, two_map_target
+import importlib
+
+from .library import ALLOWED, BANS  # plain tables: nbgrader's own process reads them without torch
+
+# The harness and the targets load torch: imported on first use, so that the grader's scan of a
+# submission (course/nbgrader_checks.py, with `integrity` and `BANS`) starts without it.
+_LAZY = {name: "harness" for name in ("LIBRARY", "WriteItYourself", "as_matrix", "as_number", "library_off",
+                                      "plain", "random_maps", "run_answer")}
+_LAZY.update({name: "targets" for name in ("SIZES", "koch_target", "carpet_target", "two_map_target")})
+
+
+def __getattr__(name: str):
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
 
 __all__ = ["LIBRARY", "ALLOWED", "BANS", "plain", "WriteItYourself", "library_off", "run_answer", "as_matrix", "as_number", "random_maps",
            "SIZES", "koch_target", "carpet_target", "two_map_target"]

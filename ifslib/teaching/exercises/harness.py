@@ -15,6 +15,7 @@ from typing import Callable, Iterator
 import numpy as np
 import torch
 
+from ... import threads as _threads  # noqa: F401 - torch's thread count is set before a student's answer computes
 from ...errors import IFSError
 from .library import ALLOWED, LIBRARY
 
