@@ -15,6 +15,10 @@ c.ClearSolutions.text_stub = "YOUR ANSWER HERE"
 # Autograding runs each notebook top to bottom: at the teaching sizes the longest lessons (02, 04, 06)
 # take minutes on one CPU thread, each cell well under this limit.
 c.ExecutePreprocessor.timeout = 600
+# The kernel is killed once its notebook has run rather than asked to shut down and waited for: the
+# grades are already read, and the wait (torch's exit) cost about a second a notebook, 11 of the course's
+# ~100 s a submission.
+c.Execute.shutdown_kernel = "immediate"
 
 # Tests that do not trust the student's kernel (nbgrader_checks.py, copied beside this file): the
 # student's cells are read before the notebook runs, and the tests their tricks could fool get 0;
