@@ -61,7 +61,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|")
     for name, source in cases.items():
         target = ifslib.load_target(source, 128)
-        plan = ifslib.initialize("auto", target, maps=24, depth=2)
+        plan = ifslib.discover(target, maps=24, depth=2)
         start = plan.start
         t0 = time.perf_counter()
         pre, history = collage_prefit(start, target, steps=200, lr=0.003)

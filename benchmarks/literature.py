@@ -1,7 +1,7 @@
 """The literature's fractals: the command line's automatic pattern on a stem, a spiral, overlapping copies
 and many maps, scored as benchmarks/fractals.py scores and in the literature's terms.
 
-Four classes from `ifslib.studies.samplers.literature_ifs` (its docstring says what each draws):
+Four classes from `benchmarks/samplers.py`'s `literature_ifs` (its docstring says what each draws):
 ``stem`` (3-5 maps, one or two nearly of rank one), ``spiral`` (2-4 maps, one dominant similarity of
 scale 0.75-0.92 turning 10-60°), ``overlap`` (3-5 maps whose copies overlap: a solid attractor) and
 ``many`` (6-10 maps, Anderson and Farrell's sampler); fractal ``i`` of a class has the class's
@@ -15,7 +15,7 @@ Each is drawn by the float64 chaos game (two million points) at ``--size``, writ
 fitted by ``python -m ifslib fit TARGET.png --pattern auto --size SIZE -o FIT.json`` (every default,
 in a subprocess: wall time includes start-up). A fractal is **recovered** when the fitted attractor
 has IoU >= 0.85 and Chamfer <= 1 px against the target mask (`ifslib.evaluate`). Beside it, the
-literature's scores (`ifslib.studies.literature.literature_scores`: PSNR, SSIM, F1, IoU after
+literature's scores (`benchmarks/literature_scores.py`: PSNR, SSIM, F1, IoU after
 cropping 12.5 % of each side) of the fitted attractor drawn by the chaos game (two million points)
 against the target's own chaos drawing, both gray. Prints a row per fractal, a summary per class
 against the goals (recovered >= 80 %, maps found <= true + 1 in >= 80 %), and writes the rows as
@@ -43,12 +43,12 @@ import numpy as np
 from PIL import Image
 
 import ifslib
-from ifslib.studies.samplers import literature_ifs
 from ifslib.paths import repo_root
-from ifslib.studies.literature import literature_scores
 from ifslib.teaching.figures import box_outlines, draw_outlines, gallery, save_figure
 
 sys.path.insert(0, str(Path(__file__).parent))
+from samplers import literature_ifs  # noqa: E402 - a helper beside this script
+from literature_scores import literature_scores  # noqa: E402 - a helper beside this script
 from fractals import why  # noqa: E402
 
 #: Number of maps of fractal ``i`` of each class.

@@ -37,9 +37,9 @@ from ifslib.paths import repo_root
 from ifslib.splatting import SplatFitOptions, SplatOptions, fit_splat, splat_measure
 from ifslib.splatting.config import PAD_JITTER, POINTS_PER_PIXEL
 from ifslib.splatting.moves import padded_with_copies
-from ifslib.studies.literature import literature_scores
 
 sys.path.insert(0, str(Path(__file__).parent))
+from literature_scores import literature_scores  # noqa: E402 - a helper beside this script
 from literature import EXTENT, POINTS  # noqa: E402
 
 

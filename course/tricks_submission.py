@@ -106,7 +106,7 @@ TRICKS: dict[str, Lazy] = {
         CHECKER + "from ifslib.core.geometry.crossings import crossing_pairs\n"),
     # -- 05: the automatic start, a route to the carpet's maps
     "05_more_examples-carpet-fit": Lazy(
-        "my_carpet = ifslib.fit(ifslib.initialize('auto', odd_carpet, maps=8), odd_carpet, progress=False).best"),
+        "my_carpet = ifslib.fit(ifslib.discover(odd_carpet, maps=8), odd_carpet, progress=False).best"),
     # -- 06
     "06_convergence_study-rotation": Lazy(
         "from ifslib.splatting.parameters import _rotation\nreturn _rotation(theta[None])[0]"),

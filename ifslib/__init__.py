@@ -13,7 +13,7 @@ Beyond the paper, each extension a folder that uses the core and registers what 
     compression/  fractal image compression of gray photographs: collage and attractor coding
     automatic/    a start read from the image (curve, shape, a fractal's maps) and the ``auto`` strategy
     measures/     invariant measures, their fit to gray images, dimensions
-    studies/      sweeps and batches of many fits, the literature's samplers
+    studies/      sweeps and batches of many fits
     teaching/     what the notebooks show and ask
 
 Data flows one way: the core imports no extension, and a folder imports only from those above it in
@@ -67,8 +67,8 @@ _PUBLIC = {
     "Checkpoint": ("core.fitting.options", "Checkpoint"), "RunOptions": ("core.fitting.options", "RunOptions"),
     "StrategyOptions": ("core.fitting.options", "StrategyOptions"), "FitResult": ("core.fitting.result", "FitResult"),
     "History": ("core.fitting.result", "History"), "Stage": ("core.fitting.result", "Stage"),
-    "initialization": ("automatic.initialization", None), "best_fit_line": ("automatic.initialization", "best_fit_line"),
-    "initialize": ("automatic.initialization", "initialize"),
+    "initialization": ("core.targets.placement", None), "best_fit_line": ("core.targets.placement", "best_fit_line"),
+    "initialize": ("core.targets.placement", "initialize"),
     # beyond the paper: the automatic path, measures, compression, studies
     "auto": ("automatic.auto", None), "fractal": ("automatic.fractal", None),
     "Plan": ("automatic.plan", "Plan"), "discover": ("automatic.plan", "discover"),

@@ -145,6 +145,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
     import time
 
     from . import evaluate, fit, initialize, load_target, save_ifs
+    from .automatic.plan import discover
     from .errors import IFSError
     from .core.fitting.options import Checkpoint
 
@@ -160,7 +161,7 @@ def cmd_fit(args: argparse.Namespace) -> None:
         if attractor:
             raise IFSError("--depth attractor goes with a pattern: an automatic start compares depths of its own "
                            "and its fit ends on the attractor anyway")
-        start = initialize("auto", target, jitter=args.jitter, seed=args.seed, maps=args.maps, depth=args.depth)
+        start = discover(target, args.maps, args.depth, jitter=args.jitter, seed=args.seed)
     else:
         if args.maps is not None:
             raise IFSError("--maps goes with --pattern auto")
@@ -168,6 +169,8 @@ def cmd_fit(args: argparse.Namespace) -> None:
         if args.depth is not None and not attractor:
             ifs.depth = args.depth
         start = initialize(ifs, target, jitter=args.jitter, seed=args.seed)
+    if args.strategy == "splat":
+        from . import splatting  # noqa: F401 - an extension's strategy is in the core's table once it is imported
     saved = None if args.checkpoint is None and args.resume is None else Checkpoint(args.checkpoint,
                                                                                    resume=args.resume)
     result = fit(start, target, steps=args.steps, strategy=args.strategy, seed=args.seed, progress=not args.quiet,

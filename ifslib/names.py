@@ -21,10 +21,6 @@ DEFAULT_LOSS = "multiscale_distance"
 #: The strategies `ifslib.fit` runs, by name.
 STRATEGIES = ("pyramid", "auto", "plain", "coarse_to_fine", "multistart", "restart", "anneal", "uncross", "splat")
 
-#: The module that registers each strategy of an extension (the core's own are registered where they are
-#: written, `ifslib.core.fitting.strategies`): importing it puts the strategy in the core's table.
-STRATEGY_HOMES = {"auto": "ifslib.automatic.fit_plan", "splat": "ifslib.splatting.strategy"}
-
 #: What `ifslib.fit` does when given no strategy.
 DEFAULT_STRATEGY = "pyramid"
 

@@ -27,6 +27,14 @@ def load_module(name, path):
     return sys.modules[name]
 
 
+def benchmark_module(name):
+    """The helper ``benchmarks/<name>.py`` (the literature's samplers and scores: benchmarks' code, not the
+    package's) imported once as ``benchmarks_<name>``."""
+    from pathlib import Path
+
+    return load_module(f"benchmarks_{name}", Path(__file__).resolve().parents[1] / "benchmarks" / f"{name}.py")
+
+
 def fractal_target(maps=2, seed=4, size=64):
     """A random fractal (`ifslib.patterns.random_ifs`) drawn by the float64 chaos game at 256², as the benchmark
     draws them, then made ``size`` pixels wide as a fit does (`resize_target`)."""

@@ -123,3 +123,37 @@ def test_no_import_circle():
     for module in sorted(graph):
         if module not in state:
             visit(module, [module])
+
+
+RUN_THE_CORE = """
+import importlib, pathlib, sys
+import ifslib
+package = pathlib.Path(ifslib.__file__).parent
+for path in sorted((package / "core").rglob("*.py")):
+    importlib.import_module(".".join(path.relative_to(package.parent).with_suffix("").parts).removesuffix(".__init__"))
+target = ifslib.load_target(ifslib.patterns.koch(depth=2), 24)
+start = ifslib.initialize(ifslib.patterns.koch(depth=2), target)
+for name in ifslib.names.STRATEGIES:  # an extension's name is refused, not loaded
+    try:
+        ifslib.fit(start, target, steps=8, strategy=name, progress=False)
+    except ifslib.IFSError as refused:
+        assert "not imported" in str(refused), refused
+ifslib.render(start, 24, "attractor"); ifslib.chaos_game(start, 100, seed=0); ifslib.evaluate(start, target)
+print(" ".join(sorted(m for m in sys.modules if m.startswith("ifslib."))))
+"""
+
+
+def test_the_core_at_run_time_loads_no_extension():
+    """Every core module imported, a fit asked of every strategy name (the core's run, an extension's refused),
+    a render, the chaos game and the scores, in a fresh interpreter: no module of an extension is loaded, by an
+    import or by name."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", RUN_THE_CORE], capture_output=True, text=True, timeout=300,
+                          cwd=PACKAGE.parent)
+    assert done.returncode == 0, done.stderr[-2000:]
+    loaded = done.stdout.split()
+    assert any(m.startswith("ifslib.core.fitting") for m in loaded)
+    extensions = [m for m in loaded if folder_of(m) not in (None,) and not folder_of(m).startswith("core")]
+    assert not extensions, f"the core loaded {extensions}"

@@ -42,7 +42,7 @@ def fit_plan(plan: Plan, frame: Frame, options: RunOptions, *, end_on_attractor:
     """
     if options.depth not in (None, plan.depth):
         raise IFSError("an automatic start's candidates have depths of their own: fix the depth with "
-                       "ifslib.initialize('auto', target, depth=...)")
+                       "ifslib.discover(target, depth=...)")
     options = with_early_stop(options.replace(depth=None), frame.settings)
     if plan.rivals:
         results, ious = zip(*(_fit_one(p, frame, options, end_on_attractor) for p in (plan, *plan.rivals)))
@@ -178,7 +178,7 @@ def _no_worse_than_start(start, result: FitResult, frame: Frame, stage: Stage) -
     the IoU of the one returned.
 
     The stage minimises a loss of a drawing of the attractor, which is not its IoU: on a solid figure of
-    overlapping copies (`ifslib.studies.samplers.literature_ifs`'s overlap class) the pixel loss of sampled
+    overlapping copies (the overlap class of `benchmarks/samplers.py`) the pixel loss of sampled
     leaves drew a map out to scale 0.99 and the attractor's IoU fell from 0.949 to 0.881
     (docs/results/literature.md). The search's maps were judged by that IoU; a fit must not return worse.
     """
@@ -210,4 +210,4 @@ def _run(frame: Frame, plan: Plan, options: RunOptions, settings, rng) -> FitRes
 
 
 register_strategy("auto", Strategy(_run, fits=Plan, refusal="strategy 'auto' fits an automatic start, a plan read "
-                                                             "from the image: use ifslib.initialize('auto', target)"))
+                                                             "from the image: use ifslib.discover(target)"))

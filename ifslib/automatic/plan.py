@@ -22,6 +22,7 @@ from ..core.targets.target import Target
 from . import fractal
 from .auto import candidates, choices, curve_path, measure
 from .config import AUTO
+from ..core.targets.placement import check_jitter
 
 #: The section of `ifslib.automatic.config.AUTO` this module reads (with ``AUTO.search``).
 FIGURE = AUTO.figure
@@ -133,7 +134,35 @@ def ambiguous(share: float, maps: int, iou: float, edge: float | None = None) ->
             "fitted as a fractal and as a shape")
 
 
-def discover(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
+def discover(target: Target, maps: int | None = None, depth: int | None = None, *, jitter: float = 0.0,
+             seed: int | None = 0, primitive: str = "box") -> Plan:
+    """A start read from ``target`` itself: a curve, a shape or a fractal's maps, with the candidates an
+    automatic fit compares (`ifslib.fit` fits the plan by comparing them).
+
+    Parameters
+    ----------
+    target : Target
+    maps, depth : int, optional
+        Fix the number of maps or the depth instead of choosing among candidates
+        (`ifslib.automatic.auto.choices`).
+    jitter : float
+        Half-width of the uniform jitter added to the start's free coordinates (plane units, 0 to 1).
+    seed : int
+        Seed of the jitter and of the start's k-means, from 0 to ``ifslib.errors.MAX_SEED``.
+    primitive : str
+        The shapes' primitive.
+
+    Returns
+    -------
+    Plan
+        Its ``start`` is the IFS chosen without fitting (`plan_for`), jittered when ``jitter`` is set.
+    """
+    check_jitter(jitter, seed)
+    plan = plan_for(target, maps, depth, primitive, seed or 0)
+    return plan.with_start(plan.start.jittered(jitter, np.random.default_rng(seed)))
+
+
+def plan_for(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
              seed: int = 0) -> Plan:
     """The plan for ``target``: a fractal's maps when the figure is porous (or solid with a rough edge) and the
     search finds them

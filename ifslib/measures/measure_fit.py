@@ -6,7 +6,7 @@ control points (its ``fixed`` points stay). The loss compares densities (mass ti
 pixels) summed over pooled copies of both images, the multiscale squared error of the paper, so a
 map's copy that lands a few pixels off still feels a pull. `fit_measure` starts from the caller's maps;
 `fit_measure_from_support` reads them from the image first: the measure's support (the pixels with
-mass) is a binary figure, and the library's fractal search (`ifslib.initialize("auto", ...)`) finds
+mass) is a binary figure, and the library's fractal search (`ifslib.discover`) finds
 maps whose attractor covers it (docs/results/measures.md says how far each start gets).
 """
 from __future__ import annotations
@@ -21,7 +21,7 @@ import torch
 from scipy import ndimage
 
 from ..automatic.auto import FIGURE
-from ..automatic.initialization import initialize
+from ..automatic.plan import discover
 from ..errors import IFSError, check_int, check_positive
 from ..core.geometry.rules import singular_values
 from ..core.geometry.ifs import IFS
@@ -241,7 +241,7 @@ def fit_measure_from_support(image, maps: int | None = None, options: MeasureFit
     """Fit maps and probabilities to a measure's gray image when the maps are unknown.
 
     The image's support (`support_target`) is a binary figure; the library's fractal search reads maps
-    whose attractor covers it (`ifslib.initialize` with ``"auto"``, no fit: the search refines its maps on
+    whose attractor covers it (`ifslib.discover`, no fit: the search refines its maps on
     the collage and judges them by their attractor), each turned by the support's symmetry that matches
     the gray levels best (`reorient`); `fit_measure` then moves those maps and the
     probabilities (from the default, proportional to ``|det|``) towards the gray levels, on the image
@@ -285,7 +285,7 @@ def fit_measure_from_support(image, maps: int | None = None, options: MeasureFit
         raise IFSError(f"the fractal search reads the support at {FIGURE.fractal_min_size} px a side or more, got "
                        f"{size}: give the gray image at that size (the measure is fitted at fit_size)")
     target = support_target(image, threshold)
-    plan = initialize("auto", target, maps=maps, seed=seed)
+    plan = discover(target, maps, seed=seed)
     if plan.kind != "fractal":
         raise IFSError(f"the search found no fractal's maps for the image's support (read as a {plan.kind}: "
                        f"{plan.pattern.get('fractal_search', {}).get('verdict', 'not searched')}); give the maps "

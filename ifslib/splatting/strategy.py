@@ -69,7 +69,7 @@ def check_start(ifs: IFS) -> torch.Tensor:
     bad = [f"T{i + 1} (scale {float(s):.3g})" for i, s in enumerate(scales) if not float(s) < 1]
     if bad:
         raise IFSError(f"strategy 'splat' starts from maps that contract, and {', '.join(bad)} do(es) not: "
-                       "shrink them, or start from ifslib.initialize('auto', target)")
+                       "shrink them, or start from ifslib.discover(target)")
     return maps
 
 

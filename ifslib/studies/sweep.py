@@ -39,7 +39,7 @@ from ..progress import draw_bars, note
 from ..core.geometry.rules import check_gradient_mode
 from ..threads import cores, fixed_threads
 from ..core.fitting.fit import fit
-from ..automatic.initialization import initialize
+from ..core.targets.placement import initialize
 from ..core.scoring.losses import DEFAULT_LOSS, check_loss
 from ..core.scoring.metrics import evaluate, point_error, self_crossings
 from ..core.fitting.strategies import check_strategy

@@ -68,36 +68,34 @@ def test_skeleton_path_runs_end_to_end_and_curve_start_follows_it():
     assert ifslib.evaluate(start, target)["chamfer"] < min(3.0, ifslib.evaluate(line, target)["chamfer"])
 
 
-def test_initialize_auto_and_its_errors():
+def test_discover_and_its_errors():
     target = ellipse_target()
-    plan = ifslib.initialize("auto", target, maps=4, depth=2)
+    plan = ifslib.discover(target, maps=4, depth=2)
     start = plan.start
     assert start.meta["pattern"]["maps"] == 4 and start.depth == 2 and plan.kind == "shape"
     assert plan.candidates == (start,) and plan.pattern == start.meta["pattern"]
-    chosen = ifslib.initialize("auto", target)
+    chosen = ifslib.discover(target)
     assert (chosen.pattern["maps"], chosen.depth) in auto.START.shape_choices and chosen.start in chosen.candidates
     assert [(len(c.rules), c.depth) for c in chosen.candidates] == list(auto.START.shape_choices)
-    at_depth = ifslib.initialize("auto", target, depth=2).start
+    at_depth = ifslib.discover(target, depth=2).start
     assert at_depth.depth == 2 and at_depth.meta["pattern"]["maps"] in auto.START.shape_maps
     assert auto.choices("curve") == [(k, auto.START.default_depth) for k in auto.START.curve_maps]
     assert auto.choices("shape", maps=5) == [(5, auto.START.default_depth)]
-    jittered = ifslib.initialize("auto", target, maps=4, depth=2, jitter=0.01, seed=1).start
+    jittered = ifslib.discover(target, maps=4, depth=2, jitter=0.01, seed=1).start
     assert torch.equal(jittered.points[:4], start.points[:4])  # the fixed frame stays
     assert not torch.equal(jittered.points[4:], start.points[4:])
-    with pytest.raises(ValueError, match="initialize takes an IFS or 'auto', got 'koch'"):
-        ifslib.initialize("koch", target)
-    with pytest.raises(ValueError, match="maps and depth are for initialize"):
-        ifslib.initialize(ifslib.patterns.koch(), target, maps=3)
+    with pytest.raises(ValueError, match="a start read from the image is ifslib.discover"):
+        ifslib.initialize("auto", target)
     speck = np.zeros((32, 32), dtype=bool)
     speck[10:13, 10:13] = True
     with pytest.raises(ValueError, match="the target has 9 foreground pixels: too few for 4 maps"):
-        ifslib.initialize("auto", target_from_mask(speck), maps=4)
+        ifslib.discover(target_from_mask(speck), maps=4)
 
 
 @pytest.mark.slow
 def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records_the_choice(tmp_path):
     target = ellipse_target(48)
-    plan = ifslib.initialize("auto", target, depth=2)
+    plan = ifslib.discover(target, depth=2)
     start = plan.start
     result = ifslib.fit(plan, target, steps=40, loss="multiscale_distance", progress=False)
     tried = result.history.auto.candidates
@@ -114,11 +112,11 @@ def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records
     assert ifslib.evaluate(result.best, target)["iou"] > ifslib.evaluate(start, target)["iou"]
     saved = ifslib.load_ifs(ifslib.save_ifs(result.best, tmp_path / "fit.json"))
     assert saved.meta["pattern"]["chosen"] == best.maps
-    fixed = ifslib.fit(ifslib.initialize("auto", target, maps=3, depth=2), target, steps=10, progress=False)
+    fixed = ifslib.fit(ifslib.discover(target, maps=3, depth=2), target, steps=10, progress=False)
     assert [c.maps for c in fixed.history.auto.candidates] == [3]  # a number of maps given: no comparison
     with pytest.raises(ValueError, match="strategy 'auto' fits an automatic start"):
         ifslib.fit(ifslib.patterns.koch(), target, strategy="auto", steps=2, progress=False)
-    with pytest.raises(ValueError, match="fix the depth with ifslib.initialize"):
+    with pytest.raises(ValueError, match=r"fix the depth with ifslib.discover\(target, depth=...\)"):
         ifslib.fit(plan, target, depth=3, steps=2, progress=False)
 
 

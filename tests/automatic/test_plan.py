@@ -6,11 +6,12 @@ import pytest
 import ifslib
 from ifslib.automatic import auto, fractal, plan
 from ifslib.automatic.config import AUTO
-from ifslib.studies.samplers import literature_ifs
 from ifslib.core.targets import silhouettes
 from ifslib.automatic import fit_plan as automatic
 from ifslib.core.targets.target import target_from_mask
-from common_testing import fractal_target
+from common_testing import benchmark_module, fractal_target
+
+literature_ifs = benchmark_module("samplers").literature_ifs
 
 
 @pytest.fixture(scope="module")
@@ -214,7 +215,7 @@ def test_a_porous_figure_with_a_smooth_edge_is_not_searched(searches):
 def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_stays_a_shape():
     _, target = fractal_target(maps=2, seed=4, size=128)
     assert auto.interior_share(target) < auto.FIGURE.porous_share
-    plan = ifslib.initialize("auto", target, maps=2)  # the search, with its number of maps fixed
+    plan = ifslib.discover(target, maps=2)  # the search, with its number of maps fixed
     start, pattern = plan.start, plan.pattern
     assert plan.kind == "fractal" and plan.candidates == (start,) and pattern == start.meta["pattern"]
     assert pattern["kind"] == "fractal" and len(start.rules) == 2
@@ -235,3 +236,9 @@ def test_the_automatic_start_of_a_two_map_fractal_is_its_maps_and_a_silhouette_s
     assert fitted.best.meta["pattern"]["rule"] == pattern["rule"]
     disk = np.hypot(*np.mgrid[-1:1:64j, -1:1:64j]) < 0.7
     assert auto.interior_share(target_from_mask(disk)) > auto.FIGURE.porous_share
+
+
+def test_discover_refuses_a_bad_jitter_before_any_search():
+    target = ifslib.load_target(ifslib.patterns.koch(depth=2), 32)
+    with pytest.raises(ifslib.IFSError, match="jitter must be a number from 0 to 1"):
+        ifslib.discover(target, jitter=1.5)

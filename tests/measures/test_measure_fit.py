@@ -76,16 +76,16 @@ def test_the_support_s_maps_start_the_measure_fit(monkeypatch):
     found = ifslib.patterns.sierpinski_triangle().jittered(0.01, np.random.default_rng(0))
     asked = []
 
-    def search(pattern, target, maps=None, seed=0):
-        asked.append((pattern, target.size, int(target.mask.sum()), maps))
+    def search(target, maps=None, seed=0):
+        asked.append((target.size, int(target.mask.sum()), maps))
         return Plan(found, (found,), "fractal", {})
 
-    monkeypatch.setattr(measure_fit, "initialize", search)
+    monkeypatch.setattr(measure_fit, "discover", search)
     fit = fit_measure_from_support(image, 3, MeasureFitOptions(steps=12, lr=0.2, map_lr=0.002, fit_maps=True,
                                                                  measure=QUICK), fit_size=32, turn=False)
-    assert asked == [("auto", 128, int((image > 0).sum()), 3)] and fit.start is found
+    assert asked == [(128, int((image > 0).sum()), 3)] and fit.start is found
     assert fit.losses[-1] < fit.losses[0] / 2 and fit.correlation > 0.9
-    monkeypatch.setattr(measure_fit, "initialize", lambda *a, **k: Plan(found, (found,), "shape", {}))
+    monkeypatch.setattr(measure_fit, "discover", lambda *a, **k: Plan(found, (found,), "shape", {}))
     with pytest.raises(ifslib.IFSError, match="no fractal's maps"):
         fit_measure_from_support(image, fit_size=32)
 

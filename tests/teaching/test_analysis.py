@@ -7,7 +7,7 @@ import torch
 
 import ifslib
 from ifslib import figures, landscape, metrics
-from ifslib.automatic.initialization import is_curve
+from ifslib.core.geometry.crossings import is_curve
 
 
 def polyline_ifs(points):

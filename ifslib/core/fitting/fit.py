@@ -37,7 +37,7 @@ def _check(start, target, steps: int, seed: int, options: RunOptions) -> None:
     if not isinstance(target, Target):
         raise IFSError(f"target must be a Target (see ifslib.load_target), got a {type(target).__name__}")
     if not isinstance(start, IFS) and not isinstance(getattr(start, "start", None), IFS):
-        raise IFSError(f"ifs must be an IFS (or a plan from ifslib.initialize('auto', target)), "
+        raise IFSError(f"ifs must be an IFS (or a plan from ifslib.discover(target)), "
                        f"got a {type(start).__name__}")
 
 
@@ -51,7 +51,7 @@ def fit(ifs: IFS | Start, target: Target, *, steps: int = DEFAULT_STEPS, strateg
     ----------
     ifs : IFS or Plan
         The starting point (not modified), or a plan read from the image
-        (``ifslib.initialize("auto", target)``), which is fitted by comparing its candidates.
+        (``ifslib.discover(target)``), which is fitted by comparing its candidates.
     target : Target
         From `ifslib.load_target`; its size sets the render size.
     steps : int

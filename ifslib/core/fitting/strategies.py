@@ -2,8 +2,8 @@
 
 Each name of `ifslib.names.STRATEGIES` is an entry of the table `strategy` reads (a `Strategy`: how it
 runs and what start it fits). The core's own are below; an extension registers its own with
-`register_strategy` when it is imported (``auto``: `ifslib.automatic.fit_plan`), and
-`ifslib.names.STRATEGY_HOMES` says which module that is, so the core never imports an extension.
+`register_strategy` when its folder is imported (``auto``: ``import ifslib.automatic``, which an automatic
+start has already done; ``splat``: ``import ifslib.splatting``): the core never imports an extension.
 
 Each strategy calls `run` (never the public `ifslib.fit`, which sits above this module and picks a
 strategy) and returns the best result. Every step of every run counts in ``history.cost``, so
@@ -21,7 +21,7 @@ strategies compare per step spent:
     ``multistart``. Each stage spends at most ``min(steps, stage_steps)`` steps (the
     attractor's, ``attractor_steps``: fields of `StrategyOptions`).
 ``auto`` (registered by the automatic path)
-    For a plan (`ifslib.initialize("auto", target)`, `ifslib.automatic.plan.Plan`), in
+    For a plan (`ifslib.discover(target)`, `ifslib.automatic.plan.Plan`), in
     `ifslib.automatic.fit_plan`: each of its candidate starts is fitted at the coarsest size of the pyramid
     for the same number of steps (`AUTO.fit.probe_steps`), and the one with the lowest loss goes on
     through the pyramid's stages as in ``pyramid``; a shape then gets a stage at full size
@@ -59,7 +59,6 @@ strategies compare per step spent:
 """
 from __future__ import annotations
 
-import importlib
 import math
 from dataclasses import dataclass
 from typing import Callable, Protocol
@@ -74,7 +73,7 @@ from ..geometry.ifs import IFS
 from ...progress import note
 from ..scoring.losses import loss_kind
 from ..scoring.metrics import evaluate, self_crossings
-from ...names import DEFAULT_STRATEGY, STRATEGIES, STRATEGY_HOMES  # the names live apart, for the command line to check without torch
+from ...names import DEFAULT_STRATEGY, STRATEGIES  # the names live apart, for the command line to check without torch
 from ..targets.placement import place
 from ..targets.target import Target
 from .options import RunOptions, StrategyOptions
@@ -131,10 +130,10 @@ def register_strategy(name: str, strategy: Strategy) -> None:
 
 
 def strategy(name: str) -> Strategy:
-    """The table's entry for ``name``; an extension's strategy is registered by importing its module
-    (`ifslib.names.STRATEGY_HOMES`)."""
+    """The table's entry for ``name``; an extension's strategy is in the table once its folder is imported."""
     if check_strategy(name) not in _TABLE:
-        importlib.import_module(STRATEGY_HOMES[name])
+        raise IFSError(f"strategy {name!r} belongs to an extension of ifslib that is not imported: import it first "
+                       f"(import ifslib.splatting, import ifslib.automatic); in the table now: {', '.join(_TABLE)}")
     return _TABLE[name]
 
 

@@ -1,7 +1,9 @@
 """A pattern placed on a target (paper, "Initial Conditions"): a curve's points evenly spaced along the
 target's best-fit line, any other pattern stretched onto its bounding box, with optional seeded jitter.
 
-It reads the target's pixels alone (no search), so a fit may place its own starts with it.
+It reads the target's pixels alone (no search), so a fit may place its own starts with it. A start read
+from the image itself (a curve, a shape or a fractal's maps, searched) is the automatic path's:
+`ifslib.discover`.
 """
 from __future__ import annotations
 
@@ -41,6 +43,35 @@ def check_jitter(jitter: float, seed: int | None) -> None:
         raise IFSError(f"jitter must be a number from 0 to 1 (plane units: the frame is 1 wide), got {jitter!r}")
     if seed is not None:
         check_int(seed, "seed", 0, maximum=MAX_SEED)
+
+
+def initialize(pattern: IFS, target: Target, jitter: float = 0.0, seed: int | None = None) -> IFS:
+    """A start for fitting ``target``: the pattern's points placed on it (paper, "Initial Conditions").
+
+    Parameters
+    ----------
+    pattern : IFS
+        The pattern (`ifslib.patterns`). A curve (see `is_curve`, as the Koch curve) gets its points
+        evenly spaced along the target's best-fit line, the paper's advice; any other pattern (grids,
+        the carpet, rosettes) is stretched onto the target's bounding box.
+    target : Target
+    jitter : float
+        Half-width of the uniform jitter added to every free coordinate (plane units, from 0 to 1).
+    seed : int, optional
+        Seed of the jitter, from 0 to ``ifslib.errors.MAX_SEED``.
+
+    Returns
+    -------
+    IFS
+        The placed copy of ``pattern``.
+    """
+    if isinstance(pattern, str):
+        hint = ("a start read from the image is ifslib.discover(target) (import ifslib.automatic)"
+                if pattern == "auto" else "patterns by name: ifslib.patterns.by_name")
+        raise IFSError(f"initialize takes an IFS, got {pattern!r}: {hint}")
+    if not isinstance(pattern, IFS):
+        raise IFSError(f"initialize takes an IFS (ifslib.patterns), got {type(pattern).__name__}")
+    return place(pattern, target, jitter, seed)
 
 
 def place(pattern: IFS, target: Target, jitter: float = 0.0, seed: int | None = None) -> IFS:

@@ -222,7 +222,7 @@ def _banned(cells: list[tuple[str, str]], label: str, banned: set[str]) -> list[
                 words = {node.id}
             elif isinstance(node, ast.Attribute):
                 words = {node.attr}
-            elif isinstance(node, ast.Call):   # a name passed as a string: initialize("auto", ...)
+            elif isinstance(node, ast.Call):   # a name passed as a string: fit(..., strategy="auto")
                 words = {a.value for a in [*node.args, *(k.value for k in node.keywords)]
                          if isinstance(a, ast.Constant) and isinstance(a.value, str)}
             elif isinstance(node, (ast.Import, ast.ImportFrom)):

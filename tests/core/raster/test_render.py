@@ -44,7 +44,8 @@ def test_the_chaos_games_mask_is_the_pixels_its_drawing_shades_at_least_half():
     # figure_mask of the chaos game splats each point on the pixel centres within reach (no KD-tree): the same
     # pixels as thresholding the drawing, whose shade is of the distance to the nearest point
     import numpy as np
-    from ifslib.studies.samplers import literature_ifs
+    from common_testing import benchmark_module
+    literature_ifs = benchmark_module("samplers").literature_ifs
     from ifslib.core.raster.chaos import chaos_field, chaos_reach
     from ifslib.core.raster.render import figure_mask
 

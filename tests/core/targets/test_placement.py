@@ -31,3 +31,25 @@ def test_place_is_initialize_for_a_pattern_and_refuses_a_bad_jitter(koch_target)
                           ifslib.initialize(pattern, koch_target, jitter=0.05, seed=3).points.detach().numpy())
     with pytest.raises(ifslib.IFSError, match="jitter must be a number from 0 to 1"):
         place(pattern, koch_target, jitter=2.0)
+
+
+def test_a_pattern_is_placed_and_jittered_with_its_seed(koch_target):
+    pattern = ifslib.patterns.koch(depth=2)
+    plain = ifslib.initialize(pattern, koch_target)
+    assert isinstance(plain, ifslib.IFS) and plain is not pattern
+    assert np.array_equal(plain.points.detach().numpy(), place(pattern, koch_target).points.detach().numpy())
+    a, b = (ifslib.initialize(pattern, koch_target, jitter=0.05, seed=7).points.detach().numpy() for _ in range(2))
+    moved = a - plain.points.detach().numpy()
+    assert np.array_equal(a, b) and 0 < np.abs(moved).max() <= 0.05
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda t: ifslib.initialize("koch", t), "initialize takes an IFS, got 'koch': patterns by name"),
+    (lambda t: ifslib.initialize("auto", t), r"a start read from the image is ifslib.discover\(target\)"),
+    (lambda t: ifslib.initialize(np.zeros((3, 2)), t), "initialize takes an IFS"),
+    (lambda t: ifslib.initialize(ifslib.patterns.koch(), t, jitter=1.5), "jitter must be a number from 0 to 1"),
+    (lambda t: ifslib.initialize(ifslib.patterns.koch(), t, seed=-1), "seed"),
+])
+def test_bad_arguments_are_refused_before_any_work(koch_target, call, message):
+    with pytest.raises(ifslib.IFSError, match=message):
+        call(koch_target)

@@ -15,11 +15,11 @@ import numpy as np
 import torch
 from scipy import ndimage
 
-from ..errors import IFSError, LeafBudgetError, check_int, check_positive
-from ..core.geometry.attractor import attractor_ball, attractor_leaves
-from ..core.geometry.ifs import IFS
-from ..core.geometry.patterns import MAX_RANDOM_SCALE, affine, random_ifs
-from ..core.geometry.sampled import sample_attractor
+from ifslib.errors import IFSError, LeafBudgetError, check_int, check_positive
+from ifslib.core.geometry.attractor import attractor_ball, attractor_leaves
+from ifslib.core.geometry.ifs import IFS
+from ifslib.core.geometry.patterns import MAX_RANDOM_SCALE, affine, random_ifs
+from ifslib.core.geometry.sampled import sample_attractor
 
 #: The classes, and the numbers of maps each draws (inclusive).
 MAP_RANGE = {"stem": (3, 6), "spiral": (2, 4), "overlap": (2, 6), "many": (6, 10)}

@@ -17,8 +17,8 @@ import math
 import numpy as np
 from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
-from ..errors import IFSError
-from ..core.scoring.metrics import f1, iou
+from ifslib.errors import IFSError
+from ifslib.core.scoring.metrics import f1, iou
 
 #: The share of each side the literature crops before scoring.
 LITERATURE_CROP = 0.125

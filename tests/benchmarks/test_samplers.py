@@ -8,11 +8,14 @@ import torch
 
 import ifslib
 from ifslib.errors import IFSError
-from ifslib.studies import samplers
 from ifslib.core.geometry.patterns import random_ifs, sierpinski_triangle
 from ifslib.core.geometry.rules import singular_values
-from ifslib.studies.samplers import (OVERLAP_AREA, OVERLAP_SHARE, SPIRAL_SCALE, SPIRAL_TURN, STEM_THIN,
-                                      Acceptance, copy_overlap, literature_ifs, occupancy)
+from common_testing import benchmark_module
+
+samplers = benchmark_module("samplers")
+(OVERLAP_AREA, OVERLAP_SHARE, SPIRAL_SCALE, SPIRAL_TURN, STEM_THIN, Acceptance, copy_overlap, literature_ifs,
+ occupancy) = (getattr(samplers, n) for n in ("OVERLAP_AREA", "OVERLAP_SHARE", "SPIRAL_SCALE", "SPIRAL_TURN",
+                                              "STEM_THIN", "Acceptance", "copy_overlap", "literature_ifs", "occupancy"))
 
 #: The drawn IFSs of the tests: (kind, maps, seed), the ends of each class's range of maps.
 DRAWN = [("stem", 3, 0), ("stem", 6, 1), ("spiral", 2, 0), ("spiral", 4, 1), ("overlap", 2, 0), ("overlap", 5, 1),

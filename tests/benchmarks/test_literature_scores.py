@@ -5,7 +5,9 @@ import numpy as np
 import pytest
 
 from ifslib.errors import IFSError
-from ifslib.studies.literature import crop_border, literature_scores
+from common_testing import benchmark_module
+
+crop_border, literature_scores = benchmark_module("literature_scores").crop_border, benchmark_module("literature_scores").literature_scores
 
 
 def figure(size=32, seed=0):
