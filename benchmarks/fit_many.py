@@ -31,7 +31,8 @@ def main() -> None:
     device = resolve_device(args.device)
     target = ifslib.load_target("koch", args.size)
     seeds = list(range(args.seeds))
-    kw = {"steps": args.steps, "loss": "multiscale_distance", "device": str(device), "progress": False}
+    kw = {"steps": args.steps, "loss": "multiscale_distance", "options": ifslib.RunOptions(device=str(device)),
+          "progress": False}
 
     def start(seed):
         return ifslib.patterns.koch_paper(seed, depth=args.depth)

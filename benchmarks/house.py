@@ -119,8 +119,8 @@ def lines(path: Path) -> int:
 
 
 def fit_options() -> tuple[int, list[str]]:
-    """`ifslib.fit`'s options: its own parameters (the IFS and the target aside) and, when it takes
-    ``**settings``, every field of the options objects those are split into."""
+    """`ifslib.fit`'s options: its own parameters, the IFS and the target aside (an options object passed whole,
+    ``options=`` or ``strategy=``, is one), and, were it to take ``**settings``, every field those could reach."""
     sys.path.insert(0, str(ROOT))
     from ifslib.core.fitting import fit as fit_module
 
@@ -132,7 +132,7 @@ def fit_options() -> tuple[int, list[str]]:
         import dataclasses
 
         from ifslib.core.fitting import options
-        for cls in (getattr(options, n, None) for n in ("RunOptions", "StrategyOptions")):
+        for cls in (options.RunOptions, getattr(options, "StrategyOptions", None)):
             if cls is not None:
                 forwarded += [f.name for f in dataclasses.fields(cls) if f.name not in own]
     return len(own) + len(forwarded), own + forwarded

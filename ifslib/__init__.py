@@ -65,7 +65,7 @@ _PUBLIC = {
     "f1": ("core.scoring.metrics", "f1"), "iou": ("core.scoring.metrics", "iou"), "point_error": ("core.scoring.metrics", "point_error"),
     "strategies": ("core.fitting.strategies", None), "fit_many": ("studies.batch", "fit_many"), "fit": ("core.fitting.fit", "fit"),
     "Checkpoint": ("core.fitting.options", "Checkpoint"), "RunOptions": ("core.fitting.options", "RunOptions"),
-    "StrategyOptions": ("core.fitting.options", "StrategyOptions"), "FitResult": ("core.fitting.result", "FitResult"),
+    "FitResult": ("core.fitting.result", "FitResult"),
     "History": ("core.fitting.result", "History"), "Stage": ("core.fitting.result", "Stage"),
     "initialization": ("core.targets.placement", None), "best_fit_line": ("core.targets.placement", "best_fit_line"),
     "initialize": ("core.targets.placement", "initialize"),

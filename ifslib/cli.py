@@ -125,7 +125,7 @@ def _fit_options(args: argparse.Namespace):
     """The run's settings from ``args``, checked (`RunOptions`: the loss's name among them) with the strategy's name;
     with ``--pattern auto`` and a ``--loss`` named, standard error says where the automatic path uses it."""
     from .automatic.config import AUTO
-    from .core.fitting.options import split_settings
+    from .core.fitting.options import with_settings
     from .core.fitting.strategies import check_strategy
     from .core.scoring.losses import DEFAULT_LOSS
 
@@ -133,7 +133,7 @@ def _fit_options(args: argparse.Namespace):
         check_strategy(args.strategy)
     named = {"lr": args.lr, "loss": DEFAULT_LOSS if args.loss is None else args.loss, "tol": args.tol,
              "depth": "attractor" if args.depth == "attractor" else None}
-    options, _ = split_settings(named, None, None)
+    options = with_settings(None, named)
     if args.pattern == "auto" and args.loss is not None:
         print(f"--loss {args.loss}: the automatic path probes and climbs a curve's or a shape's candidates with it; "
               f"a fractal's maps are fitted with the {AUTO.fit.fractal_loss} loss, and a shape's last stage with "

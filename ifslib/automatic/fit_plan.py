@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from dataclasses import dataclass
 
 from ..errors import IFSError
 from .config import AUTO
@@ -23,7 +24,7 @@ from .plan import Plan
 from ..core.geometry.attractor import ATTRACTOR
 from ..core.scoring.metrics import evaluate
 from .choice import AutoRun, Candidate, Kind
-from ..core.fitting.options import RunOptions
+from ..core.fitting.options import Pyramid, RunOptions
 from ..core.fitting.frame import Frame
 from ..core.fitting.pyramid import attractor_stage, climb, with_early_stop
 from ..core.fitting.result import FitResult, Stage
@@ -204,10 +205,15 @@ def _finish(result: FitResult, run: AutoRun, stages: list[Stage], cost: int) -> 
     return result
 
 
-def _run(frame: Frame, plan: Plan, options: RunOptions, settings, rng) -> FitResult:
+@dataclass(frozen=True)
+class Auto(Pyramid):
+    """The ``auto`` strategy's options: the pyramid's, whose stages its chosen candidate climbs."""
+
+
+def _run(frame: Frame, plan: Plan, options: RunOptions, settings: Auto, rng) -> FitResult:
     """The ``auto`` strategy as the core's table runs it (the generator is not used: the plan holds its seeds)."""
     return fit_plan(plan, frame, options, end_on_attractor=settings.end_on_attractor)
 
 
-register_strategy("auto", Strategy(_run, fits=Plan, refusal="strategy 'auto' fits an automatic start, a plan read "
+register_strategy("auto", Strategy(_run, Auto, fits=Plan, refusal="strategy 'auto' fits an automatic start, a plan read "
                                                              "from the image: use ifslib.discover(target)"))

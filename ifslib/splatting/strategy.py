@@ -13,14 +13,15 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import torch
 
-from ..errors import IFSError, LeafBudgetError
+from ..errors import IFSError, LeafBudgetError, check_int
 from ..names import DEFAULT_LR
 from ..core.fitting.frame import Frame
-from ..core.fitting.options import RunOptions, StrategyOptions
+from ..core.fitting.options import Pyramid, RunOptions
 from ..core.fitting.pyramid import attractor_method
 from ..core.fitting.result import FitResult, History
 from ..core.fitting.strategies import Strategy, register_strategy
@@ -95,7 +96,24 @@ def fitted_ifs(maps: torch.Tensor, probabilities, start: IFS) -> IFS:
     return ifs
 
 
-def run_splat(frame: Frame, start: IFS, options: RunOptions, settings: StrategyOptions,
+@dataclass(frozen=True)
+class Splat:
+    """The ``splat`` strategy's options (its fit's own are `ifslib.splatting.SplatFitOptions`, set from the run's).
+
+    Attributes
+    ----------
+    max_leaves : int
+        The start and the fitted maps are scored on the certified cut of their attractor when it has at most
+        this many leaves, else on sampled leaves (as the pyramid's attractor stage, `Pyramid.max_leaves`).
+    """
+
+    max_leaves: int = Pyramid.max_leaves
+
+    def __post_init__(self) -> None:
+        check_int(self.max_leaves, "max_leaves", 1)
+
+
+def run_splat(frame: Frame, start: IFS, options: RunOptions, settings: Splat,
               rng: np.random.Generator) -> FitResult:
     """The ``splat`` strategy as the core's table runs it (see the module docstring; ``rng`` is not used: the frame's
     seed seeds the splat fit)."""
@@ -137,5 +155,5 @@ def comparison(before: float, after: float, why: str | None, options: RunOptions
     return out
 
 
-register_strategy("splat", Strategy(run_splat, refusal="strategy 'splat' fits an IFS (or a plan's start): give "
+register_strategy("splat", Strategy(run_splat, Splat, refusal="strategy 'splat' fits an IFS (or a plan's start): give "
                                                        "ifslib.fit an IFS whose maps contract"))

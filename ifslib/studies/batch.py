@@ -28,7 +28,7 @@ from ..core.raster.distance import distance_fields, resolve_device
 from ..errors import IFSError, check_int
 from ..names import DEFAULT_STEPS
 from ..threads import refresh as refresh_threads
-from ..core.fitting.options import RunOptions, split_settings
+from ..core.fitting.options import RunOptions, with_settings
 from ..core.fitting.result import FitResult, History
 from ..core.geometry.ifs import IFS, check_depth
 from ..core.scoring.losses import loss as loss_fn
@@ -115,7 +115,7 @@ def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, *,
     if not seeds:
         raise IFSError("fit_many needs at least one seed")
     check_int(steps, "steps", 0)
-    options, _ = split_settings(settings, options, None)
+    options = with_settings(options, settings)
     _check_batchable(options)
     refresh_threads()  # in auto mode: the cores free now (see ifslib.threads)
     lr, loss, sigma, levels, gradient = options.step_lr, options.loss, options.sigma, options.levels, options.gradient

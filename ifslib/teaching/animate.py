@@ -2,7 +2,7 @@
 
 Each frame shows, left to right: the target, the fractal at a kept step, and their difference
 (red where the fractal draws too much, blue where it misses the target), as the paper's
-repository shows in its README. The frames come from ``fit(..., keep_every=N)``.
+repository shows in its README. The frames come from ``fit(..., options=RunOptions(keep_every=N))``.
 """
 from __future__ import annotations
 
@@ -66,7 +66,7 @@ def animate(history: History | dict, target: Target, path: str | os.PathLike, fp
     if isinstance(history, dict):
         history = History.from_dict(history)
     if history.snapshots is None or history.pattern is None:
-        raise IFSError("this history holds no snapshots: run fit(..., keep_every=N) to keep them")
+        raise IFSError("this history holds no snapshots: run fit(..., options=ifslib.RunOptions(keep_every=N)) to keep them")
     path = Path(path)
     if path.suffix.lower() not in (".gif", ".mp4"):
         raise IFSError(f"animate writes .gif or .mp4 files, got {path.name!r}")

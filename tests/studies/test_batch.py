@@ -76,7 +76,7 @@ def _paper_start(seed):
 
 @pytest.mark.parametrize("gradient", ["exact", "paper"])
 def test_fit_many_equals_fit_for_every_seed(koch_target, gradient):
-    kw = dict(steps=25, lr=0.003, loss="multiscale_distance", gradient=gradient, progress=False)
+    kw = dict(steps=25, lr=0.003, loss="multiscale_distance", options=ifslib.RunOptions(gradient=gradient), progress=False)
     many = fit_many(_paper_start, koch_target, seeds=[0, 1, 2], **kw)
     for seed, got in zip([0, 1, 2], many):
         want = ifslib.fit(_paper_start(seed), koch_target, seed=seed, **kw, strategy="plain")
@@ -133,8 +133,8 @@ def test_fit_many_bad_inputs_are_clear_errors(koch_target):
 def test_fit_and_fit_many_on_the_device_follow_the_cpu_path(koch_target, device):
     # on CPU this is the same computation twice; with --device cuda it checks the GPU path
     kw = dict(steps=10, lr=0.003, loss="multiscale_distance", progress=False)
-    on_cpu = ifslib.fit(_paper_start(0), koch_target, **kw, strategy="plain", device="cpu")
-    here = ifslib.fit(_paper_start(0), koch_target, **kw, strategy="plain", device=device)
+    on_cpu = ifslib.fit(_paper_start(0), koch_target, **kw, strategy="plain", options=ifslib.RunOptions(device="cpu"))
+    here = ifslib.fit(_paper_start(0), koch_target, **kw, strategy="plain", options=ifslib.RunOptions(device=device))
     batched = fit_many(_paper_start, koch_target, seeds=[0, 1], device=device, **kw)[0]
     for got in (here, batched):
         torch.testing.assert_close(got.final.points.detach().cpu(), on_cpu.final.points.detach(), rtol=0, atol=1e-4)

@@ -99,7 +99,7 @@ def test_bad_cells_are_refused():
 
 def test_rows_say_which_start_was_kept():
     # plain is one run of its seed's start; pyramid tries starts until one recovers (up to
-    # StrategyOptions.n_starts) and the row names the one kept, so that a rate counts its trials honestly
+    # Pyramid.n_starts) and the row names the one kept, so that a rate counts its trials honestly
     rows = sweep([Cell("plain"), Cell("pyramid")], [0, 1], SETUP, scheduler="serial")
     plain, pyramid = rows[:2], rows[2:]
     assert all((r["starts_tried"], r["start"]) == (1, 1) for r in plain)

@@ -9,7 +9,7 @@ from typing import Callable
 
 from ..geometry.ifs import IFS
 from ..targets.target import Target, pyramid_sizes, resize_target
-from .options import RunOptions, StrategyOptions
+from .options import Pyramid, RunOptions
 from .result import FitResult
 from .run import run
 
@@ -30,8 +30,9 @@ class Frame:
         Progress bars and lines (`ifslib.core.fitting.run.run`).
     callback : callable, optional
         ``callback(step, loss, ifs)`` after every step of every run.
-    settings : StrategyOptions
-        The strategy's settings: the pyramid's sizes (`levels`) and its stages' budgets.
+    settings : object
+        The strategy's options (`Pyramid` and the like): the pyramid's sizes (`levels`) and its stages' budgets
+        for the strategies that climb it.
     """
 
     target: Target
@@ -40,7 +41,7 @@ class Frame:
     _: KW_ONLY
     progress: bool = True
     callback: Callable | None = None
-    settings: StrategyOptions = StrategyOptions()
+    settings: object = Pyramid()
 
     @cached_property
     def levels(self) -> dict[int, Target]:

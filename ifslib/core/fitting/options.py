@@ -1,5 +1,5 @@
 """The settings of a fit, as frozen dataclasses validated once, where they are built: `RunOptions` (one Adam run),
-`StrategyOptions` (how a strategy spends its runs) and `Checkpoint` (a resumable run).
+each strategy's own options (how it spends its runs) and `Checkpoint` (a resumable run).
 
 `ifslib.fit` takes them as objects, or their fields by name (``fit(ifs, target, lr=0.01)``), and
 hands them down whole; nothing below it pops or refills a setting.
@@ -121,58 +121,140 @@ class RunOptions:
         return self.lr if self.stage_lr is None else self.stage_lr
 
 
+def _check_fields(options, ints: tuple[str, ...] = (), positive: tuple[str, ...] = (),
+                  non_negative: tuple[str, ...] = ()) -> None:
+    """Raise `IFSError` naming the first field of ``options`` out of its range."""
+    for name in ints:
+        check_int(getattr(options, name), name, 2 if name == "pyramid_factor" else 1)
+    for name in positive:
+        if not _finite(getattr(options, name)):
+            raise IFSError(f"{name} must be a finite number > 0, got {getattr(options, name)!r}")
+    for name in non_negative:
+        if not _finite(getattr(options, name), allow_zero=True):
+            raise IFSError(f"{name} must be a finite number >= 0, got {getattr(options, name)!r}")
+
+
 @dataclass(frozen=True)
-class StrategyOptions:
-    """How a strategy spends its runs (`ifslib.core.fitting.strategies`; each setting's strategy in brackets).
+class Plain:
+    """The paper's procedure: one run, every step spent unless the run options set an early stop."""
+
+
+@dataclass(frozen=True)
+class CoarseToFine:
+    """Depth 1, then 2, ... up to the full depth, the steps split evenly."""
+
+
+@dataclass(frozen=True)
+class Anneal:
+    """The rendering width (pixel losses) or the pooling levels (distance losses) from coarse to fine in four
+    stages, the steps split evenly."""
+
+
+@dataclass(frozen=True)
+class Uncross:
+    """One run with a barrier on self-crossings added to the loss (curves only).
+
+    Attributes
+    ----------
+    weight : float
+        The barrier's weight when the run options set no ``crossing_weight``: larger pushes crossings apart
+        sooner and distorts the curve's fit more.
+    """
+
+    weight: float = 0.1
+
+    def __post_init__(self) -> None:
+        _check_fields(self, positive=("weight",))
+
+
+@dataclass(frozen=True)
+class Multistart:
+    """Short probes from several starts; the best go on to the full budget.
 
     Attributes
     ----------
     n_starts : int
-        Starts tried at most [pyramid, multistart].
+        Starts probed: the given one, jittered copies of it, and for curves best-fit-line starts.
     keep : int
-        Probes that go on to the full budget [multistart].
+        Probes that go on to the full budget.
     probe : float
-        A probe's share of ``steps`` [multistart].
+        A probe's share of ``steps``, above 0 and below 1.
     jitter : float
-        Half-width of the uniform jitter of a start's points, plane units [pyramid, multistart, restart].
-    success : float
-        Symmetric Chamfer distance (pixels) at which no more starts are tried [pyramid, restart].
-    budget : float
-        The most steps, in multiples of ``steps`` [restart].
-    coarsest : int
-        The pyramid's coarsest size in pixels: below 64 a Koch curve of depth 3 blurs into its own gaps [pyramid, auto].
-    pyramid_factor : int
-        Each pyramid stage is this many times the size of the one before (4: 64² then 256²; a middle 128²
-        stage costs more time than it saves at 256², docs/results/fits-in-seconds.md) [pyramid, auto].
-    stage_steps : int
-        At most this many steps in one pyramid stage (or ``steps``, when smaller): enough for the stages of
-        starts that recover, while a start that crawls on for a thousand steps ends stalled and is better
-        replaced [pyramid, auto].
-    stage_tol, stage_patience : float, int
-        Each pyramid stage's early stop (`ifslib.core.fitting.run.converged`) where the run options set none
-        [pyramid, auto].
-    attractor_steps : int
-        At most this many steps in the last stage, which fits the attractor itself at the target's size
-        (what the inverse problem asks for: a drawing at depth K can match the target while its attractor
-        does not) [pyramid, auto].
-    max_leaves : int
-        The attractor stage draws the certified cut (`ifslib.distance_field` with ``depth="attractor"``) when
-        it has at most this many leaves, else sampled leaves of it (``method="sampled"``: overlapping copies
-        of a shape): more is exact on more figures, and slower and larger per step [pyramid, auto].
-    uncross_weight : float
-        The crossing barrier's weight when the run options set none: larger pushes crossings apart sooner
-        and distorts the curve's fit more [uncross].
-    end_on_attractor : bool
-        End each start with a stage that fits the attractor itself and judge it; False keeps the
-        fit on the drawing at depth K, the paper's question [pyramid, auto].
+        Half-width of the uniform jitter of a start's points, plane units.
     """
 
     n_starts: int = 8
     keep: int = 2
     probe: float = 0.15
     jitter: float = 0.05
+
+    def __post_init__(self) -> None:
+        _check_fields(self, ints=("n_starts", "keep"), non_negative=("jitter",))
+        if not (_finite(self.probe) and self.probe < 1):
+            raise IFSError(f"probe must be a share of the steps, above 0 and below 1, got {self.probe!r}")
+
+
+@dataclass(frozen=True)
+class Restart:
+    """Runs in windows; a window that ends stalled and off the target restarts from jittered best points.
+
+    Attributes
+    ----------
+    jitter : float
+        Half-width of a restart's jitter, plane units.
+    success : float
+        Symmetric Chamfer distance (pixels) at which the fit stops.
+    budget : float
+        The most steps, in multiples of ``steps``.
+    """
+
+    jitter: float = 0.05
     success: float = 1.0
     budget: float = 3.0
+
+    def __post_init__(self) -> None:
+        _check_fields(self, positive=("budget",), non_negative=("jitter", "success"))
+
+
+@dataclass(frozen=True)
+class Pyramid:
+    """The default strategy: coarse to fine in pixels, starts tried until one recovers the target, each ending on
+    its attractor (`ifslib.core.fitting.strategies`).
+
+    Attributes
+    ----------
+    n_starts : int
+        Starts tried at most.
+    jitter : float
+        Half-width of the uniform jitter of a start's points, plane units.
+    success : float
+        Symmetric Chamfer distance (pixels) at which no more starts are tried.
+    coarsest : int
+        The pyramid's coarsest size in pixels: below 64 a Koch curve of depth 3 blurs into its own gaps.
+    pyramid_factor : int
+        Each stage is this many times the size of the one before (4: 64² then 256²; a middle 128² stage
+        costs more time than it saves at 256², docs/results/fits-in-seconds.md).
+    stage_steps : int
+        At most this many steps in one stage (or ``steps``, when smaller): enough for the stages of starts
+        that recover, while a start that crawls on for a thousand steps ends stalled and is better replaced.
+    stage_tol, stage_patience : float, int
+        Each stage's early stop (`ifslib.core.fitting.run.converged`) where the run options set none.
+    attractor_steps : int
+        At most this many steps in the last stage, which fits the attractor itself at the target's size
+        (what the inverse problem asks for: a drawing at depth K can match the target while its attractor
+        does not).
+    max_leaves : int
+        The attractor stage draws the certified cut (`ifslib.distance_field` with ``depth="attractor"``) when
+        it has at most this many leaves, else sampled leaves of it (``method="sampled"``: overlapping copies
+        of a shape): more is exact on more figures, and slower and larger per step.
+    end_on_attractor : bool
+        End each start with a stage that fits the attractor itself and judge it; False keeps the fit on the
+        drawing at depth K, the paper's question.
+    """
+
+    n_starts: int = 8
+    jitter: float = 0.05
+    success: float = 1.0
     coarsest: int = 64
     pyramid_factor: int = 4
     stage_steps: int = 500
@@ -180,24 +262,12 @@ class StrategyOptions:
     stage_patience: int = 30
     attractor_steps: int = 300
     max_leaves: int = 300_000
-    uncross_weight: float = 0.1
     end_on_attractor: bool = True
 
     def __post_init__(self) -> None:
-        check_int(self.n_starts, "n_starts", 1)
-        check_int(self.keep, "keep", 1)
-        check_int(self.coarsest, "coarsest", 1)
-        check_int(self.pyramid_factor, "pyramid_factor", 2)
-        for name in ("stage_steps", "stage_patience", "attractor_steps", "max_leaves"):
-            check_int(getattr(self, name), name, 1)
-        for name in ("stage_tol", "uncross_weight"):
-            if not _finite(getattr(self, name)):
-                raise IFSError(f"{name} must be a finite number > 0, got {getattr(self, name)!r}")
-        if not (_finite(self.probe) and self.probe < 1):
-            raise IFSError(f"probe must be a share of the steps, above 0 and below 1, got {self.probe!r}")
-        for name in ("jitter", "success", "budget"):
-            if not _finite(getattr(self, name), allow_zero=name != "budget"):
-                raise IFSError(f"{name} must be a finite number >= 0, got {getattr(self, name)!r}")
+        _check_fields(self, ints=("n_starts", "coarsest", "pyramid_factor", "stage_steps", "stage_patience",
+                                  "attractor_steps", "max_leaves"),
+                      positive=("stage_tol",), non_negative=("jitter", "success"))
         if not isinstance(self.end_on_attractor, bool):
             raise IFSError(f"end_on_attractor must be True or False, got {self.end_on_attractor!r}")
 
@@ -214,23 +284,15 @@ class Checkpoint:
     resume: str | Path | None = None
 
     def __post_init__(self) -> None:
-        check_int(self.every, "checkpoint_every", 1)
+        check_int(self.every, "every", 1)
 
 
-#: The settings `ifslib.fit` takes by name, and the object each belongs to.
-FIELDS = {f.name: RunOptions for f in dataclasses.fields(RunOptions) if f.name != "stage_lr"} | \
-         {f.name: StrategyOptions for f in dataclasses.fields(StrategyOptions)}
-
-
-def split_settings(settings: dict, run: RunOptions | None, strategy: StrategyOptions | None
-                   ) -> tuple[RunOptions, StrategyOptions]:
-    """``settings`` given by name (fields of `RunOptions` or `StrategyOptions`) applied to the objects given."""
-    unknown = sorted(set(settings) - set(FIELDS))
+def with_settings(options: RunOptions | None, settings: dict) -> RunOptions:
+    """``options`` (the defaults when None) with fields of `RunOptions` given by name; `IFSError` names any other."""
+    fields = {f.name for f in dataclasses.fields(RunOptions)} - {"stage_lr"}
+    unknown = sorted(set(settings) - fields)
     if unknown:
-        raise IFSError(f"unknown setting(s) {', '.join(unknown)}: a fit takes {', '.join(sorted(FIELDS))}")
-    run = RunOptions() if run is None else run
-    strategy = StrategyOptions() if strategy is None else strategy
-    mine = {k: v for k, v in settings.items() if FIELDS[k] is RunOptions}
-    theirs = {k: v for k, v in settings.items() if FIELDS[k] is StrategyOptions}
-    return (run.replace(**mine) if mine else run,
-            dataclasses.replace(strategy, **theirs) if theirs else strategy)
+        raise IFSError(f"unknown setting(s) {', '.join(unknown)}: the run options are {', '.join(sorted(fields))}")
+    options = RunOptions() if options is None else options
+    return options.replace(**settings) if settings else options
+

@@ -2,7 +2,7 @@
 the attractor stage that ends them.
 
 A start is fitted at the coarsest size of the target's pyramid (64² for a 256² target), then at
-each finer size (`StrategyOptions.pyramid_factor` times larger) up to the target's own, each
+each finer size (`Pyramid.pyramid_factor` times larger) up to the target's own, each
 stage from the last one's best points and ending when its loss has converged. The learning rate
 grows with the pixel size (``lr * size / stage_size``), so a coarse step moves the points as far,
 in pixels, as a fine one.
@@ -14,10 +14,10 @@ from ..geometry.attractor import ATTRACTOR
 from ..geometry.ifs import IFS
 from ..raster.distance import attractor_leaves_for
 from .frame import Frame
-from .options import RunOptions, StrategyOptions
+from .options import Pyramid, RunOptions
 from .result import FitResult, Stage
 
-def with_early_stop(options: RunOptions, settings: StrategyOptions) -> RunOptions:
+def with_early_stop(options: RunOptions, settings: Pyramid) -> RunOptions:
     """``options`` with the pyramid's own early stop (``settings.stage_tol``, ``stage_patience``) where the fit set none."""
     return options.replace(tol=settings.stage_tol if options.tol is None else options.tol,
                            patience=settings.stage_patience if options.patience is None else options.patience)

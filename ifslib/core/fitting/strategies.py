@@ -1,7 +1,8 @@
 """Strategies: how a fit spends its steps over several single runs (`ifslib.core.fitting.run.run`).
 
 Each name of `ifslib.names.STRATEGIES` is an entry of the table `strategy` reads (a `Strategy`: how it
-runs and what start it fits). The core's own are below; an extension registers its own with
+runs, what start it fits, and its options object: `ifslib.fit` takes the name, or the object itself,
+``strategy=Pyramid(n_starts=2)``). The core's own are below; an extension registers its own with
 `register_strategy` when its folder is imported (``auto``: ``import ifslib.automatic``, which an automatic
 start has already done; ``splat``: ``import ifslib.splatting``): the core never imports an extension.
 
@@ -12,14 +13,14 @@ strategies compare per step spent:
 ``pyramid``
     The default. Coarse to fine in pixels, and starts tried one after another until one recovers
     the target. Each start runs at the coarsest size of the target's pyramid (64² for a 256²
-    target), then at each finer size (4 times larger, ``StrategyOptions.pyramid_factor``) up
+    target), then at each finer size (4 times larger, ``Pyramid.pyramid_factor``) up
     to the target's own, every stage ending when its loss has converged (``tol``, ``patience``),
     by the one coarse-to-fine driver of `ifslib.core.fitting.pyramid`.
     Each start then ends with a stage that fits its **attractor** at the full size
     (`attractor_stage`), and is judged by the attractor's symmetric Chamfer distance to the target;
     once it is at most ``success`` pixels, no more starts are tried. The starts are those of
     ``multistart``. Each stage spends at most ``min(steps, stage_steps)`` steps (the
-    attractor's, ``attractor_steps``: fields of `StrategyOptions`).
+    attractor's, ``attractor_steps``: fields of `Pyramid`).
 ``auto`` (registered by the automatic path)
     For a plan (`ifslib.discover(target)`, `ifslib.automatic.plan.Plan`), in
     `ifslib.automatic.fit_plan`: each of its candidate starts is fitted at the coarsest size of the pyramid
@@ -54,7 +55,7 @@ strategies compare per step spent:
     fine in four stages (cost: ``steps``).
 ``uncross``
     One run with a barrier on self-crossings added to the loss (curves only): ``crossing_weight``
-    (default ``StrategyOptions.uncross_weight``) times the summed depth of the curve's crossings
+    (default ``Uncross.weight``) times the summed depth of the curve's crossings
     (`ifslib.crossings.crossing_penalty`), the paper's suggestion (cost: ``steps``).
 """
 from __future__ import annotations
@@ -76,7 +77,7 @@ from ..scoring.metrics import evaluate, self_crossings
 from ...names import DEFAULT_STRATEGY, STRATEGIES  # the names live apart, for the command line to check without torch
 from ..targets.placement import place
 from ..targets.target import Target
-from .options import RunOptions, StrategyOptions
+from .options import Anneal, CoarseToFine, Multistart, Plain, Pyramid, Restart, RunOptions, Uncross
 from .frame import Frame
 from .pyramid import attractor_stage, climb, with_early_stop
 from .result import FitResult
@@ -97,8 +98,8 @@ class Start(Protocol):
     strategy: str
 
 
-#: ``run(frame, start, options, settings, rng) -> FitResult``
-Runner = Callable[["Frame", object, RunOptions, StrategyOptions, np.random.Generator], "FitResult"]
+#: ``run(frame, start, options, settings, rng) -> FitResult``: ``settings`` is the strategy's own options object
+Runner = Callable[["Frame", object, RunOptions, object, np.random.Generator], "FitResult"]
 
 
 @dataclass(frozen=True)
@@ -109,6 +110,8 @@ class Strategy:
     ----------
     run : Runner
         The strategy's work, from a start, with the run and strategy settings and the seeded generator.
+    options : type
+        The strategy's options: a frozen dataclass whose defaults are the strategy's (`Pyramid`, ...).
     refusal : str
         The error given another start: what to do instead.
 
@@ -117,6 +120,7 @@ class Strategy:
     """
 
     run: Runner
+    options: type
     fits: type = IFS
     refusal: str = ""
 
@@ -137,13 +141,25 @@ def strategy(name: str) -> Strategy:
     return _TABLE[name]
 
 
+def resolve(chosen) -> tuple[str, object]:
+    """A strategy given to `ifslib.fit` as its name (its options' defaults) or as its options object: the name and
+    the options. Raise `IFSError` for anything else."""
+    if isinstance(chosen, str):
+        return chosen, strategy(chosen).options()
+    for name, entry in _TABLE.items():
+        if type(chosen) is entry.options:
+            return name, chosen
+    raise IFSError(f"strategy must be a name ({', '.join(STRATEGIES)}) or a strategy's options "
+                   f"({', '.join(e.options.__name__ for e in _TABLE.values())}), got {type(chosen).__name__}")
+
+
 @dataclass(frozen=True)
 class _Job:
     """One strategy's work: its runs' frame, and the run and strategy settings."""
 
     frame: Frame
     options: RunOptions
-    settings: StrategyOptions
+    settings: object  # the strategy's options
 
     def run(self, start: IFS, steps: int, *, desc: str | None = None, **changes) -> FitResult:
         """One run of ``start`` at the target's size with the options changed by ``changes``."""
@@ -270,11 +286,12 @@ def _anneal(job: _Job, ifs: IFS) -> FitResult:
 
 
 def run_strategy(name: str, start: IFS | Start, target: Target, *, steps: int, seed: int = 0,
-                 options: RunOptions = RunOptions(), settings: StrategyOptions = StrategyOptions(),
+                 options: RunOptions = RunOptions(), settings: object | None = None,
                  progress: bool = True, callback: Callable | None = None) -> FitResult:
     """Run the strategy ``name`` (one of `STRATEGIES`) from ``start``: the public `ifslib.fit` below its checks.
 
-    ``auto`` takes a `ifslib.automatic.plan.Plan`; the others an IFS (of a plan, its start).
+    ``auto`` takes a `ifslib.automatic.plan.Plan`; the others an IFS (of a plan, its start). ``settings`` is the
+    strategy's options object (its defaults when None).
 
     Returns
     -------
@@ -283,6 +300,7 @@ def run_strategy(name: str, start: IFS | Start, target: Target, *, steps: int, s
         ``history.strategy`` the strategy's name.
     """
     entry = strategy(name)
+    settings = entry.options() if settings is None else settings
     if entry.fits is IFS and not isinstance(start, IFS):
         start = start.start
     if not isinstance(start, entry.fits):
@@ -295,16 +313,16 @@ def run_strategy(name: str, start: IFS | Start, target: Target, *, steps: int, s
     return result.record()  # what a saved fit records of how it was found
 
 
-def _of_one_ifs(body: Callable[[_Job, IFS, np.random.Generator], FitResult]) -> Strategy:
+def _of_one_ifs(body: Callable[[_Job, IFS, np.random.Generator], FitResult], options: type) -> Strategy:
     """A strategy of one pattern: its runs at the options' depth, or the start's."""
-    def run(frame: Frame, ifs: IFS, options: RunOptions, settings: StrategyOptions, rng: np.random.Generator) -> FitResult:
-        return body(_Job(frame, options.replace(depth=options.depth or ifs.depth), settings), ifs, rng)
-    return Strategy(run)
+    def run(frame: Frame, ifs: IFS, run_options: RunOptions, settings, rng: np.random.Generator) -> FitResult:
+        return body(_Job(frame, run_options.replace(depth=run_options.depth or ifs.depth), settings), ifs, rng)
+    return Strategy(run, options)
 
 
 def _uncross(job: _Job, ifs: IFS) -> FitResult:
     check_curve(ifs, "strategy 'uncross'")
-    return job.run(ifs, job.frame.steps, crossing_weight=job.options.crossing_weight or job.settings.uncross_weight)
+    return job.run(ifs, job.frame.steps, crossing_weight=job.options.crossing_weight or job.settings.weight)
 
 
 def _coarse_to_fine(job: _Job, ifs: IFS) -> FitResult:
@@ -312,13 +330,13 @@ def _coarse_to_fine(job: _Job, ifs: IFS) -> FitResult:
     return _in_stages(job, ifs, [{"depth": d} for d in depths], _split(job.frame.steps, len(depths)))
 
 
-for _name, _body in {
-    "pyramid": _pyramid,
-    "plain": lambda job, ifs, rng: job.run(ifs, job.frame.steps),
-    "uncross": lambda job, ifs, rng: _uncross(job, ifs),
-    "coarse_to_fine": lambda job, ifs, rng: _coarse_to_fine(job, ifs),
-    "multistart": _multistart,
-    "restart": _restart,
-    "anneal": lambda job, ifs, rng: _anneal(job, ifs),
+for _name, (_body, _options) in {
+    "pyramid": (_pyramid, Pyramid),
+    "plain": (lambda job, ifs, rng: job.run(ifs, job.frame.steps), Plain),
+    "uncross": (lambda job, ifs, rng: _uncross(job, ifs), Uncross),
+    "coarse_to_fine": (lambda job, ifs, rng: _coarse_to_fine(job, ifs), CoarseToFine),
+    "multistart": (_multistart, Multistart),
+    "restart": (_restart, Restart),
+    "anneal": (lambda job, ifs, rng: _anneal(job, ifs), Anneal),
 }.items():
-    register_strategy(_name, _of_one_ifs(_body))
+    register_strategy(_name, _of_one_ifs(_body, _options))

@@ -32,7 +32,7 @@ def test_keep_every_snapshots_and_gif_animation(tmp_path):
     target = ifslib.load_target(ifslib.patterns.koch(depth=2), 24)
     start = ifslib.initialize(ifslib.patterns.koch(depth=2), target, jitter=0.03, seed=1)
     plain = ifslib.fit(start, target, steps=12, progress=False, strategy="plain")
-    kept = ifslib.fit(start, target, steps=12, progress=False, keep_every=5, strategy="plain")
+    kept = ifslib.fit(start, target, steps=12, progress=False, options=ifslib.RunOptions(keep_every=5), strategy="plain")
     assert plain.history.snapshots is None and "snapshots" not in plain.best.meta["history"]
     assert kept.history.snapshots["step"] == [0, 5, 10, 12]
     assert torch.equal(kept.best.points, plain.best.points)  # keeping snapshots changes nothing
@@ -47,14 +47,14 @@ def test_keep_every_snapshots_and_gif_animation(tmp_path):
 
 def test_animate_needs_snapshots_and_a_known_format(tmp_path):
     target = ifslib.load_target(ifslib.patterns.koch(depth=1), 16)
-    result = ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, keep_every=1, strategy="plain")
+    result = ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, options=ifslib.RunOptions(keep_every=1), strategy="plain")
     with pytest.raises(ifslib.IFSError, match="keep_every"):
         ifslib.animate(ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=1, progress=False, strategy="plain").history,
                        target, tmp_path / "a.gif")
     with pytest.raises(ifslib.IFSError, match=r"\.gif or \.mp4"):
         ifslib.animate(result.history, target, tmp_path / "a.png")
     with pytest.raises(ifslib.IFSError, match="keep_every"):
-        ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=1, keep_every=0)
+        ifslib.RunOptions(keep_every=0)
 
 
 def test_animate_mp4_without_ffmpeg_says_so(tmp_path, monkeypatch):
@@ -62,7 +62,7 @@ def test_animate_mp4_without_ffmpeg_says_so(tmp_path, monkeypatch):
 
     animate_module = importlib.import_module("ifslib.teaching.animate")  # the module, not the function of that name
     target = ifslib.load_target(ifslib.patterns.koch(depth=1), 16)
-    result = ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, keep_every=1, strategy="plain")
+    result = ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, options=ifslib.RunOptions(keep_every=1), strategy="plain")
     monkeypatch.setattr(animate_module.shutil, "which", lambda name: None)
     with pytest.raises(ifslib.IFSError, match="ffmpeg"):
         ifslib.animate(result.history, target, tmp_path / "fit.mp4", progress=False)

@@ -7,7 +7,7 @@ from ifslib.core.fitting.frame import Frame
 
 def test_the_pyramid_is_built_once_when_first_asked_for():
     target = ifslib.load_target(ifslib.patterns.koch(depth=2), 128)
-    frame = Frame(target, 5, 0, progress=False, settings=ifslib.StrategyOptions(coarsest=32))
+    frame = Frame(target, 5, 0, progress=False, settings=ifslib.strategies.Pyramid(coarsest=32))
     assert "levels" not in vars(frame)  # a plain run never pays for the resizing
     assert frame.sizes == [32, 128] and frame.levels[128] is target
     assert frame.levels is frame.levels

@@ -65,7 +65,7 @@ def test_early_stop_ends_where_the_full_run_ends(target):
     # where both converge, stopping early costs no accuracy: the same points as 400 more steps
     start = ifslib.initialize(KOCH, target, jitter=0.03, seed=2)
     kwargs = dict(lr=0.01, loss="multiscale_distance", progress=False, strategy="plain")
-    early = ifslib.fit(start, target, steps=300, tol=1e-3, patience=10, **kwargs)
+    early = ifslib.fit(start, target, steps=300, options=ifslib.RunOptions(tol=1e-3, patience=10), **kwargs)
     full = ifslib.fit(start, target, steps=300, **kwargs)
     assert early.history.cost < 150
     assert ifslib.point_error(early.best, full.best) < 0.01
@@ -89,7 +89,7 @@ def test_pyramid_recovers_a_posed_curve_from_the_best_fit_line():
 def test_pyramid_tries_the_next_start_when_one_fails(target):
     # success=0 px cannot be met, so every start is tried and the best is kept
     result = ifslib.fit(KOCH, target, steps=10, loss="multiscale_distance", progress=False,
-                        options=ifslib.StrategyOptions(n_starts=3, success=0.0))
+                        strategy=ifslib.strategies.Pyramid(n_starts=3, success=0.0))
     assert result.history.starts_tried == 3 and not result.history.recovered
     assert {s.start for s in result.history.stages} == {0, 1, 2}
     assert result.history.cost == sum(s.steps for s in result.history.stages)
@@ -97,9 +97,9 @@ def test_pyramid_tries_the_next_start_when_one_fails(target):
 
 def test_bad_stop_arguments(target):
     with pytest.raises(ifslib.IFSError, match="tol"):
-        ifslib.fit(KOCH, target, steps=2, tol=-1, progress=False)
+        ifslib.RunOptions(tol=-1)
     with pytest.raises(ifslib.IFSError, match="patience"):
-        ifslib.fit(KOCH, target, steps=2, tol=0.1, patience=0, progress=False)
+        ifslib.RunOptions(tol=0.1, patience=0)
     with pytest.raises(ifslib.IFSError, match="Target"):
         ifslib.fit(KOCH, np.zeros((8, 8)), steps=2, progress=False)
 

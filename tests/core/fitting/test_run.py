@@ -20,15 +20,16 @@ def test_resume_equals_uninterrupted(koch_target, tmp_path):
     start = _start(koch_target, 4)
     whole = ifslib.fit(start, koch_target, steps=12, lr=0.01, progress=False, strategy="plain")
     ckpt = tmp_path / "ckpt.json"
-    ifslib.fit(start, koch_target, steps=7, lr=0.01, progress=False, checkpoint=ckpt, checkpoint_every=7, strategy="plain")
+    ifslib.fit(start, koch_target, steps=7, lr=0.01, progress=False, checkpoint=ifslib.Checkpoint(ckpt, every=7), strategy="plain")
     assert json.loads(ckpt.read_text())["meta"]["fit"]["next_step"] == 7
-    resumed = ifslib.fit(start, koch_target, steps=12, lr=0.01, progress=False, resume=ckpt, strategy="plain")
+    resumed = ifslib.fit(start, koch_target, steps=12, lr=0.01, progress=False, checkpoint=ifslib.Checkpoint(resume=ckpt),
+                         strategy="plain")
     assert resumed.history.loss == whole.history.loss
     assert torch.equal(resumed.final.points, whole.final.points)
     assert torch.equal(resumed.best.points, whole.best.points)
     with pytest.raises(ValueError, match="is not a fit checkpoint"):
         path = ifslib.save_ifs(start, tmp_path / "plain.json")
-        ifslib.fit(start, koch_target, steps=3, progress=False, resume=path, strategy="plain")
+        ifslib.fit(start, koch_target, steps=3, progress=False, checkpoint=ifslib.Checkpoint(resume=path), strategy="plain")
 
 
 def test_nan_loss_is_rolled_back(koch_target):

@@ -39,10 +39,10 @@ def test_strategy_runs_and_counts_its_cost(strategy, target):
         assert 0 < cost <= 3 * STEPS
     else:
         assert cost == STEPS
-    weight = ifslib.StrategyOptions().uncross_weight if strategy == "uncross" else 0.0  # its loss includes the crossing barrier
+    weight = ifslib.strategies.Uncross().weight if strategy == "uncross" else 0.0  # its loss includes the crossing barrier
     depth = "attractor" if strategy in ("pyramid", "auto") else None  # those end on the attractor
     start_loss = ifslib.fit(start, target, steps=1, loss="multiscale_distance", progress=False, strategy="plain",
-                            crossing_weight=weight, depth=depth).best_loss
+                            options=ifslib.RunOptions(crossing_weight=weight), depth=depth).best_loss
     assert result.best_loss <= start_loss
 
 
@@ -69,7 +69,7 @@ def test_uncross_needs_a_curve(target):
     with pytest.raises(ifslib.IFSError, match="needs a curve"):
         ifslib.fit(ifslib.patterns.sierpinski_carpet(depth=1), target, steps=2, progress=False, strategy="uncross")
     with pytest.raises(ifslib.IFSError, match="crossing_weight must be"):
-        ifslib.fit(ifslib.patterns.koch(depth=1), target, steps=2, progress=False, crossing_weight=-1)
+        ifslib.RunOptions(crossing_weight=-1)
 
 
 def test_default_is_pyramid_and_a_single_run_when_checkpointing(target, tmp_path):
@@ -89,7 +89,7 @@ def test_attractor_stage_falls_back_to_sampled_leaves_when_the_cut_outgrows_the_
 
     ifs = ifslib.patterns.koch(depth=3)
     target = ifslib.load_target(ifslib.render(ifs, 64).detach().numpy(), 64)
-    assert pyramid.attractor_method(ifs, 64, ifslib.StrategyOptions().max_leaves) == "fast"
+    assert pyramid.attractor_method(ifs, 64, ifslib.strategies.Pyramid().max_leaves) == "fast"
     monkeypatch.setattr(attractor, "DEFAULT_MAX_LEAVES", 16)  # the stage's own cut: far over this budget at once
     frame = Frame(target, 2, 0, progress=False)
     result, record = pyramid.attractor_stage(frame, ifs, ifslib.RunOptions(lr=1e-3), "test")
@@ -112,7 +112,7 @@ def test_a_fit_calls_no_discovery(target, monkeypatch):
                          (auto, "candidates"), (plan, "fractal_start"), (fractal, "search"), (ifslib, "initialize")]:
         monkeypatch.setattr(module, name, off)
     start = ifslib.patterns.koch_paper(1, depth=2)
-    result = ifslib.fit(start, target, steps=4, n_starts=2, success=0.0, progress=False)
+    result = ifslib.fit(start, target, steps=4, strategy=ifslib.strategies.Pyramid(n_starts=2, success=0.0), progress=False)
     assert result.history.starts_tried == 2  # the second start is the one placed on the best-fit line
     assert ifslib.fit(plan_of_koch, target, steps=4, progress=False).history.strategy == "auto"
 

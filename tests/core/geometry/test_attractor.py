@@ -236,8 +236,8 @@ def test_a_fit_over_the_leaf_budget_stops_with_the_advice_not_with_rollbacks(mon
     with pytest.raises(ifslib.IFSError, match="method='sampled'"):
         ifslib.fit(ifslib.patterns.sierpinski_carpet(), target, steps=5, depth="attractor", strategy="plain",
                    progress=False)
-    result = ifslib.fit(ifslib.patterns.sierpinski_carpet(), target, steps=5, depth="attractor", method="sampled",
-                        strategy="plain", progress=False)
+    result = ifslib.fit(ifslib.patterns.sierpinski_carpet(), target, steps=5, depth="attractor",
+                        options=ifslib.RunOptions(method="sampled"), strategy="plain", progress=False)
     assert result.history.cost == 5 and not result.history.rollbacks
 
 

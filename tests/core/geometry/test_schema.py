@@ -79,7 +79,7 @@ def test_a_fitted_file_is_valid(validator, tmp_path):
     """A fit's result: meta with its history (and a checkpoint's state), an automatic start's pattern."""
     target = ifslib.load_target(patterns.koch(depth=2), 32)
     result = ifslib.fit(patterns.koch(depth=2), target, steps=3, progress=False, strategy="plain",
-                        checkpoint=tmp_path / "checkpoint.json", checkpoint_every=2)
+                        checkpoint=ifslib.Checkpoint(tmp_path / "checkpoint.json", every=2))
     fitted = result.best
     fitted.meta["target"] = {"polarity": target.polarity, "inverted": target.inverted}
     fitted.meta["scores"] = {"depth": {"depth": 2, "iou": 0.5, "f1": 0.6, "chamfer": 0.7},
