@@ -20,6 +20,7 @@ import torch.nn.functional as F
 from tqdm.auto import tqdm
 
 from ..errors import IFSError, check_int
+from ..names import DEFAULT_STEPS
 from ..core.geometry import patterns
 from ..core.geometry.ifs import IFS
 from ..core.scoring.losses import multiscale_mse
@@ -73,7 +74,7 @@ class SplatFitOptions:
         own size, to polish maps already placed to a pixel (a coarse level blurs their detail away).
     """
 
-    steps: int = 1500
+    steps: int = DEFAULT_STEPS
     points_per_pixel: float = config.POINTS_PER_PIXEL
     kind: str = "auto"
     map_lr: float = config.MAP_LR
