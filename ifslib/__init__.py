@@ -27,25 +27,13 @@ Typical use::
     limit = ifslib.render(ifs, 256, "attractor")  # the attractor itself, within half a pixel
 """
 import importlib
-import os
 
-# MKL's strict reproducible mode: a matrix product gives the same bits at any thread count (by
-# default a long product is split between the threads, and its last bits follow their number).
-# MKL reads it at its first call, so it holds when torch was imported first; a value set by the
-# user is kept.
-os.environ.setdefault("MKL_CBWR", "AUTO,STRICT")
-# OpenMP's idle threads sleep rather than spin between torch's parallel regions. A spinning thread
-# holds its core for a while after each small operation; beside another busy process (a test worker,
-# a notebook, a sweep's fits) that doubles a 2-thread fit's CPU time and more (a fractal search: 41 s
-# of CPU spinning against 10 s passive, the same maps; docs/results/threads.md). libgomp reads it
-# when torch loads: set before torch is imported it holds here, and always in the processes started
-# from here (notebook kernels, the CLI's runs). A value set by the user is kept.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 
 #: Every public name, and where it lives: (module, attribute), or (module, None) for a module. A name is
 #: imported on first use, so ``python -m ifslib fit IMAGE --loss typo`` refuses the name before torch
-#: loads; torch's thread count is set when the first folder that computes is imported (`ifslib.threads`).
+#: loads; torch's thread count, and the two variables of the environment torch's libraries read when they load,
+#: are set when the first folder that computes is imported (`ifslib.threads`): ``import ifslib`` writes nothing.
 _PUBLIC = {
     "IFSError": ("errors", "IFSError"),
     "configure_threads": ("threads", "configure_threads"),

@@ -10,6 +10,10 @@ when the package's first computing folder is imported (``import ifslib`` itself 
 strategy is one) once `REFRESH_SECONDS` have passed since the last look, so a long fit and a
 notebook that runs for an hour follow the machine. ``IFSLIB_THREADS=N`` fixes the count for the
 notebooks, the CLI and the tests alike; `configure_threads` does the same from Python.
+
+Importing this module also sets, unless the user did, two variables that torch's libraries read when they
+load: ``MKL_CBWR`` (a matrix product gives the same bits at any thread count) and ``OMP_WAIT_POLICY=PASSIVE``
+(idle threads sleep rather than spin). It is the one place ifslib writes to the process's environment.
 """
 from __future__ import annotations
 
@@ -18,7 +22,20 @@ import time
 from contextlib import contextmanager
 from typing import Iterator
 
-# MKL_CBWR and OMP_WAIT_POLICY are set in ifslib/__init__.py, before any of the package's modules imports torch.
+# Where torch is configured, and before it loads: every folder that computes imports this module before torch
+# (tests/test_threads.py checks the order), and ``import ifslib`` alone writes nothing to the environment.
+# MKL's strict reproducible mode: a matrix product gives the same bits at any thread count (by
+# default a long product is split between the threads, and its last bits follow their number).
+# MKL reads it at its first call, so it holds when torch was imported first; a value set by the
+# user is kept.
+os.environ.setdefault("MKL_CBWR", "AUTO,STRICT")
+# OpenMP's idle threads sleep rather than spin between torch's parallel regions. A spinning thread
+# holds its core for a while after each small operation; beside another busy process (a test worker,
+# a notebook, a sweep's fits) that doubles a 2-thread fit's CPU time and more (a fractal search: 41 s
+# of CPU spinning against 10 s passive, the same maps; docs/results/threads.md). libgomp reads it
+# when torch loads: set before torch is imported it holds here, and always in the processes started
+# from here (notebook kernels, the CLI's runs). A value set by the user is kept.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import torch  # noqa: E402
 

@@ -10,7 +10,8 @@ import re
 
 import pytest
 
-import ifslib  # first: it sets OpenMP's wait policy before torch loads (ifslib/__init__.py)
+import ifslib
+from ifslib import threads as _threads  # noqa: F401 - first: it sets OpenMP's wait policy before torch loads
 import torch  # noqa: E402
 
 

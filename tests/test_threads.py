@@ -77,3 +77,51 @@ def test_refresh_looks_again_only_after_a_while(monkeypatch):
     monkeypatch.setitem(threads._state, "sampled", time.monotonic() - threads.REFRESH_SECONDS)
     assert threads.refresh() == threads.cores()  # nothing else busy (as the stub says): every core
     assert looked == [1]
+
+
+def _top_imports(path):
+    """The module names a file's top-level statements import, in order (``threads`` for a relative import of it)."""
+    import ast
+
+    names = []
+    for node in ast.parse(path.read_text()).body:
+        if isinstance(node, ast.Import):
+            names += [a.name.split(".")[0] for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            module = node.module or ""
+            names += ["threads"] if module.endswith("threads") or any(a.name == "threads" for a in node.names) \
+                else [module.split(".")[0] if not node.level else module]
+    return names
+
+
+def test_every_module_loads_torch_after_the_thread_settings():
+    """``OMP_WAIT_POLICY`` counts only when set before torch loads: each module that imports torch at its top
+    imports ``ifslib.threads`` first, or a folder above it does (its ``__init__.py``, before any torch)."""
+    from pathlib import Path
+
+    package = Path(ifslib.__file__).parent
+    early = []
+    for path in sorted(package.rglob("*.py")):
+        names = _top_imports(path)
+        if "torch" not in names or path.name == "threads.py":
+            continue
+        if "threads" in names[: names.index("torch")]:
+            continue
+        folders = [path.parent] + [p for p in path.parent.parents if package in (p, *p.parents)]
+        inits = [f / "__init__.py" for f in folders if f != package and (f / "__init__.py").exists() and f / "__init__.py" != path]
+        if any("threads" in (n := _top_imports(i)) and ("torch" not in n or n.index("threads") < n.index("torch"))
+               for i in inits):
+            continue
+        early.append(str(path.relative_to(package)))
+    assert not early, f"these import torch before ifslib.threads: {early}"
+
+
+def test_importing_ifslib_writes_nothing_to_the_environment():
+    import subprocess
+    import sys
+
+    code = ("import os; before = dict(os.environ); import ifslib; ifslib.__all__; assert dict(os.environ) == before; "
+            "ifslib.load_target; assert os.environ['OMP_WAIT_POLICY'] and os.environ['MKL_CBWR']")
+    env = {k: v for k, v in __import__("os").environ.items() if k not in ("OMP_WAIT_POLICY", "MKL_CBWR")}
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert done.returncode == 0, done.stderr[-1500:]

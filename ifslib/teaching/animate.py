@@ -12,7 +12,9 @@ import subprocess
 from pathlib import Path
 
 import numpy as np
-import torch
+
+from .. import threads as _threads  # noqa: F401 - before torch loads (ifslib.threads)
+import torch  # noqa: E402
 from PIL import Image, ImageDraw
 from tqdm.auto import tqdm
 

@@ -20,6 +20,8 @@ if not os.environ.get("MPLBACKEND") and not os.environ.get("DISPLAY") and "ipyke
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+from .. import threads as _threads  # noqa: F401, E402 - before torch loads (ifslib.threads)
 import torch  # noqa: E402
 
 from ..core.geometry import patterns  # noqa: E402

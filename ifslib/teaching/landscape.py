@@ -9,7 +9,9 @@ from __future__ import annotations
 from typing import Callable
 
 import numpy as np
-import torch
+
+from .. import threads as _threads  # noqa: F401 - before torch loads (ifslib.threads)
+import torch  # noqa: E402
 from tqdm.auto import tqdm
 
 from ..core.raster.distance import distance_field

@@ -20,7 +20,9 @@ import io
 import time
 
 import numpy as np
-import torch
+
+from .. import threads as _threads  # noqa: F401 - before torch loads (ifslib.threads)
+import torch  # noqa: E402
 from PIL import Image, ImageDraw
 
 try:

@@ -13,9 +13,9 @@ import types
 from typing import Callable, Iterator
 
 import numpy as np
-import torch
 
-from ... import threads as _threads  # noqa: F401 - torch's thread count is set before a student's answer computes
+from ... import threads as _threads  # noqa: F401 - before torch loads (ifslib.threads)
+import torch  # noqa: E402
 from ...errors import IFSError
 from .library import ALLOWED, LIBRARY
 
