@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import IFSError
-from .names import COMPRESSION_METHODS
+from .names import COMPRESSION_METHODS, PARTITIONS
 from .progress import draw_bars, note
 
 
@@ -114,7 +114,7 @@ def add_parsers(sub) -> None:
     c.add_argument("--method", choices=COMPRESSION_METHODS, default="attractor",
                    help="collage (the classic coder) or attractor (no more bits, refined through the decoder; "
                         "the default)")
-    c.add_argument("--partition", choices=("quadtree", "hv"), default="quadtree",
+    c.add_argument("--partition", choices=PARTITIONS, default=PARTITIONS[0],
                    help="quadtree (squares; the default) or hv (rectangles cut at their strongest edge; with --bpp)")
     c.add_argument("--deblock", type=_weight, metavar="W",
                    help="the decoder's post-filter: each pixel beside a block seam takes weight W (0 to 0.5, "

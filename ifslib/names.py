@@ -27,3 +27,7 @@ DEFAULT_STRATEGY = "pyramid"
 #: The coders `ifslib.compression.compress` runs: the classic collage coder, and the same bits refined
 #: through the decoder (attractor coding).
 COMPRESSION_METHODS = ("collage", "attractor")
+
+#: The partitions of a compressed photograph, in the order a file's header numbers them: squares of a quadtree,
+#: or rectangles cut at their strongest edge (range-coded files only).
+PARTITIONS = ("quadtree", "hv")
