@@ -4,7 +4,7 @@ Writes the target PNGs once (Koch curves in the first ``--poses`` poses of `cli_
 silhouettes of `benchmarks/silhouettes.py`, the first ``--fractals`` fractals of
 `benchmarks/fractals.py`), a photograph (scikit-image's camera at 256²) and the fern's chaos-game
 measure at 64², fits each with every default by ``python -m ifslib fit`` (the photograph by
-``python -m ifslib compress --bpp 0.25``; the measure by ``ifslib.fit_measure``, maps and
+``python -m ifslib compress --bpp 0.25``; the measure by ``ifslib.measures.fit_measure``, maps and
 probabilities, 40 steps) at ``IFSLIB_THREADS=1`` (two at a time, one per core), and compares two
 folders: a fit is the same when its points, rules, primitives, depth, fixed points (and a measure
 fit's probabilities) are equal as written in the JSON file (Python writes a float's shortest exact
@@ -60,7 +60,8 @@ def write_targets(folder: Path, poses: int, fractals: int) -> None:
     cases["camera"] = ("compress", 256)
     fern = ifslib.patterns.fern().to(torch.float64)
     fern.probabilities = (0.01, 0.85, 0.07, 0.07)
-    np.save(folder / "fern_measure.npy", ifslib.chaos_measure(fern, 64, n=2_000_000))
+    from ifslib.measures.measure import chaos_measure
+    np.save(folder / "fern_measure.npy", chaos_measure(fern, 64, n=2_000_000))
     cases["fern_measure"] = ("measure", 64)
     (folder / "cases.json").write_text(json.dumps(cases, indent=1))
 
@@ -71,9 +72,10 @@ import dataclasses, inspect, json, sys
 import numpy as np
 import ifslib
 image = np.load(sys.argv[1])
-options = inspect.signature(ifslib.fit_measure).parameters["options"].default
+from ifslib.measures.measure_fit import fit_measure  # where it lives in every tree's layout
+options = inspect.signature(fit_measure).parameters["options"].default
 options = dataclasses.replace(options, steps=40, fit_maps=True)
-fit = ifslib.fit_measure(ifslib.patterns.fern(), image, options)
+fit = fit_measure(ifslib.patterns.fern(), image, options)
 saved = json.loads(ifslib.save_ifs(fit.ifs, sys.argv[2]).read_text())
 saved["probabilities"] = list(fit.probabilities)
 open(sys.argv[2], "w").write(json.dumps(saved))

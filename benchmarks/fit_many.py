@@ -1,4 +1,4 @@
-"""Throughput of `ifslib.fit_many` (one batched computation) against sequential `ifslib.fit` calls.
+"""Throughput of `ifslib.studies.batch.fit_many` (one batched computation) against sequential `ifslib.fit` calls.
 
 The paper's Koch start (`ifslib.patterns.koch_paper(seed)`) fitted to the paper's koch.png with the
 multiscale distance loss, seeds 0..B-1. Both sides run the same number of steps per seed from the
@@ -16,6 +16,7 @@ import time
 import torch
 
 import ifslib
+from ifslib.studies.batch import fit_many
 from ifslib.core.raster.distance import resolve_device
 
 
@@ -50,7 +51,7 @@ def main() -> None:
     sync()
     sequential = (time.perf_counter() - t0) / args.sequential * args.seeds
     t0 = time.perf_counter()
-    many = ifslib.fit_many(start, target, seeds=seeds, **kw)
+    many = fit_many(start, target, seeds=seeds, **kw)
     sync()
     batched = time.perf_counter() - t0
     same = all(torch.allclose(a.final.points, b.final.points, atol=1e-5) for a, b in zip(singles, many))

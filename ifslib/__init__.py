@@ -51,20 +51,15 @@ _PUBLIC = {
     "LOSSES": ("names", "LOSSES"), "loss": ("core.scoring.losses", "loss"),
     "chamfer": ("core.scoring.metrics", "chamfer"), "evaluate": ("core.scoring.metrics", "evaluate"),
     "f1": ("core.scoring.metrics", "f1"), "iou": ("core.scoring.metrics", "iou"), "point_error": ("core.scoring.metrics", "point_error"),
-    "strategies": ("core.fitting.strategies", None), "fit_many": ("studies.batch", "fit_many"), "fit": ("core.fitting.fit", "fit"),
+    "strategies": ("core.fitting.strategies", None), "fit": ("core.fitting.fit", "fit"),
     "Checkpoint": ("core.fitting.options", "Checkpoint"), "RunOptions": ("core.fitting.options", "RunOptions"),
     "FitResult": ("core.fitting.result", "FitResult"),
     "History": ("core.fitting.result", "History"), "Stage": ("core.fitting.result", "Stage"),
     "initialization": ("core.targets.placement", None), "best_fit_line": ("core.targets.placement", "best_fit_line"),
     "initialize": ("core.targets.placement", "initialize"),
     # beyond the paper: the automatic path, measures, compression, studies
-    "auto": ("automatic.auto", None), "fractal": ("automatic.fractal", None),
-    "Plan": ("automatic.plan", "Plan"), "discover": ("automatic.plan", "discover"),
-    "chaos_measure": ("measures.measure", "chaos_measure"), "invariant_measure": ("measures.measure", "invariant_measure"),
-    "cylinder_measure": ("measures.measure", "cylinder_measure"),
-    "dimension": ("measures.dimension", None), "fit_measure": ("measures.measure_fit", "fit_measure"),
-    "fit_measure_from_support": ("measures.measure_fit", "fit_measure_from_support"),
-    "fit_measure_from_collage": ("measures.collage_search", "fit_measure_from_collage"),
+    # (each extension is a subpackage: ifslib.automatic, ifslib.measures, ifslib.splatting, ifslib.studies)
+    "discover": ("automatic.plan", "discover"), "dimension": ("measures.dimension", None),
     "compression": ("compression", None), "sweep": ("studies.sweep", None),
     # the teaching modules load matplotlib
     "exercises": ("teaching.exercises", None), "figures": ("teaching.figures", None),

@@ -154,7 +154,7 @@ def refresh() -> int:
     """In ``auto`` mode, pick the thread count again from the cores free now; else keep it.
 
     Called at the start of every single run (`ifslib.core.fitting.run.run`, each stage of a strategy)
-    and of `ifslib.fit_many`, so a long fit follows the machine's load. It looks again only when
+    and of `ifslib.studies.batch.fit_many`, so a long fit follows the machine's load. It looks again only when
     `REFRESH_SECONDS` have passed since the last look.
 
     Returns

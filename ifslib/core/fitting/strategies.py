@@ -22,7 +22,7 @@ strategies compare per step spent:
     ``multistart``. Each stage spends at most ``min(steps, stage_steps)`` steps (the
     attractor's, ``attractor_steps``: fields of `Pyramid`).
 ``auto`` (registered by the automatic path)
-    For a plan (`ifslib.discover(target)`, `ifslib.automatic.plan.Plan`), in
+    For a plan (``ifslib.discover(target)``, `ifslib.automatic.plan.Plan`), in
     `ifslib.automatic.fit_plan`: each of its candidate starts is fitted at the coarsest size of the pyramid
     for the same number of steps (`AUTO.fit.probe_steps`), and the one with the lowest loss goes on
     through the pyramid's stages as in ``pyramid``; a shape then gets a stage at full size

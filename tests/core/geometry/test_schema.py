@@ -11,6 +11,7 @@ import pytest
 import torch
 
 import ifslib
+from ifslib.automatic import auto
 from ifslib.core.geometry import io, patterns
 
 from conftest import mixed, sheared_mixed
@@ -90,7 +91,7 @@ def test_a_fitted_file_is_valid(validator, tmp_path):
     checkpoint = json.loads((tmp_path / "checkpoint.json").read_text(encoding="utf-8"))
     assert "fit" in checkpoint["meta"]
     validator.validate(checkpoint)
-    shape = ifslib.auto.shape_start(ifslib.load_target(patterns.sierpinski_carpet(depth=2), 32), 4)
+    shape = auto.shape_start(ifslib.load_target(patterns.sierpinski_carpet(depth=2), 32), 4)
     doc = _saved(shape, tmp_path)
     assert doc["meta"]["pattern"]["kind"] == "shape"
     validator.validate(doc)
