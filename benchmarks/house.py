@@ -7,10 +7,9 @@ and the options `ifslib.fit` takes.
 A notebook *reaches* a module when one of its code cells imports it (``import ifslib.x``, ``from ifslib.x
 import y``) or names it through the package (``ifslib.fit`` is `ifslib.core.fitting.fit`, by
 ``ifslib._PUBLIC``); then, read as text with ``ast``, whatever those modules import, at the top or inside a
-function, and the modules ``importlib.import_module`` loads: a relative literal, every module of the package
-when the name is made at run time (``f".{name}"``: a lazy table, a folder of shapes), or a module path written as a
-string in ``ifslib/names.py`` (where a table of them once was), with each package's ``__init__.py`` on the way. Lines are the files' lines,
-blank and comment lines included (what ``wc -l`` counts). Nothing is imported or run.
+function, and the modules ``importlib.import_module`` loads: a relative literal, or every module of the
+package when the name is made at run time (``f".{name}"``: a lazy table, a folder of shapes); with each package's ``__init__.py`` on the way. Lines are the files' lines, blank and comment
+lines included (what ``wc -l`` counts). Nothing is imported or run.
 """
 from __future__ import annotations
 
@@ -71,10 +70,6 @@ def imported_by(path: Path, name: str) -> set[str]:
                 found.update(f"{module}.{a.name}" for a in node.names if module_path(f"{module}.{a.name}"))
         elif isinstance(node, ast.Import):
             found.update(a.name for a in node.names if a.name.startswith("ifslib"))
-        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and name == "ifslib.names":
-            # a table of module paths the core would load with import_module
-            if re.fullmatch(r"ifslib(\.\w+)+", node.value) and module_path(node.value):
-                found.add(node.value)
         elif isinstance(node, ast.Call) and getattr(node.func, "attr", "") == "import_module" and node.args:
             first = node.args[0]
             if isinstance(first, ast.Constant) and str(first.value).startswith("."):

@@ -28,8 +28,6 @@ Typical use::
 """
 import importlib
 
-
-
 #: Every public name, and where it lives: (module, attribute), or (module, None) for a module. A name is
 #: imported on first use, so ``python -m ifslib fit IMAGE --loss typo`` refuses the name before torch
 #: loads; torch's thread count, and the two variables of the environment torch's libraries read when they load,

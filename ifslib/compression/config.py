@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..errors import IFSError
-from ..names import PARTITIONS as NAMED_PARTITIONS
+from ..names import PARTITIONS  # the partitions, in the order a version 2 header numbers them
 
 #: the largest ``|s|`` the coder may choose: below 1 keeps each map's classic form s D + o a contraction; the
 #: centred form the file stores settles in a few passes anyway, and the bound keeps rounding from growing.
@@ -36,9 +36,6 @@ CODERS = ("fixed", "adaptive")
 #: what an adaptive model adds to a symbol's count each time it is coded: larger learns faster from few
 #: blocks (a 256² file at 0.15 bpp has about 400), smaller settles closer to the true frequencies.
 ADAPT_INCREMENT = 1.0
-#: the partitions (`ifslib.names.PARTITIONS`, where the command line reads them before torch loads), in the
-#: order a version 2 header numbers them
-PARTITIONS = NAMED_PARTITIONS
 #: the decoder's post-filter weight across block seams (`deblock`) that `method.compress` offers (kept per
 #: file only if it decodes closer): larger hides the blocks' steps, and blurs edges that lie on a seam.
 DEBLOCK = 0.15

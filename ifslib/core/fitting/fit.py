@@ -105,3 +105,6 @@ def _run_options(options: RunOptions | None, **named) -> RunOptions:
     if options is not None and not isinstance(options, RunOptions):
         raise IFSError(f"options must be a RunOptions, got {type(options).__name__}")
     return with_settings(options, {k: v for k, v in named.items() if v is not None})
+
+
+__all__ = ["FitResult", "fit"]

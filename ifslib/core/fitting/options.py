@@ -1,8 +1,10 @@
 """The settings of a fit, as frozen dataclasses validated once, where they are built: `RunOptions` (one Adam run),
 each strategy's own options (how it spends its runs) and `Checkpoint` (a resumable run).
 
-`ifslib.fit` takes them as objects, or their fields by name (``fit(ifs, target, lr=0.01)``), and
-hands them down whole; nothing below it pops or refills a setting.
+`ifslib.fit` takes each as one object (``options=RunOptions(tol=1e-3)``, ``strategy=Pyramid(n_starts=2)``; the
+learning rate, the loss and the depth by name too) and hands them down whole; nothing below it pops or refills
+a setting. A number two strategies share (the starts, the jitter, the success threshold) is written once, in
+`Pyramid`, and the others take it from there.
 """
 from __future__ import annotations
 
@@ -125,7 +127,7 @@ def _check_fields(options, ints: tuple[str, ...] = (), positive: tuple[str, ...]
                   non_negative: tuple[str, ...] = ()) -> None:
     """Raise `IFSError` naming the first field of ``options`` out of its range."""
     for name in ints:
-        check_int(getattr(options, name), name, 2 if name == "pyramid_factor" else 1)
+        check_int(getattr(options, name), name, 1)
     for name in positive:
         if not _finite(getattr(options, name)):
             raise IFSError(f"{name} must be a finite number > 0, got {getattr(options, name)!r}")
@@ -165,55 +167,6 @@ class Uncross:
 
     def __post_init__(self) -> None:
         _check_fields(self, positive=("weight",))
-
-
-@dataclass(frozen=True)
-class Multistart:
-    """Short probes from several starts; the best go on to the full budget.
-
-    Attributes
-    ----------
-    n_starts : int
-        Starts probed: the given one, jittered copies of it, and for curves best-fit-line starts.
-    keep : int
-        Probes that go on to the full budget.
-    probe : float
-        A probe's share of ``steps``, above 0 and below 1.
-    jitter : float
-        Half-width of the uniform jitter of a start's points, plane units.
-    """
-
-    n_starts: int = 8
-    keep: int = 2
-    probe: float = 0.15
-    jitter: float = 0.05
-
-    def __post_init__(self) -> None:
-        _check_fields(self, ints=("n_starts", "keep"), non_negative=("jitter",))
-        if not (_finite(self.probe) and self.probe < 1):
-            raise IFSError(f"probe must be a share of the steps, above 0 and below 1, got {self.probe!r}")
-
-
-@dataclass(frozen=True)
-class Restart:
-    """Runs in windows; a window that ends stalled and off the target restarts from jittered best points.
-
-    Attributes
-    ----------
-    jitter : float
-        Half-width of a restart's jitter, plane units.
-    success : float
-        Symmetric Chamfer distance (pixels) at which the fit stops.
-    budget : float
-        The most steps, in multiples of ``steps``.
-    """
-
-    jitter: float = 0.05
-    success: float = 1.0
-    budget: float = 3.0
-
-    def __post_init__(self) -> None:
-        _check_fields(self, positive=("budget",), non_negative=("jitter", "success"))
 
 
 @dataclass(frozen=True)
@@ -265,11 +218,61 @@ class Pyramid:
     end_on_attractor: bool = True
 
     def __post_init__(self) -> None:
-        _check_fields(self, ints=("n_starts", "coarsest", "pyramid_factor", "stage_steps", "stage_patience",
-                                  "attractor_steps", "max_leaves"),
+        _check_fields(self, ints=("n_starts", "coarsest", "stage_steps", "stage_patience", "attractor_steps",
+                                  "max_leaves"),
                       positive=("stage_tol",), non_negative=("jitter", "success"))
+        check_int(self.pyramid_factor, "pyramid_factor", 2)
         if not isinstance(self.end_on_attractor, bool):
             raise IFSError(f"end_on_attractor must be True or False, got {self.end_on_attractor!r}")
+
+
+@dataclass(frozen=True)
+class Multistart:
+    """Short probes from several starts; the best go on to the full budget.
+
+    Attributes
+    ----------
+    n_starts : int
+        Starts probed: the given one, jittered copies of it, and for curves best-fit-line starts.
+    keep : int
+        Probes that go on to the full budget.
+    probe : float
+        A probe's share of ``steps``, above 0 and below 1.
+    jitter : float
+        Half-width of the uniform jitter of a start's points, plane units.
+    """
+
+    n_starts: int = Pyramid.n_starts
+    keep: int = 2
+    probe: float = 0.15
+    jitter: float = Pyramid.jitter
+
+    def __post_init__(self) -> None:
+        _check_fields(self, ints=("n_starts", "keep"), non_negative=("jitter",))
+        if not (_finite(self.probe) and self.probe < 1):
+            raise IFSError(f"probe must be a share of the steps, above 0 and below 1, got {self.probe!r}")
+
+
+@dataclass(frozen=True)
+class Restart:
+    """Runs in windows; a window that ends stalled and off the target restarts from jittered best points.
+
+    Attributes
+    ----------
+    jitter : float
+        Half-width of a restart's jitter, plane units.
+    success : float
+        Symmetric Chamfer distance (pixels) at which the fit stops.
+    budget : float
+        The most steps, in multiples of ``steps``.
+    """
+
+    jitter: float = Pyramid.jitter
+    success: float = Pyramid.success
+    budget: float = 3.0
+
+    def __post_init__(self) -> None:
+        _check_fields(self, positive=("budget",), non_negative=("jitter", "success"))
 
 
 @dataclass(frozen=True)
@@ -295,4 +298,3 @@ def with_settings(options: RunOptions | None, settings: dict) -> RunOptions:
         raise IFSError(f"unknown setting(s) {', '.join(unknown)}: the run options are {', '.join(sorted(fields))}")
     options = RunOptions() if options is None else options
     return options.replace(**settings) if settings else options
-
