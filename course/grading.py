@@ -14,7 +14,7 @@ own cells before they run and gives 0 to the tests they could fool, and keeps th
 the feedback. ``--quick`` also injects each notebook's quick values (``metadata["ifslib"]["quick"]``).
 ``--check`` first makes sure the paper's images can be found, then submits four students:
 ``instructor`` (the source, solved: every auto-graded point, no tamper alarm, nothing untrusted),
-``blank`` (the release, unanswered: 0), ``lazy`` (``lazy_submission.py``: under half) and ``tricks``
+``blank`` (the release, unanswered: 0), ``lazy`` (``lazy_submission.py``: 0) and ``tricks``
 (``tricks_submission.py``: under half), autogrades them with nbgrader itself, prints each one's points,
 the cells left for manual grading and how long its autograde took, and checks that the feedback
 ``nbgrader generate_feedback`` writes holds no line of a hidden test.
@@ -205,8 +205,9 @@ def feedback_leaks(course: Path, student: str) -> list[str]:
 
 
 def check(course: Path, names: dict[str, list[str]]) -> int:
-    """Autograde the solved source, the blank release and a lazy submission (``lazy_submission.py``);
-    0 when they score full, 0 and under half of the auto-graded points, else 1."""
+    """Autograde the solved source, the blank release, a lazy submission (``lazy_submission.py``) and one
+    of tricks (``tricks_submission.py``); 0 when they score full, 0, 0 and under half of the auto-graded
+    points, else 1."""
     from lazy_submission import passed_tests, write_lazy
     from tricks_submission import write_tricks
 
@@ -230,8 +231,7 @@ def check(course: Path, names: dict[str, list[str]]) -> int:
         (instructor.manual_cells != instructor.written,
          "a written answer of the instructor's source was not left for manual grading"),
         (blank.auto != 0, "the blank release gets auto-graded points"),
-        (lazy.auto >= lazy.auto_max / 2,
-         f"the lazy submission gets {lazy.auto:g} of {lazy.auto_max:g} auto-graded points, not under half"),
+        (lazy.auto != 0, f"the lazy submission gets {lazy.auto:g} of {lazy.auto_max:g} auto-graded points, not 0"),
         (tricks.auto >= tricks.auto_max / 2,
          f"the submission of tricks gets {tricks.auto:g} of {tricks.auto_max:g} auto-graded points, not under half"),
         (instructor.alarms or blank.alarms, "nbgrader raised a tamper alarm on a submission that changed no locked cell"),
@@ -249,7 +249,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--source", type=Path, default=NOTEBOOKS, help="the instructor's notebooks")
     parser.add_argument("--quick", action="store_true", help="inject each notebook's quick values (CI)")
     parser.add_argument("--check", action="store_true",
-                        help="autograde the source (full), the release (0) and a lazy submission (under half)")
+                        help="autograde the source (full), the release (0), a lazy submission (0) and one of tricks (under half)")
     args = parser.parse_args(argv)
     check_images()
     names = layout(args.course, args.source, args.quick)

@@ -9,7 +9,7 @@ attribute), the target picture itself as the fit (one tiny map per pixel), a num
 off the lesson's printed output, a copy of what the notebook already holds, an answer made to pass
 the visible test alone. The written answers (markdown) stay unanswered, and so do the exercises of
 `UNANSWERED` (none thought of). ``course/grading.py --check`` autogrades this submission with
-nbgrader and fails unless it scores under half of the auto-graded points.
+nbgrader and fails unless it scores 0.
 """
 from __future__ import annotations
 
@@ -80,13 +80,13 @@ LAZY: dict[str, Lazy] = {
         "return words[int(np.ravel_multi_index([i - 1 for i in word], (len(maps),) * len(word)))].numpy()"),
     # the visible test's two answers, hard-coded
     "01_koch_iterations-depth-needed": Lazy("return 3 if d0 > tol else 0"),
-    # read off the lesson's printed table (512 px: 0.49 px at depth 5): the number the statement asks
-    # for, and graded at 512 px (the notebook's grading values), so a right answer that passes
+    # read off the lesson's printed table (512 px: 0.49 px at depth 5), though the statement asks for
+    # a poster 16 times as wide
     "01_koch_iterations-koch-depth": Lazy("koch_depth = 5"),
     # -- 02, the fitting gallery
     # IoU from the library's F1 (IoU = F1 / (2 - F1))
     "02_fitting_gallery-iou": Lazy("f = ifslib.f1(np.asarray(p, bool), np.asarray(q, bool))\nreturn f / (2 - f)"),
-    # guessed: no pixel shared, each pixel's neighbour one away
+    # guessed: no pixel shared, each pixel's neighbour one away (the line's two ends forgotten)
     "02_fitting_gallery-shifted-line": Lazy("shifted_iou = 0.0\nshifted_chamfer = 1.0\non_the_line = \"chamfer\""),
     # the library's scores hold the Chamfer distance
     "02_fitting_gallery-chamfer": Lazy(
@@ -99,7 +99,7 @@ LAZY: dict[str, Lazy] = {
     "03_gradient_fields-further-out": Lazy(
         "far_share = {kind: scores[kind][1] for kind in (\"pixel\", \"distance\")}"),
     # -- 04, local minima
-    # the notebook's own test of a stalled run (section "Which runs stalled?"), copied
+    # the notebook's own test of a stalled run (section "Which runs stalled?"), copied, its factor 10 kept
     "04_local_minima-stalled": Lazy("return loss > 10 * best_loss and chamfer > limit"),
     # the library's crossing test of the crossing penalty
     "04_local_minima-segments-cross": Lazy(
@@ -145,8 +145,8 @@ LAZY: dict[str, Lazy] = {
     "09_measures_and_dimension-moran-code": Lazy("return ifslib.dimension.similarity_dimension(scales)"),
     # a guessed dimension
     "09_measures_and_dimension-box-by-hand": Lazy("d_by_hand = 1.5"),
-    # Barnsley's probabilities, which the notebook holds (fitted back in its section 3): one of the
-    # choices the statement asks for (stem 1 %, main leaflet the largest), so a right answer that passes
+    # Barnsley's probabilities, which the notebook holds (fitted back in its section 3), though the
+    # statement asks for a stem at least twice as heavy as theirs
     "09_measures_and_dimension-fern-stem": Lazy("my_probabilities = BARNSLEY"),
     # -- 10, fractal compression
     # numpy's line fit, the visible test's own reference

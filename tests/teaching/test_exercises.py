@@ -107,7 +107,8 @@ def test_the_collage_answer_passes_with_the_students_hausdorff_and_the_blank_fai
 
 def test_the_koch_depth_is_read_from_the_measured_distance():
     depth_needed = run("01_koch_iterations-depth-needed")["depth_needed"]
-    for size, expected in ((128, 4), (64, 4), (256, 5)):   # 29.6 px at 128: 0.37 px at depth 4
+    # the poster is 16 times as wide: 29.6 px at 128 is 473.6 px there, 0.22 px at depth 7
+    for size, expected in ((128, 7), (64, 6), (256, 7)):
         out = run("01_koch_iterations-koch-depth", depth_needed=depth_needed, distances=[29.6 / 128], size=size)
         assert out["koch_depth"] == expected
     fails("01_koch_iterations-koch-depth", answer_source="koch_depth = 3", distances=[29.6 / 128], size=128)

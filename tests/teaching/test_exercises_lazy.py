@@ -452,17 +452,17 @@ def the_tables_depth() -> int:
     return next(k for k in range(20) if d0 / 3 ** k <= 0.5)
 
 
-def test_the_koch_depth_read_off_the_lessons_table_passes_where_it_is_graded():
-    # the statement asks for the number; the lesson's table (at the teaching size) gives it, and
-    # nbgrader grades notebook 01 at the teaching size, so the number read there is the right one
+def test_the_koch_depth_read_off_the_lessons_table_fails_where_it_is_graded():
+    # the statement asks for a poster 16 times as wide as the lesson's table (at the teaching size,
+    # where nbgrader grades notebook 01): the table's depth is not the answer, 16 = 3^2.5 costs more
     grading, teaching = (lesson_values("01_koch_iterations", preset) for preset in ("grading", "teaching"))
     assert grading["size"] == teaching["size"]
     depth_needed = run("01_koch_iterations-depth-needed")["depth_needed"]
     names = {"distances": koch_distances(grading["size"]), "size": grading["size"], "depth_needed": depth_needed}
     read = the_tables_depth()
-    assert run(KOCH_DEPTH, **names)["koch_depth"] == read == 5
-    run(KOCH_DEPTH, f"koch_depth = {read}", **names)
-    for wrong in (read - 1, read + 1):
+    assert read == 5 and run(KOCH_DEPTH, **names)["koch_depth"] == 8
+    run(KOCH_DEPTH, "koch_depth = 8", **names)
+    for wrong in (read, 7, 9):
         refused(KOCH_DEPTH, f"koch_depth = {wrong}", "half a pixel at depth", **names)
 
 
@@ -470,7 +470,7 @@ def test_the_instructors_koch_depth_passes_at_the_quick_size_too():
     quick = lesson_values("01_koch_iterations", "quick")["size"]
     depth_needed = run("01_koch_iterations-depth-needed")["depth_needed"]
     names = {"distances": koch_distances(quick), "size": quick, "depth_needed": depth_needed}
-    assert run(KOCH_DEPTH, **names)["koch_depth"] == 4   # what the lesson's table reads at 128 px
+    assert run(KOCH_DEPTH, **names)["koch_depth"] == 7   # 16 times the 29.6 px the table reads at 128 px
 
 
 FERN_STEM = "09_measures_and_dimension-fern-stem"
@@ -487,13 +487,14 @@ def fern_names() -> dict:
             "chaos_measure": chaos_measure, "plt": figure, "show": lambda *args, **kwargs: None}
 
 
-def test_barnsleys_probabilities_pass_the_fern_stem_exercise_by_design():
-    # the statement asks for any four probabilities that show the stem (0.5 % to 5 %) with the main
-    # leaflet the largest: Barnsley's (the lesson's constant, stem 1 %) are one such choice, so
-    # handing them in is a right answer, not a lazy pass; the |det| shares (stem 0.02 %) are not
+def test_barnsleys_probabilities_fail_the_fern_stem_exercise():
+    # the statement asks for a stem from 2 % to 5 % with the main leaflet the largest: Barnsley's
+    # (the lesson's constant, stem 1 %), which a student can copy, are not one, nor are the |det|
+    # shares (stem 0.02 %)
     names = fern_names()
     run(FERN_STEM, **names)
-    run(FERN_STEM, "my_probabilities = BARNSLEY", **names)
+    run(FERN_STEM, "my_probabilities = (0.03, 0.83, 0.07, 0.07)", **names)
+    refused(FERN_STEM, "my_probabilities = BARNSLEY", "stem's share", **names)
     det = np.abs(np.linalg.det(names["fern"].maps().detach().numpy()[:, :2, :2]))
     refused(FERN_STEM, f"my_probabilities = {tuple((det / det.sum()).tolist())}", "stem's share", **names)
 
