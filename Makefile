@@ -12,7 +12,7 @@ export IFSLIB_DATA
 # __pycache__ folders that git ignores)
 export PYTHONDONTWRITEBYTECODE :=
 
-.PHONY: setup setup-grading test test-fast test-stored figures book slides student student-binder setup-browser test-browser bench clean
+.PHONY: setup setup-grading test test-slow test-fast test-stored figures book slides student student-binder setup-browser test-browser bench clean
 
 # pyproject.toml declares ranges; constraints.txt pins the versions the tests ran with (torch==2.13.0:
 # this machine's local CPU wheel, never a multi-GB CUDA build from the index).
@@ -40,8 +40,13 @@ setup: $(VENV)/.installed $(VENV)/.installed-grading $(VENV)/.installed-docs  ##
 
 # one pytest-xdist worker per core, at one torch thread each (tests/conftest.py); each notebook runs at its
 # quick values (metadata["ifslib"]["quick"]) in a temporary copy, and its figure is compared on the same worker
-test: $(VENV)/.installed  ## run the whole test suite (every notebook at its quick values)
-	$(PY) -m pytest -q -n auto --dist loadscope -m "not grading"
+test: $(VENV)/.installed  ## run the test suite (every notebook at its quick values); the slow tier: make test-slow
+	$(PY) -m pytest -q -n auto --dist loadscope -m "not slow and not grading"
+
+# the tests marked `slow` (whole fractal searches, several fits, the sweep's process pool and Dask cluster, the
+# literature's samplers): a third of the suite's CPU, so make test leaves them out and .ci/run runs them after it
+test-slow: $(VENV)/.installed  ## the slow tier: whole fractal searches and several fits (CI runs it after make test)
+	$(PY) -m pytest -q -n auto --dist loadscope -m "slow and not grading"
 
 # The stored notebooks run again at their teaching values, in a fresh kernel each (nbval, strict: every
 # checked cell's text compared, sanitized by notebooks/nbval-sanitize.cfg, and its pictures by
