@@ -28,6 +28,7 @@ DEFAULT_STRATEGY = "pyramid"
 #: through the decoder (attractor coding).
 COMPRESSION_METHODS = ("collage", "attractor")
 
-#: The partitions of a compressed photograph, in the order a file's header numbers them: squares of a quadtree,
-#: or rectangles cut at their strongest edge (range-coded files only).
-PARTITIONS = ("quadtree", "hv")
+#: The partitions of a compressed photograph, in the order a file's header numbers them (the first the
+#: default), each with what the command line's help says of it; each is implemented by a module of
+#: `ifslib.compression` (`ifslib.compression.partitions`).
+PARTITIONS = {"quadtree": "squares split in four", "hv": "rectangles cut at their strongest edge; with --bpp"}

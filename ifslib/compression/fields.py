@@ -20,8 +20,8 @@ from ..errors import IFSError
 from .config import CodeOptions
 from .domains import ISOMETRIES, domain_step, lattice
 from .entropy import Adaptive, Coder, Decoder, Encoder, Magnitude, unzigzag, zigzag
-from .hvfields import code_hv_fields, hv_columns
 from .partition import walk
+from .partitions import partition_of
 from .quantize import zero_s
 
 FIELD_NAMES = ("y", "x", "size", "domain", "iso", "s_idx", "m_idx")
@@ -137,21 +137,22 @@ class Coded(NamedTuple):
     models: Models
 
 
+def columns(rows: list[tuple]) -> dict[str, torch.Tensor]:
+    """The `Code` fields (`FIELD_NAMES`, ``(L,)`` int64 each) of the rows `code_fields` decoded."""
+    if not rows:
+        raise IFSError("the file is corrupt (it codes no block)")
+    return {name: torch.tensor(column, dtype=torch.long) for name, column in zip(FIELD_NAMES, zip(*rows))}
+
+
 def encode_fields(code) -> Coded:
-    """The range-coded fields of ``code`` (a `Code`, of either partition)."""
+    """The range-coded fields of ``code`` (a `Code`, of any partition)."""
     H, W = code.padded
     coder = Encoder()
-    walk_fields = code_hv_fields if code.options.partition == "hv" else code_fields
-    _, models = walk_fields(coder, H, W, code.options, code)
+    _, models = partition_of(code.options).fields(coder, H, W, code.options, code)
     return Coded(coder.payload(), dict(coder.ledger), models)
 
 
 def decode_fields(payload: bytes, height: int, width: int, options: CodeOptions) -> dict[str, torch.Tensor]:
-    """The fields (`FIELD_NAMES`, ``(L,)`` int64 each) of a padded ``height x width`` code from its payload."""
-    decoder = Decoder(payload)
-    if options.partition == "hv":
-        return hv_columns(code_hv_fields(decoder, height, width, options)[0])
-    rows, _ = code_fields(decoder, height, width, options)
-    if not rows:
-        raise IFSError("the file is corrupt (it codes no block)")
-    return {name: torch.tensor(column, dtype=torch.long) for name, column in zip(FIELD_NAMES, zip(*rows))}
+    """The `Code` fields of a padded ``height x width`` code from its payload."""
+    kind = partition_of(options)
+    return kind.columns(kind.fields(Decoder(payload), height, width, options)[0])
