@@ -44,23 +44,24 @@ class Models:
 
 
 class MeanGrid:
-    """The means decoded so far, one cell per smallest block, and the prediction of the next block's mean."""
+    """The means decoded so far, one cell per ``unit`` pixels (blocks' sides are multiples of it), and the
+    prediction of the next block's mean: that of the cells just above and to its left, decoded."""
 
-    def __init__(self, height: int, width: int, options: CodeOptions):
-        self.unit = options.min_block
-        self.cells = np.full((height // self.unit, width // self.unit), -1, dtype=np.int64)
+    def __init__(self, height: int, width: int, unit: int, options: CodeOptions):
+        self.unit = unit
+        self.cells = np.full((height // unit, width // unit), -1, dtype=np.int64)
         self.middle = 2 ** (options.m_bits - 1)
 
-    def predict(self, size: int, y: int, x: int) -> int:
-        r, c, n = y // self.unit, x // self.unit, size // self.unit
-        near = np.concatenate([self.cells[r - 1, c:c + n] if r else self.cells[:0, 0],
-                               self.cells[r:r + n, c - 1] if c else self.cells[:0, 0]])
+    def predict(self, y: int, x: int, h: int, w: int) -> int:
+        r, c, h, w = y // self.unit, x // self.unit, h // self.unit, w // self.unit
+        near = np.concatenate([self.cells[r - 1, c:c + w] if r else self.cells[:0, 0],
+                               self.cells[r:r + h, c - 1] if c else self.cells[:0, 0]])
         near = near[near >= 0]
         return int(round(float(near.mean()))) if len(near) else self.middle
 
-    def fill(self, size: int, y: int, x: int, m: int) -> None:
-        r, c, n = y // self.unit, x // self.unit, size // self.unit
-        self.cells[r:r + n, c:c + n] = m
+    def fill(self, y: int, x: int, h: int, w: int, m: int) -> None:
+        u = self.unit
+        self.cells[y // u:(y + h) // u, x // u:(x + w) // u] = m
 
 
 def _centred(y: int, size: int, step: int, count: int) -> int:
@@ -75,7 +76,8 @@ def code_fields(coder: Coder, height: int, width: int, options: CodeOptions, cod
     Encoding, ``code`` is the `Code` whose fields are coded; decoding, ``code`` is None and the rows
     are what the coder decodes.
     """
-    o, models, means, zero = options, Models(height, width, options), MeanGrid(height, width, options), zero_s(options)
+    o, models, zero = options, Models(height, width, options), zero_s(options)
+    means = MeanGrid(height, width, o.min_block, o)
     levels = 2**o.m_bits
     leaf = None if code is None else {(int(s), int(y), int(x)): i
                                       for i, (s, y, x) in enumerate(zip(code.size, code.y, code.x))}
@@ -103,11 +105,11 @@ def code_fields(coder: Coder, height: int, width: int, options: CodeOptions, cod
             s_idx = s_sym + (s_sym >= zero)
         else:
             s_idx = zero
-        guess, m_idx = means.predict(size, y, x), value("m_idx", i)
+        guess, m_idx = means.predict(y, x, size, size), value("m_idx", i)
         residual = coder.code_magnitude(models.m[flat], None if m_idx is None else zigzag(m_idx - guess, levels),
                                         ("m", flat))
         m_idx = (guess + unzigzag(residual, levels)) % levels
-        means.fill(size, y, x, m_idx)
+        means.fill(y, x, size, size, m_idx)
         iso = domain = 0
         if not flat:
             iso = coder.code(models.iso, value("iso", i), ("iso",))

@@ -18,6 +18,7 @@ import torch
 from ..errors import IFSError
 from .config import HV_STEP, CodeOptions
 from .entropy import Adaptive, Coder, Magnitude, unzigzag, zigzag
+from .fields import MeanGrid
 from .quantize import zero_s
 from .rectangles import Block, cut_positions, isometry_count, rectangle_lattice, rectangle_step, split_block
 
@@ -46,13 +47,6 @@ class HVModels:
         return self.row[shape], self.col[shape]
 
 
-def _predict(cells: np.ndarray, block: Block, middle: int) -> int:
-    y, x, h, w = (v // HV_STEP for v in block)
-    near = np.concatenate([cells[y - 1, x:x + w] if y else cells[:0, 0], cells[y:y + h, x - 1] if x else cells[:0, 0]])
-    near = near[near >= 0]
-    return int(round(float(near.mean()))) if len(near) else middle
-
-
 def _cut(owner: np.ndarray | None, block: Block, options: CodeOptions) -> tuple[int, int] | None:
     """The encoder's cut of ``block``: the first axis and position no leaf crosses (None: a leaf)."""
     y, x, h, w = block
@@ -71,8 +65,7 @@ def code_hv_fields(coder: Coder, height: int, width: int, options: CodeOptions, 
     """Run every field of a padded ``height x width`` HV code through ``coder``: ``([(y, x, height, width,
     domain, iso, s_idx, m_idx)], the models)``. Encoding, ``code`` is the `Code`; decoding, None."""
     o, models, zero, b = options, HVModels(options), zero_s(options), options.max_block
-    levels, middle = 2**o.m_bits, 2 ** (o.m_bits - 1)
-    cells = np.full((height // HV_STEP, width // HV_STEP), -1, dtype=np.int64)
+    levels, means = 2**o.m_bits, MeanGrid(height, width, HV_STEP, o)
     owner, index = None, {}
     if code is not None:
         owner = np.full((height, width), -1, dtype=np.int64)
@@ -100,12 +93,12 @@ def code_hv_fields(coder: Coder, height: int, width: int, options: CodeOptions, 
         i = None if code is None else index.get(tuple(block))
         if code is not None and i is None:
             raise IFSError(f"the code's blocks are not an HV partition (no block at {tuple(block)})")
-        rows.append(_code_leaf(coder, models, block, cells, (height, width, o, zero, levels, middle), code, i))
+        rows.append(_code_leaf(coder, models, block, means, (height, width, o, zero, levels), code, i))
     return rows, models
 
 
-def _code_leaf(coder, models: HVModels, block: Block, cells, layout, code, i) -> tuple:
-    height, width, o, zero, levels, middle = layout
+def _code_leaf(coder, models: HVModels, block: Block, means: MeanGrid, layout, code, i) -> tuple:
+    height, width, o, zero, levels = layout
     y, x, h, w = block
 
     def value(name):
@@ -119,10 +112,10 @@ def _code_leaf(coder, models: HVModels, block: Block, cells, layout, code, i) ->
         s_idx = s_sym + (s_sym >= zero)
     else:
         s_idx = zero
-    guess, m_idx = _predict(cells, block, middle), value("m_idx")
+    guess, m_idx = means.predict(*block), value("m_idx")
     residual = coder.code_magnitude(models.m[flat], None if m_idx is None else zigzag(m_idx - guess, levels), ("m", flat))
     m_idx = (guess + unzigzag(residual, levels)) % levels
-    cells[y // HV_STEP:(y + h) // HV_STEP, x // HV_STEP:(x + w) // HV_STEP] = m_idx
+    means.fill(*block, m_idx)
     iso = domain = 0
     if not flat:
         iso = coder.code(models.iso[isometry_count(h, w)], value("iso"), ("iso",))
