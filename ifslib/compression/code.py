@@ -20,7 +20,6 @@ from .partitions import partition_of
 from .quantize import dequantize_m, dequantize_s, zero_s
 
 
-
 @dataclass(frozen=True)
 class Code:
     """A partitioned IFS code of a ``height x width`` gray image.

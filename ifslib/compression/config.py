@@ -10,8 +10,7 @@ from dataclasses import dataclass
 from ..errors import IFSError
 from ..names import PARTITIONS  # the partitions, in the order a version 2 header numbers them
 
-#: the one partition file version 1 holds: its header names none
-FIXED_PARTITION = next(iter(PARTITIONS))
+FIXED_PARTITION = next(iter(PARTITIONS))  #: the one partition file version 1 holds: its header names none
 
 #: the largest ``|s|`` the coder may choose: below 1 keeps each map's classic form s D + o a contraction; the
 #: centred form the file stores settles in a few passes anyway, and the bound keeps rounding from growing.

@@ -23,17 +23,6 @@ from .quantize import quantize_m, zero_s
 from .rates import Choice
 
 
-def _costs(fits: dict[int, Fit], height: int, width: int, options: CodeOptions) -> dict[int, LevelCost]:
-    """Each block's error and bits, on its size's grid."""
-    out = {}
-    for size, fit in fits.items():
-        grid = (height // size, width // size)
-        flat = fit.s_idx == zero_s(options)
-        bits = options.s_bits + options.m_bits + (~flat).long() * (ISOMETRY_BITS + domain_bits(height, width, size))
-        out[size] = LevelCost(err=fit.err.reshape(grid).numpy(), bits=bits.reshape(grid).numpy())
-    return out
-
-
 def budget(bpp: float | None, quality: float | None, height: int, width: int,
            options: CodeOptions = CodeOptions()) -> tuple[float, float]:
     """``(bits for flags and maps, target squared error)`` from a rate in bits per pixel or a collage PSNR in dB."""
@@ -106,8 +95,12 @@ def grown(padded: torch.Tensor, height: int, width: int, options: CodeOptions, b
     """The quadtree's collage code of ``padded`` ``(H, W)`` grown where a split saves the most error per bit,
     until its squared error is ``target_err`` or its fields take ``budget_bits`` (`partition.grow`)."""
     H, W = padded.shape
-    fits = level_fits(padded, options, progress)
-    split = grow(H, W, options, _costs(fits, H, W, options), budget_bits, target_err)
+    fits, costs = level_fits(padded, options, progress), {}
+    for size, fit in fits.items():  # each block's error and bits, on its size's grid
+        flat = fit.s_idx == zero_s(options)
+        bits = options.s_bits + options.m_bits + (~flat).long() * (ISOMETRY_BITS + domain_bits(H, W, size))
+        costs[size] = LevelCost(*(v.reshape(H // size, W // size).numpy() for v in (fit.err, bits)))
+    split = grow(H, W, options, costs, budget_bits, target_err)
     return assemble(height, width, options, fits, leaves_in_order(H, W, options, split))
 
 

@@ -27,7 +27,6 @@ from .fields import decode_fields, encode_fields
 from .fixedformat import fixed_payload, read_fixed
 
 MAGIC = b"IFSC"
-VERSION = 3
 HEADER = struct.Struct(">4sBHHBBBBH")  # version 1
 HEADER_2 = struct.Struct(">4sBHHBBBHI")
 HEADER_3 = struct.Struct(">4sBHHBBBHBI")

@@ -29,7 +29,7 @@ class HVModels:
     def __init__(self, options: CodeOptions):
         self.split = defaultdict(lambda: Adaptive.uniform(2))
         self.axis = Adaptive.uniform(2)
-        self.position = defaultdict(lambda: None)
+        self.position = {}
         self.flat = defaultdict(lambda: Adaptive.uniform(2))
         self.s = Adaptive.uniform(2 * zero_s(options) - 1)
         self.m = {flat: Magnitude(2**options.m_bits) for flat in (False, True)}
@@ -37,14 +37,10 @@ class HVModels:
         self.row, self.col = {}, {}
 
     def place(self, count: int) -> Adaptive:
-        if self.position[count] is None:
-            self.position[count] = Adaptive.uniform(count)
-        return self.position[count]
+        return self.position.setdefault(count, Adaptive.uniform(count))
 
     def lattice_models(self, shape, rows: int, cols: int) -> tuple[Magnitude, Magnitude]:
-        if shape not in self.row:
-            self.row[shape], self.col[shape] = Magnitude(rows), Magnitude(cols)
-        return self.row[shape], self.col[shape]
+        return self.row.setdefault(shape, Magnitude(rows)), self.col.setdefault(shape, Magnitude(cols))
 
 
 def _cut(owner: np.ndarray | None, block: Block, options: CodeOptions) -> tuple[int, int] | None:

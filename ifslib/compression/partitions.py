@@ -1,10 +1,9 @@
 """The partitions of a compressed photograph by name, and what the coder needs of each (`Partition`).
 
-A module of `ifslib.compression` that defines a ``PARTITION`` implements it (the quadtree's is
-`repartition`, the HV partition's `hv`); its entry in `ifslib.names.PARTITIONS` names it for the
-command line before torch loads, and its place there is its number in a file's header. So a new
-partition is its module and that entry. The modules are imported when a partition is first looked
-up, not with this one: they import the modules (`code`, `fields`, ...) that look partitions up here.
+A partition is a module of `ifslib.compression` defining its ``PARTITION`` (the quadtree's `repartition`,
+the HV partition's `hv`) and its entry in `ifslib.names.PARTITIONS` (the command line's, before torch
+loads; its place there is its number in a file's header). The modules are imported at the first look-up,
+not with this one: they import the modules (`code`, `fields`, ...) that look partitions up here.
 """
 from __future__ import annotations
 
@@ -25,7 +24,7 @@ class Partition:
     Attributes
     ----------
     name : str
-        Its name in `ifslib.names.PARTITIONS` (`CodeOptions.partition`).
+        Its key in `ifslib.names.PARTITIONS` (`CodeOptions.partition`).
     rectangles : bool
         Whether its `Code` gives each block's ``block_height`` and ``block_width`` (else squares of ``size``).
     fields : callable
@@ -34,9 +33,8 @@ class Partition:
     columns : callable
         ``columns(rows) -> {name: (L,) tensor}``: the `Code`'s fields of the rows ``fields`` decoded.
     at_rate : callable
-        ``at_rate(target, pool_image, height, width, options, budget_bits, progress) -> rates.Choice``: the
-        code of the padded ``target`` whose domains are cut from ``pool_image``, in ``budget_bits`` (the
-        choice's ``models``, if any, are `fields.Models`: the attractor coder prices domains with them).
+        ``at_rate(target, pool_image, height, width, options, budget_bits, progress) -> rates.Choice``: the code
+        of the padded ``target``, domains cut from ``pool_image``, in ``budget_bits`` (``models``: `fields.Models` or None).
     at_quality : callable, optional
         ``at_quality(padded, height, width, options, budget_bits, target_err, progress) -> Code``: the
         collage code grown until its squared error is ``target_err``; None where it is chosen at a rate only.
