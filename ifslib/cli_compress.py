@@ -116,8 +116,8 @@ def add_parsers(sub) -> None:
                    help="collage (the classic coder) or attractor (no more bits, refined through the decoder; "
                         "the default)")
     c.add_argument("--partition", choices=PARTITIONS, default=next(iter(PARTITIONS)),
-                   help="how the image is cut into range blocks: "
-                        + "; ".join(f"{name} ({phrase})" for name, phrase in PARTITIONS.items()) + " (default %(default)s)")
+                   help="how the image is cut into range blocks: " + "; ".join(
+                       f"{name} ({phrase})" for name, phrase in PARTITIONS.items()) + " (default %(default)s)")
     c.add_argument("--deblock", type=_weight, metavar="W",
                    help="the decoder's post-filter: each pixel beside a block seam takes weight W (0 to 0.5, "
                         "in steps of 0.01) from the pixel across it, recorded in the file and kept only if it "

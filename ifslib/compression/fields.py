@@ -91,7 +91,8 @@ def code_fields(coder: Coder, height: int, width: int, options: CodeOptions, cod
         i = None if leaf is None else leaf.get(node)
         if leaf is not None and i is None:
             raise IFSError(f"the code's blocks do not tile its quadtree (no block at {node})")
-        rows.append((y, x, size, *code_leaf(coder, models, (y, x, size, size), means, height, width, o, code, i, (size,))))
+        rows.append((y, x, size, *code_leaf(coder, models, (y, x, size, size), means, height, width, o, code, i,
+                                            (size,))))
     return rows, models
 
 
@@ -115,8 +116,8 @@ def code_leaf(coder: Coder, models, block, means: MeanGrid, height: int, width: 
     else:
         s_idx = zero
     guess, m_idx = means.predict(*block), value("m_idx")
-    residual = coder.code_magnitude(models.m[flat], None if m_idx is None else zigzag(m_idx - guess, levels), ("m", flat))
-    m_idx = (guess + unzigzag(residual, levels)) % levels
+    want = None if m_idx is None else zigzag(m_idx - guess, levels)
+    m_idx = (guess + unzigzag(coder.code_magnitude(models.m[flat], want, ("m", flat)), levels)) % levels
     means.fill(*block, m_idx)
     iso = domain = 0
     if not flat:
@@ -126,7 +127,7 @@ def code_leaf(coder: Coder, models, block, means: MeanGrid, height: int, width: 
 
 
 def _code_domain(coder: Coder, models, block, height: int, width: int, domain: int | None, key: tuple) -> int:
-    """The domain as its offset, on its shape's lattice, from the one centred on the range (modulo its rows and columns)."""
+    """The domain as its offset on its shape's lattice from the one centred on the range, modulo rows and columns."""
     y, x, h, w = block
     n_rows, n_cols = rectangle_lattice(height, width, h, w)
     sy, sx = rectangle_step(height, width, h, w)

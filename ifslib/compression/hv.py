@@ -179,7 +179,7 @@ def hv_partition(target: torch.Tensor, pool_image: torch.Tensor, height: int, wi
     t = tree(target, pool_image, options)
     aim, best, priced = budget_bits, None, False
     for _ in range(RATE_ROUNDS):
-        leaves, estimate, err = cheapest_fit(lambda lam: prune(t, lam), lambda chosen: chosen[1], aim, PRUNE_ROUNDS // 2)
+        leaves, estimate, err = cheapest_fit(lambda lam: prune(t, lam), lambda out: out[1], aim, PRUNE_ROUNDS // 2)
         code = assemble(t, leaves, height, width, options)
         coded = encode_fields(code)
         bits = 8 * len(coded.payload)

@@ -34,7 +34,7 @@ class Partition:
         ``columns(rows) -> {name: (L,) tensor}``: the `Code`'s fields of the rows ``fields`` decoded.
     at_rate : callable
         ``at_rate(target, pool_image, height, width, options, budget_bits, progress) -> rates.Choice``: the code
-        of the padded ``target``, domains cut from ``pool_image``, in ``budget_bits`` (``models``: `fields.Models` or None).
+        of the padded ``target``, domains cut from ``pool_image``, in ``budget_bits`` (models: `fields.Models` or None).
     at_quality : callable, optional
         ``at_quality(padded, height, width, options, budget_bits, target_err, progress) -> Code``: the
         collage code grown until its squared error is ``target_err``; None where it is chosen at a rate only.
@@ -53,8 +53,7 @@ def table() -> dict[str, Partition]:
     """Every partition by name, in `ifslib.names.PARTITIONS`'s order (a test checks each has its module)."""
     found = {}
     for module in pkgutil.iter_modules([str(Path(__file__).parent)]):
-        entry = getattr(importlib.import_module(f".{module.name}", __package__), "PARTITION", None)
-        if entry is not None:
+        if entry := getattr(importlib.import_module(f".{module.name}", __package__), "PARTITION", None):
             found[entry.name] = entry
     return {name: found[name] for name in PARTITIONS}
 
