@@ -48,14 +48,15 @@ def cmd_compress(args: argparse.Namespace) -> None:
 
     from .compression import compress, decode, write
     from .compression.config import CodeOptions
+    from .compression.partitions import partition_of
 
-    if args.partition != "quadtree" and args.bpp is None:
+    options = CodeOptions(partition=args.partition)
+    if args.bpp is None and partition_of(options).at_quality is None:  # before the image is read
         raise IFSError(f"a {args.partition} partition is coded at a rate: give --bpp, not --quality")
     t0 = time.perf_counter()
     image = read_gray(args.image)
-    code = compress(image, bpp=args.bpp, quality=args.quality, method=args.method,
-                    options=CodeOptions(partition=args.partition), progress=not args.quiet and draw_bars(),
-                    deblock=args.deblock)
+    code = compress(image, bpp=args.bpp, quality=args.quality, method=args.method, options=options,
+                    progress=not args.quiet and draw_bars(), deblock=args.deblock)
     size = write(code, args.output)
     psnr = peak_signal_noise_ratio(image, decode(code).image.numpy(), data_range=1.0)
     print(f"wrote {args.output}: {size:,} bytes ({8 * size / image.size:.3f} bpp), {len(code)} blocks, "
@@ -114,8 +115,9 @@ def add_parsers(sub) -> None:
     c.add_argument("--method", choices=COMPRESSION_METHODS, default="attractor",
                    help="collage (the classic coder) or attractor (no more bits, refined through the decoder; "
                         "the default)")
-    c.add_argument("--partition", choices=PARTITIONS, default=PARTITIONS[0],
-                   help="quadtree (squares; the default) or hv (rectangles cut at their strongest edge; with --bpp)")
+    c.add_argument("--partition", choices=PARTITIONS, default=next(iter(PARTITIONS)),
+                   help="how the image is cut into range blocks: " + "; ".join(
+                       f"{name} ({phrase})" for name, phrase in PARTITIONS.items()) + " (default %(default)s)")
     c.add_argument("--deblock", type=_weight, metavar="W",
                    help="the decoder's post-filter: each pixel beside a block seam takes weight W (0 to 0.5, "
                         "in steps of 0.01) from the pixel across it, recorded in the file and kept only if it "

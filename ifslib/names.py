@@ -28,6 +28,6 @@ DEFAULT_STRATEGY = "pyramid"
 #: through the decoder (attractor coding).
 COMPRESSION_METHODS = ("collage", "attractor")
 
-#: The partitions of a compressed photograph, in the order a file's header numbers them: squares of a quadtree,
-#: or rectangles cut at their strongest edge (range-coded files only).
-PARTITIONS = ("quadtree", "hv")
+#: The partitions of a compressed photograph (`ifslib.compression.partitions`), in the order a file's header
+#: numbers them (the first the default), each with the command line's phrase for it.
+PARTITIONS = {"quadtree": "squares split in four", "hv": "rectangles cut at their strongest edge; with --bpp"}

@@ -3,6 +3,7 @@
 The pipeline, one module a stage::
 
     config     CodeOptions (the file's layout and coder), RefineOptions, the tuned numbers
+    partitions the partitions by name (`Partition`: how each is chosen and coded), each its module's
     partition  the quadtree of range blocks: grown where a split buys the most error per bit, or pruned
                at a price per bit bisected to fit a budget (rate-distortion)
     domains    the domain pool (blocks twice as large, averaged down) and the 8 isometries

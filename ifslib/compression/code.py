@@ -16,8 +16,8 @@ from ..errors import IFSError
 from .config import CodeOptions
 from .domains import ISOMETRY_BITS, domain_bits
 from .fields import encode_fields
+from .partitions import partition_of
 from .quantize import dequantize_m, dequantize_s, zero_s
-
 
 
 @dataclass(frozen=True)
@@ -50,8 +50,8 @@ class Code:
     block_width: torch.Tensor | None = None
 
     def __post_init__(self):
-        if (self.options.partition == "hv") != (self.block_height is not None and self.block_width is not None):
-            raise IFSError("an HV code gives its blocks' heights and widths; a quadtree code gives neither")
+        if partition_of(self.options).rectangles != (self.block_height is not None and self.block_width is not None):
+            raise IFSError("a code of rectangles gives its blocks' heights and widths; a code of squares neither")
 
     @property
     def heights(self) -> torch.Tensor:

@@ -10,6 +10,8 @@ from dataclasses import dataclass
 from ..errors import IFSError
 from ..names import PARTITIONS  # the partitions, in the order a version 2 header numbers them
 
+FIXED_PARTITION = next(iter(PARTITIONS))  #: the one partition file version 1 holds: its header names none
+
 #: the largest ``|s|`` the coder may choose: below 1 keeps each map's classic form s D + o a contraction; the
 #: centred form the file stores settles in a few passes anyway, and the bound keeps rounding from growing.
 S_MAX = 0.95
@@ -58,8 +60,8 @@ class CodeOptions:
         How the file stores the fields, one of `CODERS`: ``"adaptive"`` (file version 2, the range coder
         of `fields`) or ``"fixed"`` (version 1, each field its bits).
     partition : str
-        One of `PARTITIONS`: ``"quadtree"`` (square blocks) or ``"hv"`` (rectangles split at their
-        strongest edge, sides from min_block up; adaptive coder only).
+        One of `PARTITIONS` (`partitions`): ``"quadtree"`` (square blocks) or ``"hv"`` (rectangles split
+        at their strongest edge, sides from min_block up); the adaptive coder's, but for `FIXED_PARTITION`.
     deblock : float
         The decoder's post-filter (`deblock`): the weight, 0 to 0.5 in steps of 0.01, each pixel beside a
         block seam takes from the pixel across it (0: none; adaptive coder only, file version 3).
@@ -91,8 +93,9 @@ class CodeOptions:
             raise IFSError(f"coder must be one of {', '.join(CODERS)}, got {self.coder!r}")
         if self.partition not in PARTITIONS:
             raise IFSError(f"partition must be one of {', '.join(PARTITIONS)}, got {self.partition!r}")
-        if self.partition != "quadtree" and self.coder == "fixed":
-            raise IFSError("an HV partition needs the adaptive coder (file version 2); version 1 holds quadtrees only")
+        if self.partition != FIXED_PARTITION and self.coder == "fixed":
+            raise IFSError(f"the {self.partition} partition needs the adaptive coder (file version 2); version 1 "
+                           f"holds the {FIXED_PARTITION} only")
         d = self.deblock
         if (isinstance(d, bool) or not isinstance(d, (int, float))
                 or not (0 <= d <= 0.5 and abs(d * 100 - round(d * 100)) < 1e-9)):

@@ -17,22 +17,10 @@ from .collage import Fit, assemble, check_image, level_fits, pad, ranges, search
 from .config import CodeOptions
 from .domains import ISOMETRY_BITS, domain_bits, domain_count
 from .fileformat import header_bytes
-from .hv import hv_partition
-from .hvfields import hv_columns
 from .partition import LevelCost, grow, leaves_in_order, top_nodes
+from .partitions import partition_of
 from .quantize import quantize_m, zero_s
 from .rates import Choice
-from .repartition import partition
-
-def _costs(fits: dict[int, Fit], height: int, width: int, options: CodeOptions) -> dict[int, LevelCost]:
-    """Each block's error and bits, on its size's grid."""
-    out = {}
-    for size, fit in fits.items():
-        grid = (height // size, width // size)
-        flat = fit.s_idx == zero_s(options)
-        bits = options.s_bits + options.m_bits + (~flat).long() * (ISOMETRY_BITS + domain_bits(height, width, size))
-        out[size] = LevelCost(err=fit.err.reshape(grid).numpy(), bits=bits.reshape(grid).numpy())
-    return out
 
 
 def budget(bpp: float | None, quality: float | None, height: int, width: int,
@@ -88,31 +76,38 @@ def collage(image, options: CodeOptions = CodeOptions(), bpp: float | None = Non
     if domain_count(H, W, options.max_block) == 0:
         raise IFSError(f"a {height} x {width} image has no domain for {options.max_block} px blocks; "
                        f"use max_block <= {min(H, W) // 2}")
-    if options.partition == "hv" and bpp is None:
-        raise IFSError("an HV partition is chosen for a rate: give bpp, not quality")
+    kind = partition_of(options)
+    if bpp is None and kind.at_quality is None:
+        raise IFSError(f"the {options.partition} partition is chosen for a rate: give bpp, not quality")
     least = coarsest(padded, height, width, options).bits()
     if bits < least:
         needed = least + (7 if options.coder == "fixed" else 0) + 8 * header_bytes(options)
         raise IFSError(f"{bpp} bpp is too few for this {height} x {width} image: its coarsest code takes "
                        f"{math.ceil(1000 * needed / (height * width)) / 1000:.3f} bpp; ask for at least that")
-    if options.partition == "hv":
-        return Choice(hv_partition(padded, padded, height, width, options, bits), float("nan"), 0.0, None, None)
     if bpp is not None:
-        return partition(padded, padded, height, width, options, bits, progress)
-    fits = level_fits(padded, options, progress)
-    split = grow(H, W, options, _costs(fits, H, W, options), bits, target)
-    code = assemble(height, width, options, fits, leaves_in_order(H, W, options, split))
+        return kind.at_rate(padded, padded, height, width, options, bits, progress)
+    code = kind.at_quality(padded, height, width, options, bits, target, progress)
     return Choice(code, float("nan"), 0.0, None, None)
+
+
+def grown(padded: torch.Tensor, height: int, width: int, options: CodeOptions, budget_bits: float,
+          target_err: float, progress: bool = False) -> Code:
+    """The quadtree's collage code of ``padded`` ``(H, W)`` grown where a split saves the most error per bit,
+    until its squared error is ``target_err`` or its fields take ``budget_bits`` (`partition.grow`)."""
+    H, W = padded.shape
+    fits, costs = level_fits(padded, options, progress), {}
+    for size, fit in fits.items():  # each block's error and bits, on its size's grid
+        flat = fit.s_idx == zero_s(options)
+        bits = options.s_bits + options.m_bits + (~flat).long() * (ISOMETRY_BITS + domain_bits(H, W, size))
+        costs[size] = LevelCost(*(v.reshape(H // size, W // size).numpy() for v in (fit.err, bits)))
+    split = grow(H, W, options, costs, budget_bits, target_err)
+    return assemble(height, width, options, fits, leaves_in_order(H, W, options, split))
 
 
 def coarsest(padded: torch.Tensor, height: int, width: int, options: CodeOptions) -> Code:
     """The code of fewest bits of ``padded`` ``(H, W)``: every top block flat, its mean alone."""
-    blocks = ranges(padded, options.max_block)
-    m_idx = quantize_m(blocks.mean(1), options)
-    zeros = torch.zeros_like(m_idx)
-    fit = Fit(err=zeros.double(), domain=zeros, iso=zeros, s_idx=torch.full_like(m_idx, zero_s(options)), m_idx=m_idx)
-    if options.partition == "hv":
-        b = options.max_block
-        rows = [(y, x, b, b, 0, 0, zero_s(options), int(m)) for (_, y, x), m in zip(top_nodes(*padded.shape, options), m_idx)]
-        return Code(options, height, width, **hv_columns(rows))
-    return assemble(height, width, options, {options.max_block: fit}, top_nodes(*padded.shape, options))
+    m_idx = quantize_m(ranges(padded, options.max_block).mean(1), options)
+    size, y, x = (torch.tensor(c, dtype=torch.long) for c in zip(*top_nodes(*padded.shape, options)))
+    sides = dict(block_height=size, block_width=size) if partition_of(options).rectangles else {}
+    return Code(options, height, width, y, x, size, 0 * m_idx, 0 * m_idx, torch.full_like(m_idx, zero_s(options)),
+                m_idx, **sides)

@@ -18,11 +18,12 @@ import torch
 
 from ..errors import IFSError
 from .config import CodeOptions
-from .domains import ISOMETRIES, domain_step, lattice
+from .domains import ISOMETRIES, lattice
 from .entropy import Adaptive, Coder, Decoder, Encoder, Magnitude, unzigzag, zigzag
-from .hvfields import code_hv_fields, hv_columns
 from .partition import walk
+from .partitions import partition_of
 from .quantize import zero_s
+from .rectangles import isometry_count, rectangle_lattice, rectangle_step
 
 FIELD_NAMES = ("y", "x", "size", "domain", "iso", "s_idx", "m_idx")
 
@@ -36,36 +37,35 @@ class Models:
         self.flat = {size: Adaptive.uniform(2) for size in options.sizes}
         self.s = Adaptive.uniform(2 * zero_s(options) - 1)
         self.m = {flat: Magnitude(levels) for flat in (False, True)}
-        self.iso = Adaptive.uniform(ISOMETRIES)
+        self.iso = {ISOMETRIES: Adaptive.uniform(ISOMETRIES)}
         self.row, self.col = {}, {}
         for size in options.sizes:
             rows, cols = lattice(height, width, size)
             self.row[size], self.col[size] = Magnitude(rows), Magnitude(cols)
 
+    def lattice_models(self, shape: tuple[int, int], rows: int, cols: int) -> tuple[Magnitude, Magnitude]:
+        return self.row[shape[0]], self.col[shape[0]]
+
 
 class MeanGrid:
-    """The means decoded so far, one cell per smallest block, and the prediction of the next block's mean."""
+    """The means decoded so far, one cell per ``unit`` pixels (blocks' sides are multiples of it), and the
+    prediction of the next block's mean: that of the cells just above and to its left, decoded."""
 
-    def __init__(self, height: int, width: int, options: CodeOptions):
-        self.unit = options.min_block
-        self.cells = np.full((height // self.unit, width // self.unit), -1, dtype=np.int64)
+    def __init__(self, height: int, width: int, unit: int, options: CodeOptions):
+        self.unit = unit
+        self.cells = np.full((height // unit, width // unit), -1, dtype=np.int64)
         self.middle = 2 ** (options.m_bits - 1)
 
-    def predict(self, size: int, y: int, x: int) -> int:
-        r, c, n = y // self.unit, x // self.unit, size // self.unit
-        near = np.concatenate([self.cells[r - 1, c:c + n] if r else self.cells[:0, 0],
-                               self.cells[r:r + n, c - 1] if c else self.cells[:0, 0]])
+    def predict(self, y: int, x: int, h: int, w: int) -> int:
+        r, c, h, w = y // self.unit, x // self.unit, h // self.unit, w // self.unit
+        near = np.concatenate([self.cells[r - 1, c:c + w] if r else self.cells[:0, 0],
+                               self.cells[r:r + h, c - 1] if c else self.cells[:0, 0]])
         near = near[near >= 0]
         return int(round(float(near.mean()))) if len(near) else self.middle
 
-    def fill(self, size: int, y: int, x: int, m: int) -> None:
-        r, c, n = y // self.unit, x // self.unit, size // self.unit
-        self.cells[r:r + n, c:c + n] = m
-
-
-def _centred(y: int, size: int, step: int, count: int) -> int:
-    """The lattice index whose domain (2 size wide) is centred on the range starting at ``y``."""
-    return min(max(round((y - size / 2) / step), 0), count - 1)
+    def fill(self, y: int, x: int, h: int, w: int, m: int) -> None:
+        u = self.unit
+        self.cells[y // u:(y + h) // u, x // u:(x + w) // u] = m
 
 
 def code_fields(coder: Coder, height: int, width: int, options: CodeOptions, code=None) -> tuple[list[tuple], Models]:
@@ -75,13 +75,9 @@ def code_fields(coder: Coder, height: int, width: int, options: CodeOptions, cod
     Encoding, ``code`` is the `Code` whose fields are coded; decoding, ``code`` is None and the rows
     are what the coder decodes.
     """
-    o, models, means, zero = options, Models(height, width, options), MeanGrid(height, width, options), zero_s(options)
-    levels = 2**o.m_bits
+    o, models, means = options, Models(height, width, options), MeanGrid(height, width, options.min_block, options)
     leaf = None if code is None else {(int(s), int(y), int(x)): i
                                       for i, (s, y, x) in enumerate(zip(code.size, code.y, code.x))}
-
-    def value(name, i):
-        return None if leaf is None else int(getattr(code, name)[i])
 
     def is_split(node) -> bool:
         want = None if leaf is None else int(node not in leaf)
@@ -95,36 +91,53 @@ def code_fields(coder: Coder, height: int, width: int, options: CodeOptions, cod
         i = None if leaf is None else leaf.get(node)
         if leaf is not None and i is None:
             raise IFSError(f"the code's blocks do not tile its quadtree (no block at {node})")
-        s_idx = value("s_idx", i)
-        want = None if s_idx is None else int(s_idx == zero)
-        flat = coder.code(models.flat[size], want, ("flat", size, want)) == 1
-        if not flat:
-            s_sym = coder.code(models.s, None if s_idx is None else s_idx - (s_idx > zero), ("s",))
-            s_idx = s_sym + (s_sym >= zero)
-        else:
-            s_idx = zero
-        guess, m_idx = means.predict(size, y, x), value("m_idx", i)
-        residual = coder.code_magnitude(models.m[flat], None if m_idx is None else zigzag(m_idx - guess, levels),
-                                        ("m", flat))
-        m_idx = (guess + unzigzag(residual, levels)) % levels
-        means.fill(size, y, x, m_idx)
-        iso = domain = 0
-        if not flat:
-            iso = coder.code(models.iso, value("iso", i), ("iso",))
-            domain = _code_domain(coder, models, node, height, width, value("domain", i))
-        rows.append((y, x, size, domain, iso, s_idx, m_idx))
+        rows.append((y, x, size, *code_leaf(coder, models, (y, x, size, size), means, height, width, o, code, i,
+                                            (size,))))
     return rows, models
 
 
-def _code_domain(coder: Coder, models: Models, node, height: int, width: int, domain: int | None) -> int:
-    size, y, x = node
-    n_rows, n_cols = lattice(height, width, size)
-    step = domain_step(height, width, size)
-    r0, c0 = _centred(y, size, step, n_rows), _centred(x, size, step, n_cols)
+def code_leaf(coder: Coder, models, block, means: MeanGrid, height: int, width: int, options: CodeOptions, code, i,
+              key: tuple = ()) -> tuple[int, int, int, int]:
+    """Run the fields of leaf ``block`` ``(y, x, height, width)`` through ``coder`` (``code``'s block ``i``
+    encoding, None decoding): ``(domain, iso, s_idx, m_idx)``. The ledger's keys carry ``key`` (the
+    quadtree's block size: its rates price each size apart); ``models`` is either partition's."""
+    y, x, h, w = block
+    zero, levels = zero_s(options), 2**options.m_bits
+
+    def value(name):
+        return None if code is None else int(getattr(code, name)[i])
+
+    s_idx = value("s_idx")
+    want = None if s_idx is None else int(s_idx == zero)
+    flat = coder.code(models.flat[min(h, w)], want, ("flat", *key, want)) == 1
+    if not flat:
+        s_sym = coder.code(models.s, None if s_idx is None else s_idx - (s_idx > zero), ("s",))
+        s_idx = s_sym + (s_sym >= zero)
+    else:
+        s_idx = zero
+    guess, m_idx = means.predict(*block), value("m_idx")
+    want = None if m_idx is None else zigzag(m_idx - guess, levels)
+    m_idx = (guess + unzigzag(coder.code_magnitude(models.m[flat], want, ("m", flat)), levels)) % levels
+    means.fill(*block, m_idx)
+    iso = domain = 0
+    if not flat:
+        iso = coder.code(models.iso[isometry_count(h, w)], value("iso"), ("iso",))
+        domain = _code_domain(coder, models, block, height, width, value("domain"), key)
+    return domain, iso, s_idx, m_idx
+
+
+def _code_domain(coder: Coder, models, block, height: int, width: int, domain: int | None, key: tuple) -> int:
+    """The domain as its offset on its shape's lattice from the one centred on the range, modulo rows and columns."""
+    y, x, h, w = block
+    n_rows, n_cols = rectangle_lattice(height, width, h, w)
+    sy, sx = rectangle_step(height, width, h, w)
+    r0 = min(max(round((y - h / 2) / sy), 0), n_rows - 1)
+    c0 = min(max(round((x - w / 2) / sx), 0), n_cols - 1)
+    row_model, col_model = models.lattice_models((h, w), n_rows, n_cols)
     want_r = None if domain is None else zigzag(domain // n_cols - r0, n_rows)
     want_c = None if domain is None else zigzag(domain % n_cols - c0, n_cols)
-    r = (unzigzag(coder.code_magnitude(models.row[size], want_r, ("row", size)), n_rows) + r0) % n_rows
-    c = (unzigzag(coder.code_magnitude(models.col[size], want_c, ("col", size)), n_cols) + c0) % n_cols
+    r = (unzigzag(coder.code_magnitude(row_model, want_r, ("row", *key)), n_rows) + r0) % n_rows
+    c = (unzigzag(coder.code_magnitude(col_model, want_c, ("col", *key)), n_cols) + c0) % n_cols
     return r * n_cols + c
 
 
@@ -137,21 +150,22 @@ class Coded(NamedTuple):
     models: Models
 
 
+def columns(rows: list[tuple]) -> dict[str, torch.Tensor]:
+    """The `Code` fields (`FIELD_NAMES`, ``(L,)`` int64 each) of the rows `code_fields` decoded."""
+    if not rows:
+        raise IFSError("the file is corrupt (it codes no block)")
+    return {name: torch.tensor(column, dtype=torch.long) for name, column in zip(FIELD_NAMES, zip(*rows))}
+
+
 def encode_fields(code) -> Coded:
-    """The range-coded fields of ``code`` (a `Code`, of either partition)."""
+    """The range-coded fields of ``code`` (a `Code`, of any partition)."""
     H, W = code.padded
     coder = Encoder()
-    walk_fields = code_hv_fields if code.options.partition == "hv" else code_fields
-    _, models = walk_fields(coder, H, W, code.options, code)
+    _, models = partition_of(code.options).fields(coder, H, W, code.options, code)
     return Coded(coder.payload(), dict(coder.ledger), models)
 
 
 def decode_fields(payload: bytes, height: int, width: int, options: CodeOptions) -> dict[str, torch.Tensor]:
-    """The fields (`FIELD_NAMES`, ``(L,)`` int64 each) of a padded ``height x width`` code from its payload."""
-    decoder = Decoder(payload)
-    if options.partition == "hv":
-        return hv_columns(code_hv_fields(decoder, height, width, options)[0])
-    rows, _ = code_fields(decoder, height, width, options)
-    if not rows:
-        raise IFSError("the file is corrupt (it codes no block)")
-    return {name: torch.tensor(column, dtype=torch.long) for name, column in zip(FIELD_NAMES, zip(*rows))}
+    """The `Code` fields of a padded ``height x width`` code from its payload."""
+    kind = partition_of(options)
+    return kind.columns(kind.fields(Decoder(payload), height, width, options)[0])

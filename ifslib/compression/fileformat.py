@@ -1,7 +1,7 @@
 """The compact binary file of a code: a header naming the version and the layout, then the fields.
 
 Version 2 (written by default): ``b"IFSC"``, version (1 byte), height and width (2 bytes each), the
-partition (1 byte: its index in `config.PARTITIONS`, 0 the quadtree, 1 HV), log2 of the smallest and
+partition (1 byte: its place in `ifslib.names.PARTITIONS`, 0 the quadtree, 1 HV), log2 of the smallest and
 largest blocks (4 bits each), s_bits and m_bits (4 bits each), s_max x 10000 (2 bytes), a CRC-32 of the header's bytes before it and of the
 payload (4 bytes), then the range-coded fields (`fields`). A wrong, truncated or altered file fails
 the CRC and is refused, never decoded into a wrong image.
@@ -27,7 +27,6 @@ from .fields import decode_fields, encode_fields
 from .fixedformat import fixed_payload, read_fixed
 
 MAGIC = b"IFSC"
-VERSION = 3
 HEADER = struct.Struct(">4sBHHBBBBH")  # version 1
 HEADER_2 = struct.Struct(">4sBHHBBBHI")
 HEADER_3 = struct.Struct(">4sBHHBBBHBI")
@@ -46,7 +45,7 @@ def to_bytes(code: Code) -> bytes:
         return HEADER.pack(MAGIC, 1, code.height, code.width, lo, hi, o.s_bits, o.m_bits,
                            round(o.s_max * 10000)) + fixed_payload(code)
     payload = encode_fields(code).payload
-    layout = (code.height, code.width, PARTITIONS.index(o.partition), lo << 4 | hi, o.s_bits << 4 | o.m_bits,
+    layout = (code.height, code.width, list(PARTITIONS).index(o.partition), lo << 4 | hi, o.s_bits << 4 | o.m_bits,
               round(o.s_max * 10000))
     if o.deblock:
         head = HEADER_3.pack(MAGIC, 3, *layout, round(o.deblock * 100), 0)[:-4]
@@ -104,7 +103,7 @@ def _read_2(data: bytes, version: int) -> Code:
                        f"{', '.join(PARTITIONS)})")
     height, width, o = _options(height, width, lambda: CodeOptions(1 << (blocks >> 4), 1 << (blocks & 15), bits >> 4,
                                                                    bits & 15, s_max / 10000,
-                                                                   partition=PARTITIONS[partition],
+                                                                   partition=list(PARTITIONS)[partition],
                                                                    deblock=deblock / 100))
     H, W = -(-height // o.max_block) * o.max_block, -(-width // o.max_block) * o.max_block
     return Code(o, height, width, **decode_fields(payload, H, W, o))

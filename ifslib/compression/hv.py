@@ -22,7 +22,10 @@ from .config import PRUNE_ROUNDS, RATE_ROUNDS, CodeOptions
 from .fields import encode_fields
 from .entropy import Encoder
 from .hvfields import code_hv_fields, hv_columns
+from .partition import cheapest_fit
+from .partitions import Partition
 from .quantize import dequantize_m, quantize_m, zero_s
+from .rates import Choice
 from .rectangles import Block, cut_positions, edge_split, isometry_count, rectangle_isometry, rectangle_pool, split_block
 
 
@@ -155,27 +158,10 @@ def measured(t: Tree, ledger: dict) -> Tree:
                    leaf_flag=np.where(cuttable, mean(("split", 0), 1), 0.0), cut_bits=np.where(cuttable, cut, 0.0))
 
 
-def prune_to_budget(t: Tree, budget_bits: float) -> tuple[list, float, float]:
-    """The `prune` of the smallest price of a bit (bisected) whose estimated bits fit ``budget_bits``."""
-    lo, hi = 0.0, 1e-3
-    for _ in range(60):
-        if prune(t, hi)[1] <= budget_bits:
-            break
-        lo, hi = hi, hi * 4
-    best = prune(t, hi)
-    for _ in range(PRUNE_ROUNDS // 2):
-        mid = (lo + hi) / 2
-        chosen = prune(t, mid)
-        if chosen[1] <= budget_bits:
-            hi, best = mid, chosen
-        else:
-            lo = mid
-    return best
-
-
 def hv_partition(target: torch.Tensor, pool_image: torch.Tensor, height: int, width: int, options: CodeOptions,
-                 budget_bits: float) -> Code:
-    """The HV code of ``target`` ``(H, W)`` (padded) whose blocks map domains of ``pool_image``, in ``budget_bits``.
+                 budget_bits: float, progress: bool = False) -> Choice:
+    """The HV code of ``target`` ``(H, W)`` (padded) whose blocks map domains of ``pool_image``, in ``budget_bits``
+    (`rates.Choice`, with no price of a bit: the range coder's models here are not the quadtree's).
 
     Parameters
     ----------
@@ -187,11 +173,13 @@ def hv_partition(target: torch.Tensor, pool_image: torch.Tensor, height: int, wi
         With ``partition="hv"``.
     budget_bits : float
         The most bits of the range-coded fields.
+    progress : bool
+        Unused: the search has no stage long enough for a bar.
     """
     t = tree(target, pool_image, options)
     aim, best, priced = budget_bits, None, False
     for _ in range(RATE_ROUNDS):
-        leaves, estimate, err = prune_to_budget(t, aim)
+        leaves, estimate, err = cheapest_fit(lambda lam: prune(t, lam), lambda out: out[1], aim, PRUNE_ROUNDS // 2)
         code = assemble(t, leaves, height, width, options)
         coded = encode_fields(code)
         bits = 8 * len(coded.payload)
@@ -202,4 +190,8 @@ def hv_partition(target: torch.Tensor, pool_image: torch.Tensor, height: int, wi
         t, priced = measured(t, coded.ledger), True
     if best is None:
         raise IFSError(f"no HV partition's coded fields fit in {budget_bits:.0f} bits; ask for a higher rate")
-    return best[0]
+    return Choice(best[0], float("nan"), 0.0, None, None)
+
+
+#: rectangles, chosen at a rate only (no greedy growth to a collage quality)
+PARTITION = Partition("hv", rectangles=True, fields=code_hv_fields, columns=hv_columns, at_rate=hv_partition)

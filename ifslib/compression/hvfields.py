@@ -3,7 +3,7 @@
 Depth first from each ``max_block`` square, raster order: a block that can be cut (`rectangles.cut_positions`)
 says whether it is (a model per shorter side); a cut block says along which axis (when both could be
 cut) and where (its index among the axis's positions, a model per count), then its two parts follow,
-top or left first. A leaf codes what a quadtree leaf does (`fields`): flat or not, the contrast, the
+top or left first. A leaf codes what a quadtree leaf does (`fields.code_leaf`): flat or not, the contrast, the
 mean as a residual from its decoded neighbours above and to the left, and for a block with a domain its
 isometry (4 for a rectangle, 8 for a square) and its domain's offset from the range on its shape's
 lattice.
@@ -17,9 +17,10 @@ import torch
 
 from ..errors import IFSError
 from .config import HV_STEP, CodeOptions
-from .entropy import Adaptive, Coder, Magnitude, unzigzag, zigzag
+from .entropy import Adaptive, Coder, Magnitude
+from .fields import MeanGrid, code_leaf
 from .quantize import zero_s
-from .rectangles import Block, cut_positions, isometry_count, rectangle_lattice, rectangle_step, split_block
+from .rectangles import Block, cut_positions, split_block
 
 
 class HVModels:
@@ -28,7 +29,7 @@ class HVModels:
     def __init__(self, options: CodeOptions):
         self.split = defaultdict(lambda: Adaptive.uniform(2))
         self.axis = Adaptive.uniform(2)
-        self.position = defaultdict(lambda: None)
+        self.position = {}
         self.flat = defaultdict(lambda: Adaptive.uniform(2))
         self.s = Adaptive.uniform(2 * zero_s(options) - 1)
         self.m = {flat: Magnitude(2**options.m_bits) for flat in (False, True)}
@@ -36,21 +37,10 @@ class HVModels:
         self.row, self.col = {}, {}
 
     def place(self, count: int) -> Adaptive:
-        if self.position[count] is None:
-            self.position[count] = Adaptive.uniform(count)
-        return self.position[count]
+        return self.position.setdefault(count, Adaptive.uniform(count))
 
     def lattice_models(self, shape, rows: int, cols: int) -> tuple[Magnitude, Magnitude]:
-        if shape not in self.row:
-            self.row[shape], self.col[shape] = Magnitude(rows), Magnitude(cols)
-        return self.row[shape], self.col[shape]
-
-
-def _predict(cells: np.ndarray, block: Block, middle: int) -> int:
-    y, x, h, w = (v // HV_STEP for v in block)
-    near = np.concatenate([cells[y - 1, x:x + w] if y else cells[:0, 0], cells[y:y + h, x - 1] if x else cells[:0, 0]])
-    near = near[near >= 0]
-    return int(round(float(near.mean()))) if len(near) else middle
+        return self.row.setdefault(shape, Magnitude(rows)), self.col.setdefault(shape, Magnitude(cols))
 
 
 def _cut(owner: np.ndarray | None, block: Block, options: CodeOptions) -> tuple[int, int] | None:
@@ -70,9 +60,7 @@ def _cut(owner: np.ndarray | None, block: Block, options: CodeOptions) -> tuple[
 def code_hv_fields(coder: Coder, height: int, width: int, options: CodeOptions, code=None) -> tuple[list[tuple], HVModels]:
     """Run every field of a padded ``height x width`` HV code through ``coder``: ``([(y, x, height, width,
     domain, iso, s_idx, m_idx)], the models)``. Encoding, ``code`` is the `Code`; decoding, None."""
-    o, models, zero, b = options, HVModels(options), zero_s(options), options.max_block
-    levels, middle = 2**o.m_bits, 2 ** (o.m_bits - 1)
-    cells = np.full((height // HV_STEP, width // HV_STEP), -1, dtype=np.int64)
+    o, models, b, means = options, HVModels(options), options.max_block, MeanGrid(height, width, HV_STEP, options)
     owner, index = None, {}
     if code is not None:
         owner = np.full((height, width), -1, dtype=np.int64)
@@ -100,48 +88,8 @@ def code_hv_fields(coder: Coder, height: int, width: int, options: CodeOptions, 
         i = None if code is None else index.get(tuple(block))
         if code is not None and i is None:
             raise IFSError(f"the code's blocks are not an HV partition (no block at {tuple(block)})")
-        rows.append(_code_leaf(coder, models, block, cells, (height, width, o, zero, levels, middle), code, i))
+        rows.append((*block, *code_leaf(coder, models, block, means, height, width, o, code, i)))
     return rows, models
-
-
-def _code_leaf(coder, models: HVModels, block: Block, cells, layout, code, i) -> tuple:
-    height, width, o, zero, levels, middle = layout
-    y, x, h, w = block
-
-    def value(name):
-        return None if code is None else int(getattr(code, name)[i])
-
-    s_idx = value("s_idx")
-    want = None if s_idx is None else int(s_idx == zero)
-    flat = coder.code(models.flat[min(h, w)], want, ("flat", want)) == 1
-    if not flat:
-        s_sym = coder.code(models.s, None if s_idx is None else s_idx - (s_idx > zero), ("s",))
-        s_idx = s_sym + (s_sym >= zero)
-    else:
-        s_idx = zero
-    guess, m_idx = _predict(cells, block, middle), value("m_idx")
-    residual = coder.code_magnitude(models.m[flat], None if m_idx is None else zigzag(m_idx - guess, levels), ("m", flat))
-    m_idx = (guess + unzigzag(residual, levels)) % levels
-    cells[y // HV_STEP:(y + h) // HV_STEP, x // HV_STEP:(x + w) // HV_STEP] = m_idx
-    iso = domain = 0
-    if not flat:
-        iso = coder.code(models.iso[isometry_count(h, w)], value("iso"), ("iso",))
-        domain = _code_domain(coder, models, block, height, width, value("domain"))
-    return y, x, h, w, domain, iso, s_idx, m_idx
-
-
-def _code_domain(coder, models: HVModels, block: Block, height: int, width: int, domain: int | None) -> int:
-    y, x, h, w = block
-    n_rows, n_cols = rectangle_lattice(height, width, h, w)
-    sy, sx = rectangle_step(height, width, h, w)
-    r0 = min(max(round((y - h / 2) / sy), 0), n_rows - 1)
-    c0 = min(max(round((x - w / 2) / sx), 0), n_cols - 1)
-    row_model, col_model = models.lattice_models((h, w), n_rows, n_cols)
-    want_r = None if domain is None else zigzag(domain // n_cols - r0, n_rows)
-    want_c = None if domain is None else zigzag(domain % n_cols - c0, n_cols)
-    r = (unzigzag(coder.code_magnitude(row_model, want_r, ("row",)), n_rows) + r0) % n_rows
-    c = (unzigzag(coder.code_magnitude(col_model, want_c, ("col",)), n_cols) + c0) % n_cols
-    return r * n_cols + c
 
 
 def hv_columns(rows: list[tuple]) -> dict[str, torch.Tensor]:

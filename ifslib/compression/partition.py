@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import heapq
 from dataclasses import dataclass
-from typing import Iterator
+from typing import Callable, Iterator
 
 import numpy as np
 
@@ -205,16 +205,22 @@ def prune_to_budget(options: CodeOptions, choices: dict[int, LeafChoice], budget
     say) for less error. A tree of fewer bits than the coarsest one (every top block flat) does not
     exist: that one is returned, over the budget, if the budget is below it.
     """
+    return cheapest_fit(lambda lam: prune(options, choices, lam, flags), lambda tree: tree.bits, budget_bits)
+
+
+def cheapest_fit(prune_at: Callable, bits: Callable, budget_bits: float, rounds: int = PRUNE_ROUNDS):
+    """``prune_at(lam)`` at the smallest price ``lam`` of a bit whose ``bits(...)`` fit ``budget_bits``: the
+    price raised fourfold from 1e-3 until they fit, then bisected ``rounds`` times (either partition's pruning)."""
     lo, hi = 0.0, 1e-3
     for _ in range(60):
-        if prune(options, choices, hi, flags).bits <= budget_bits:
+        if bits(prune_at(hi)) <= budget_bits:
             break
         lo, hi = hi, hi * 4
-    best = prune(options, choices, hi, flags)
-    for _ in range(PRUNE_ROUNDS):
+    best = prune_at(hi)
+    for _ in range(rounds):
         mid = (lo + hi) / 2
-        tree = prune(options, choices, mid, flags)
-        if tree.bits <= budget_bits:
+        tree = prune_at(mid)
+        if bits(tree) <= budget_bits:
             hi, best = mid, tree
         else:
             lo = mid

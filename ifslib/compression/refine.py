@@ -26,10 +26,9 @@ from .config import DECODE_MAX_ITER, DECODE_TOL, RefineOptions
 from .decode import Plan, fixed_point, iterate, plan, post_filter, shapes, start_image
 from .encode import check_image, pad, search
 from .quantize import dequantize_m, dequantize_s, zero_s
+from .partitions import partition_of
 from .rates import Choice, domain_cost
-from .hv import hv_partition
 from .rectangles import isometry_count, rectangle_isometry, rectangle_pool
-from .repartition import partition
 
 
 def implicit_fixed_point(p: Plan, s: torch.Tensor, m: torch.Tensor, start: torch.Tensor,
@@ -84,7 +83,7 @@ def search_again(code: Code, target: torch.Tensor, decoded: torch.Tensor, price:
         rows = (code.y[at, None, None] + torch.arange(bh)[:, None]) * W + code.x[at, None, None] + torch.arange(bw)
         blocks = target.reshape(-1)[rows.reshape(len(at), -1)]
         penalty = None
-        if price is not None and price.models is not None and price.lam > 0 and code.options.partition == "quadtree":
+        if price is not None and price.models is not None and price.lam > 0:  # models: `fields.Models`
             penalty = price.lam * domain_cost(price.models, H, W, bh, code.y[at].numpy(), code.x[at].numpy())
         pool = rectangle_pool(decoded, bh, bw)
         domains = torch.stack([rectangle_isometry(pool, k).reshape(len(pool), -1) for k in range(isometry_count(bh, bw))])
@@ -188,11 +187,7 @@ def refine(code: Code, image, options: RefineOptions = RefineOptions(), progress
     budget = max(code.bits(), budget_bits or 0)
     code, best_err, x = refine_maps(code, target, padded, options, progress, budget, price)
     for _ in range(options.repartitions):
-        if code.options.partition == "hv":
-            chosen = Choice(hv_partition(padded, x, code.height, code.width, code.options, budget), float("nan"), 0.0,
-                            None, None)
-        else:
-            chosen = partition(padded, x, code.height, code.width, code.options, budget, progress)
+        chosen = partition_of(code.options).at_rate(padded, x, code.height, code.width, code.options, budget, progress)
         candidate, err, new_x = refine_maps(chosen.code, target, padded, options, progress, budget, chosen)
         if err >= best_err:
             break

@@ -17,10 +17,12 @@ from __future__ import annotations
 import torch
 from tqdm.auto import tqdm
 
-from .code import Code
 from .collage import Fit, ranges, search
 from .config import CodeOptions
 from .domains import pool_with_isometries
+from .encode import grown
+from .fields import code_fields, columns
+from .partitions import Partition
 from .quantize import dequantize_m, quantize_m, zero_s
 from .rates import Choice, choose
 
@@ -54,26 +56,6 @@ def partition(target: torch.Tensor, pool_image: torch.Tensor, height: int, width
     return choose(level_choices(target, pool_image, options, progress), height, width, options, budget_bits)
 
 
-def repartition(code: Code, target: torch.Tensor, decoded: torch.Tensor, budget_bits: int | None = None,
-                progress: bool = False) -> Code:
-    """A code of ``target`` with the partition and flat blocks chosen for ``decoded``, in at most ``budget_bits``.
-
-    Parameters
-    ----------
-    code : Code
-        The current code (its layout and size).
-    target : torch.Tensor
-        ``(H, W)`` the padded image being coded.
-    decoded : torch.Tensor
-        ``(H, W)`` the padded fixed point of ``code``: the domain pool.
-    budget_bits : int, optional
-        The most bits of flags and maps (default: ``code.bits()``).
-    progress : bool
-
-    Returns
-    -------
-    Code
-        ``bits() <= budget_bits``.
-    """
-    budget = code.bits() if budget_bits is None else budget_bits
-    return partition(target, decoded, code.height, code.width, code.options, budget, progress).code
+#: squares split in four, at a rate (`partition`) or grown to a collage quality (`encode.grown`)
+PARTITION = Partition("quadtree", rectangles=False, fields=code_fields, columns=columns, at_rate=partition,
+                      at_quality=grown)

@@ -7,7 +7,7 @@ from ifslib.compression.decode import iterate, plan
 from ifslib.compression.encode import encode
 from ifslib.compression.fileformat import from_bytes, to_bytes
 from ifslib.compression.rates import choose
-from ifslib.compression.repartition import level_choices, repartition
+from ifslib.compression.repartition import level_choices, partition
 from compression_images import photo
 
 
@@ -17,7 +17,7 @@ def test_the_new_code_keeps_the_budget_and_its_collage_error_is_the_prunings(cod
     image = photo(64, seed=6)
     code = encode(image, options, bpp=1.0)
     for budget in (code.bits() // 2, code.bits()):
-        new = repartition(code, image, image, budget)  # the pool cut from the image itself: the collage
+        new = partition(image, image, 64, 64, options, budget).code  # the pool cut from the image itself: the collage
         assert new.bits() <= budget
         assert int((new.size ** 2).sum()) == 64 * 64
         back = from_bytes(to_bytes(new))

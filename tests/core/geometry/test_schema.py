@@ -255,6 +255,14 @@ def test_the_schema_knows_the_library_kinds():
         for other in range(1, 5):
             doc = _rule(kind=kind, **{"from": list(range(other)), "to": list(range(other))})
             assert jsonschema.Draft202012Validator(io.schema()).is_valid(doc) == (other == need), (kind, other)
+    # each kind's points and radius as its entry in the table of shapes says (the schema is written by hand)
+    from ifslib.core.geometry.shapes import SHAPES
+
+    valid = jsonschema.Draft202012Validator(io.schema()).is_valid
+    for kind, shape in SHAPES.items():
+        for other in range(1, 5):
+            assert valid(_primitive(kind=kind, points=list(range(other)), radius=0.1)) == (other == shape.points), kind
+        assert valid(_primitive(kind=kind, points=list(range(shape.points)))) == (shape.radius != "required"), kind
 
 
 def test_no_pointer_to_the_old_file():
