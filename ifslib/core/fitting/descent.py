@@ -1,13 +1,10 @@
-"""The descent: one Adam loop that every fit of the library runs, each handing it its parameters and its loss.
+"""The descent: one Adam loop that the library's fits run, each handing it its parameters and its loss.
 
-A `Descent` holds torch's Adam on some parameter groups and a closure that computes the loss at the
-parameters; `Descent.run` takes its steps. What happens around each Adam step is a `StepPolicy`:
-roll a failed step back (the paper's fit) or raise, keep the best parameters so far, stop early, hold
-some gradients (fixed points), scale the learning rate by a schedule, and keep the maps contractive
-after the step (`clamp_scales`, `halve_step`). The paper's fit (`ifslib.core.fitting.run`), the
-fractal search's collages, the measure fit and its collage search, and the splat fit run it. The
-library's one other Adam is the batch of fits' (`ifslib.studies.batch`), whose items each keep their
-own step count and learning rate.
+The paper's fit (`ifslib.core.fitting.run`), the fractal search's collages, the measure fit, its collage
+search and the splat fit each build a `Descent` (torch's Adam, a loss closure) and a `StepPolicy` (what
+happens around each step). The one other Adam is the batch of fits' (`ifslib.studies.batch`): its items
+each keep their own step count and learning rate, which torch's Adam cannot. Compression's refinement
+(`ifslib.compression.refine`) still runs its own loop.
 """
 from __future__ import annotations
 
@@ -108,17 +105,14 @@ class Descent:
     Attributes
     ----------
     index : int
-        The steps taken (rolled-back ones included): the index of the next step.
-    losses : list of float
-        The loss of every step not rolled back.
-    rates : list of float
-        Each group's learning rate (halved by each rollback).
+        The steps taken, rolled-back ones included (the index of the next step).
+    losses, rates : list of float
+        The loss of every step not rolled back; each group's learning rate (halved by each rollback).
     best, best_loss, best_step
         With ``policy.keep_best``: the parameters of the least loss, that loss and its step.
-    previous : tuple
-        With ``policy.rollback``: the parameters and Adam's states before the last step not rolled back.
-    reason : str or None
-        Why the last step was rolled back (None when it was not).
+    previous, reason
+        With ``policy.rollback``: a `snapshot` from before the last step not rolled back; why the last step
+        was rolled back (None when it was not).
     """
 
     def __init__(self, groups: Sequence[dict], loss: Callable[[], torch.Tensor], policy: StepPolicy = StepPolicy()):
@@ -212,22 +206,11 @@ class Descent:
         return current
 
     def run(self, steps: int, after: Callable[[int, float | None], None] | None = None, bar=None) -> str:
-        """Take steps until ``steps`` have been taken in all (those of earlier runs count).
+        """Take steps until ``steps`` have been taken in all (those of earlier runs count); ``after(index, loss)``
+        follows each (``loss`` None when it was rolled back), and ``bar`` (tqdm) is advanced by one a step.
 
-        Parameters
-        ----------
-        steps : int
-            The step index to stop at.
-        after : callable, optional
-            ``after(index, loss)`` after each step (``loss`` None when it was rolled back).
-        bar : tqdm, optional
-            Advanced by one a step, showing the loss every 10 steps.
-
-        Returns
-        -------
-        str
-            Why it stopped: ``"steps"``, ``"converged"`` (``policy.tol``) or ``"rollbacks"`` (``policy.max_rollbacks``
-            consecutive rolled-back steps, with a warning).
+        Returns why it stopped: ``"steps"``, ``"converged"`` (``policy.tol``) or ``"rollbacks"``
+        (``policy.max_rollbacks`` consecutive rolled-back steps, with a warning).
         """
         policy = self.policy
         for index in range(self.index, steps):
