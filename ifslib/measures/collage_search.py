@@ -33,6 +33,7 @@ from tqdm.auto import tqdm
 
 from ..automatic.fractal.candidates import linear_grid, plane_maps
 from ..automatic.fractal.config import DEFAULT as SEARCH
+from ..core.fitting.descent import Descent, StepPolicy, clamp_scales
 from ..core.geometry.ifs import IFS
 from ..core.geometry.patterns import affine
 from ..core.scoring.losses import multiscale_mse
@@ -240,19 +241,15 @@ def refine_collage(image: torch.Tensor, maps: torch.Tensor, probabilities: np.nd
     n = image.shape[0]
     linear = maps[:, :2].clone().requires_grad_(True)
     logits = torch.log(torch.as_tensor(np.maximum(probabilities, 1e-3))).requires_grad_(True)
-    adam = torch.optim.Adam([linear, logits], lr=lr)
 
     def error() -> torch.Tensor:
         collage = push_mass(image, linear, torch.softmax(logits, 0))
         return multiscale_mse(collage * n * n, image * n * n, scales)
 
-    for _ in range(steps):
-        adam.zero_grad()
-        error().backward()
-        adam.step()
-        with torch.no_grad():   # every map contracts, or the measure does not exist
-            u, s, vh = torch.linalg.svd(linear[:, :, :2])
-            linear[:, :, :2] = u @ torch.diag_embed(s.clamp(max=MAX_COLLAGE_SCALE)) @ vh
+    # every map contracts, or the measure does not exist
+    keep = StepPolicy(contract=lambda _: clamp_scales(linear, high=MAX_COLLAGE_SCALE),
+                      advice="the collage error is not finite: lower refine_lr")
+    Descent([{"params": [linear, logits], "lr": lr}], error, keep).run(steps)
     with torch.no_grad():
         return linear.detach(), torch.softmax(logits, 0).detach(), float(error())
 

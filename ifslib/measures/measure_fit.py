@@ -23,6 +23,7 @@ from scipy import ndimage
 from ..automatic.auto import FIGURE
 from ..automatic.plan import discover
 from ..errors import IFSError, check_int, check_positive
+from ..core.fitting.descent import Descent, StepPolicy, halve_step
 from ..core.geometry.rules import singular_values
 from ..core.geometry.ifs import IFS
 from ..core.scoring.losses import multiscale_mse
@@ -171,24 +172,26 @@ def fit_measure(ifs: IFS, image, options: MeasureFitOptions = MeasureFitOptions(
         [{"params": [work.points], "lr": options.map_lr}] if options.fit_maps else [])
     free = torch.ones(work.n_points, 1, dtype=torch.float64)
     free[list(work.fixed)] = 0
-    optimizer = torch.optim.Adam(params)
-    losses = []
-    for _ in tqdm(range(options.steps), desc="fit measure", disable=not (options.progress and draw_bars())):
-        optimizer.zero_grad()
+
+    def loss() -> torch.Tensor:
         maps = work.maps() if options.fit_maps else work.maps().detach()
-        loss = multiscale_loss(measure_from_maps(maps, logits.softmax(0), size, options.measure), target,
-                               options.scales)
-        loss.backward()
-        if options.fit_maps:
-            work.points.grad *= free
-        before = work.points.detach().clone()
-        optimizer.step()
-        if options.fit_maps:
-            _keep_contractive(work, before)
-        losses.append(float(loss.detach()))
-        if not np.isfinite(losses[-1]):
-            raise IFSError("the measure fit's loss is not finite: lower lr, or start nearer (the maps may have "
-                           "stopped contracting)")
+        density = measure_from_maps(maps, logits.softmax(0), size, options.measure)
+        return multiscale_loss(density, target, options.scales)
+
+    def hold() -> None:  # the fixed points do not move
+        work.points.grad *= free
+
+    def contract(before: list[torch.Tensor]) -> None:
+        halve_step(work.points, before[1], lambda: float(singular_values(work.maps())[1].max()) < MAX_FIT_SCALE,
+                   MAX_HALVINGS)
+
+    policy = StepPolicy(gradient=hold if options.fit_maps else None, contract=contract if options.fit_maps else None,
+                        advice="the measure fit's loss is not finite: lower lr, or start nearer (the maps may have "
+                               "stopped contracting)")
+    descent = Descent(params, loss, policy)
+    with tqdm(total=options.steps, desc="fit measure", disable=not (options.progress and draw_bars())) as bar:
+        descent.run(options.steps, bar=bar)
+    losses = descent.losses
     p = tuple(float(x) for x in logits.detach().softmax(0))
     p = tuple(x / sum(p) for x in p)
     fitted = work.clone()
@@ -363,19 +366,6 @@ def reorient(ifs: IFS, image, symmetries: np.ndarray, options: MeasureFitOptions
     out = patterns.affine(maps, depth=ifs.depth, name=ifs.name, dtype=ifs.points.dtype)
     out.probabilities = tuple(float(x) / float(p.sum()) for x in p)
     return out
-
-
-def _keep_contractive(work: IFS, before: torch.Tensor) -> None:
-    """Halve the step just taken from ``before`` (``(n, 2)`` points) until every map's scale is below
-    `MAX_FIT_SCALE` (`MAX_HALVINGS` times at most, then undo it)."""
-    with torch.no_grad():
-        step = work.points - before
-        for _ in range(MAX_HALVINGS):
-            if float(singular_values(work.maps())[1].max()) < MAX_FIT_SCALE:
-                return
-            step /= 2
-            work.points.copy_(before + step)
-        work.points.copy_(before)
 
 
 __all__ = ["MAX_FIT_SCALE", "MeasureFit", "MeasureFitOptions", "check_measure_image", "correlation", "fit_measure",

@@ -1,11 +1,12 @@
 """A fit of many maps and their probabilities to an image through the splatting renderer, as the literature fits.
 
-Adam moves the maps (`ContractiveMaps`: every map contracts at every step) and the probabilities (a softmax of free
-logits) on a multiscale image loss, coarse to fine (`LEVELS`). A figure (a mask) is compared as coverage (a pixel the
-chains visit reads 1, `coverage`), a gray image as density. Two escapes from local minima: Gaussian noise on the
-parameters, annealed to 0 over the first part of the steps, and reselection of the map that covers least of the
-figure alone (`reselect`). The start is random maps placed on the figure, or given maps (the fractal search's best
-set, say), topped up with random ones to the number asked for.
+The descent (`ifslib.core.fitting.descent`) moves the maps (`ContractiveMaps`: every map contracts at every
+step) and the probabilities (a softmax of free logits) on a multiscale image loss, coarse to fine (`LEVELS`).
+A figure (a mask) is compared as coverage (a pixel the chains visit reads 1, `coverage`), a gray image as
+density. Two escapes from local minima: Gaussian noise on the parameters, annealed to 0 over the first part of
+the steps, and reselection of the map that covers least of the figure alone (`reselect`). The start is random
+maps placed on the figure, or given maps (the fractal search's best set, say), topped up with random ones to
+the number asked for.
 """
 from __future__ import annotations
 
@@ -21,6 +22,7 @@ from tqdm.auto import tqdm
 
 from ..errors import IFSError, check_int
 from ..names import DEFAULT_STEPS
+from ..core.fitting.descent import Descent, StepPolicy
 from ..core.geometry import patterns
 from ..core.geometry.ifs import IFS
 from ..core.scoring.losses import multiscale_mse
@@ -242,36 +244,32 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
     p0 = start.measure_probabilities() if isinstance(start, IFS) and len(start.rules) == len(params) else \
         torch.full((len(params),), 1.0 / len(params), dtype=torch.float64)
     logits = p0.log().float().to(options.device).requires_grad_(True)
-    optimizer = torch.optim.Adam([{"params": [params.raw], "lr": options.map_lr},
-                                  {"params": [logits], "lr": options.probability_lr}])
-    losses, reseeds, step = [], 0, 0
+    reseeds = 0
     kept = [(0, _result(params, logits))] if 0 in options.snapshots else []
     size = array.shape[0]
     levels = zip(config.LEVELS, config.LEVEL_STEPS) if options.coarse_to_fine else [(1, 1.0)]
     plan = [(f, share) for f, share in levels if size // f >= 16]
     total_share = sum(share for _, share in plan)
     bar = tqdm(total=options.steps, desc="fit splat", disable=not (options.progress and draw_bars()))
+    policy = StepPolicy(schedule=lambda index: _decay(index / options.steps),
+                        advice="the splat fit's loss is not finite: lower map_lr")
+    descent = Descent([{"params": [params.raw], "lr": options.map_lr},
+                       {"params": [logits], "lr": options.probability_lr}], None, policy)
     for index, (factor, share) in enumerate(plan):
         target = level_image(array, factor, kind).to(options.device)
         level_size = target.shape[0]
-        count = options.steps - step if index == len(plan) - 1 else round(options.steps * share / total_share)
+        count = options.steps - descent.index if index == len(plan) - 1 else round(options.steps * share / total_share)
         points = max(CHAIN_FLOOR, round(options.points_per_pixel * level_size ** 2))
         mask = target.cpu().numpy() > 0
-        for _ in range(count):
-            optimizer.zero_grad()
-            p = logits.softmax(0)
-            density = splat_measure(params.maps(), p, level_size,
-                                    SplatOptions(points, options.depth, seed=options.seed * 100_003 + step))
-            loss = image_loss(density, target, kind)
-            loss.backward()
-            for group, lr in zip(optimizer.param_groups, (options.map_lr, options.probability_lr)):
-                group["lr"] = lr * _decay(step / options.steps)
-            optimizer.step()
-            value = float(loss.detach())
-            if not np.isfinite(value):
-                raise IFSError("the splat fit's loss is not finite: lower map_lr")
-            losses.append(value)
-            step += 1
+
+        def loss() -> torch.Tensor:  # this level's (each level's closures run before the next level's are made)
+            density = splat_measure(params.maps(), logits.softmax(0), level_size,
+                                    SplatOptions(points, options.depth, seed=options.seed * 100_003 + descent.index))
+            return image_loss(density, target, kind)
+
+        def after(*_) -> None:
+            nonlocal reseeds
+            step = descent.index
             _anneal(params, options, step, generator)
             due = options.reseed_every and step % options.reseed_every == 0
             if due and step < options.reseed_share * options.steps:
@@ -279,10 +277,13 @@ def fit_splat(image, maps: int | None = None, start=None, options: SplatFitOptio
                                  options.seed * 100_003 + step, generator, config.RESEED_UNCOVERED)
                 if moved is not None:
                     reseeds += 1
-                    _forget(optimizer, params.raw, moved)
+                    descent.forget(params.raw, moved)
             if step in options.snapshots:
                 kept.append((step, _result(params, logits)))
-            bar.update(1)
+
+        descent.loss = loss
+        descent.run(descent.index + count, after, bar)
+    losses = descent.losses
     bar.close()
     return SplatFit(_result(params, logits), tuple(losses), reseeds, time.perf_counter() - t0, tuple(kept))
 
@@ -316,14 +317,6 @@ def _anneal(params: ContractiveMaps, options: SplatFitOptions, step: int, genera
     scale = options.anneal_noise * options.map_lr * (1 - step / end)
     with torch.no_grad():
         params.raw += scale * torch.randn(params.raw.shape, generator=generator).to(params.raw)
-
-
-def _forget(optimizer: torch.optim.Adam, raw: torch.Tensor, row: int) -> None:
-    """Reset Adam's moments of a reselected map's row (its old gradients say nothing of where it now is)."""
-    state = optimizer.state.get(raw, {})
-    for key in ("exp_avg", "exp_avg_sq"):
-        if key in state:
-            state[key][row] = 0
 
 
 def _result(params: ContractiveMaps, logits: torch.Tensor) -> IFS:

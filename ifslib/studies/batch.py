@@ -35,7 +35,7 @@ from ..core.scoring.losses import loss as loss_fn
 from ..core.geometry.rules import MIN_LENGTH, MIN_SINGULAR, rule_lengths, rule_maps, singular_values
 from ..core.targets.target import Target
 
-#: Adam's constants, those of `torch.optim.Adam`'s defaults (which `ifslib.core.fitting.run.run` uses).
+#: Adam's constants, those of `torch.optim.Adam`'s defaults (which the descent, `ifslib.core.fitting.descent`, uses).
 BETAS = (0.9, 0.999)
 EPS = 1e-8
 
@@ -213,9 +213,10 @@ class _Batch:
     def adam(self, grad: torch.Tensor, ok: torch.Tensor) -> None:
         """Adam, item by item, in the order of operations of torch.optim.Adam (single-tensor path).
 
-        The library's one Adam not taken from torch: `torch.optim.Adam` keeps one step count and one
-        learning rate a tensor, and a batch's items each keep their own (a rolled-back item halves its
-        rate and keeps its count), as each single run does with torch's.
+        The library's one Adam besides the descent's (`ifslib.core.fitting.descent`, torch's Adam):
+        `torch.optim.Adam` keeps one step count and one learning rate a tensor, and a batch's items each
+        keep their own (a rolled-back item halves its rate and keeps its count), as each single run
+        does with torch's.
         """
         beta1, beta2 = BETAS
         k = ok[:, None, None]

@@ -44,17 +44,17 @@ def test_a_step_that_would_stop_a_map_contracting_is_shortened():
     target = measure_from_maps(tri.maps().detach(), tri.measure_probabilities(), 16, QUICK)
     wide = ifslib.patterns.affine([[[0.95, 0, 0], [0, 0.3, 0]], [[0.3, 0, 0.1], [0, 0.3, 0.1]]]).to(torch.float64)
     seen = []
-    original = measure_fit._keep_contractive
+    original = measure_fit.halve_step
 
-    def watched(work, before):
-        original(work, before)
-        seen.append(float(singular_values(work.maps().detach())[1].max()))
+    def watched(points, before, contracts, times):
+        original(points, before, contracts, times)
+        seen.append(float(singular_values(wide.clone(points.detach()).maps().detach())[1].max()))
 
-    measure_fit._keep_contractive = watched
+    measure_fit.halve_step = watched
     try:
         fit_measure(wide, target, MeasureFitOptions(steps=4, map_lr=0.05, fit_maps=True, measure=QUICK))
     finally:
-        measure_fit._keep_contractive = original
+        measure_fit.halve_step = original
     assert len(seen) == 4 and max(seen) < MAX_FIT_SCALE
 
 

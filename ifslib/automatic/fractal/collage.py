@@ -1,19 +1,14 @@
-"""Adam on the collage distance of a batch of IFSs (`refine`): the search's maps moved until their copies of
+"""The descent on the collage distance of a batch of IFSs (`refine`): the search's maps moved until their copies of
 the figure rebuild it (the distance itself is `ifslib.core.scoring.collage`'s)."""
 from __future__ import annotations
 
 import numpy as np
 import torch
 
+from ...core.fitting.descent import Descent, StepPolicy, clamp_scales
 from ...core.scoring.collage import collage_terms
 from ...core.targets.target import Target, sample_foreground
 from .config import DEFAULT, SearchConfig
-
-
-def _clip_scales(maps: torch.Tensor, config: SearchConfig) -> None:
-    """Keep every map's singular values in [``config.min_scale``, ``config.max_scale``], in place."""
-    u, s, vh = torch.linalg.svd(maps[..., :2])
-    maps[..., :2] = u @ torch.diag_embed(s.clamp(config.min_scale, config.max_scale)) @ vh
 
 
 def refine(maps: np.ndarray | torch.Tensor, target: Target, steps: int, lr: float, points: int,
@@ -29,17 +24,17 @@ def refine(maps: np.ndarray | torch.Tensor, target: Target, steps: int, lr: floa
     distance = target.distance.float()
     work = torch.as_tensor(maps, dtype=torch.float32).clone()
     with torch.no_grad():
-        _clip_scales(work, config)
+        clamp_scales(work, config.min_scale, config.max_scale)
     work.requires_grad_(True)
-    opt = torch.optim.Adam([work], lr=lr)
     pixel2 = float(target.size) ** 2
-    for _ in range(steps):
+
+    def loss() -> torch.Tensor:
         outside, cover = collage_terms(work, p, distance)
-        opt.zero_grad(set_to_none=True)
-        ((outside + cover) * pixel2).sum().backward()
-        opt.step()
-        with torch.no_grad():
-            _clip_scales(work, config)
+        return ((outside + cover) * pixel2).sum()
+
+    keep = StepPolicy(contract=lambda _: clamp_scales(work, config.min_scale, config.max_scale),
+                      advice="the collage distance is not finite: lower the search's learning rate")
+    Descent([{"params": [work], "lr": lr}], loss, keep).run(steps)
     with torch.no_grad():
         outside, cover = collage_terms(work, p, distance)
     return work.detach().double(), ((outside + cover) * pixel2).sqrt().double()

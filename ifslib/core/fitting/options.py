@@ -69,7 +69,7 @@ class RunOptions:
         ``pyramid``; ``patience`` None with ``tol`` set is ``DEFAULT_PATIENCE``.
     """
 
-    #: The window of early stopping (`ifslib.core.fitting.run.converged`) when ``tol`` is set and
+    #: The window of early stopping (`ifslib.core.fitting.descent.converged`) when ``tol`` is set and
     #: ``patience`` is not: longer waits out more of a slow stretch, shorter stops a stalled run sooner.
     DEFAULT_PATIENCE: ClassVar[int] = 50
 
@@ -191,7 +191,7 @@ class Pyramid:
         At most this many steps in one stage (or ``steps``, when smaller): enough for the stages of starts
         that recover, while a start that crawls on for a thousand steps ends stalled and is better replaced.
     stage_tol, stage_patience : float, int
-        Each stage's early stop (`ifslib.core.fitting.run.converged`) where the run options set none.
+        Each stage's early stop (`ifslib.core.fitting.descent.converged`) where the run options set none.
     attractor_steps : int
         At most this many steps in the last stage, which fits the attractor itself at the target's size
         (what the inverse problem asks for: a drawing at depth K can match the target while its attractor

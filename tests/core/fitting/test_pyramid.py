@@ -5,7 +5,8 @@ import torch
 
 import ifslib
 from ifslib.core.fitting.options import RunOptions
-from ifslib.core.fitting.run import converged, run
+from ifslib.core.fitting.descent import converged
+from ifslib.core.fitting.run import run
 from ifslib.core.targets.target import pyramid_sizes, resize_target
 
 KOCH = ifslib.patterns.koch(depth=2)
