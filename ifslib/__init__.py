@@ -11,6 +11,7 @@ The paper's core, one folder (`ifslib.core`), a stage a subfolder::
 Beyond the paper, each extension a folder that uses the core and registers what it adds::
 
     compression/  fractal image compression of gray photographs: collage and attractor coding
+    splatting/    a differentiable chaos game, a fit of many maps on it and the ``splat`` strategy
     automatic/    a start read from the image (curve, shape, a fractal's maps) and the ``auto`` strategy
     measures/     invariant measures, their fit to gray images, dimensions
     studies/      sweeps and batches of many fits

@@ -14,6 +14,7 @@ The pipeline, one module a stage::
     fixedformat the fixed-length fields of file version 1
     rates      what each field costs; the partition whose coded file fits a budget
     repartition every block fitted with a domain or flat, the partition chosen by rate-distortion
+    hv         the HV partition: rectangles cut at their strongest edge (rectangles, hvfields)
     encode     the collage coder: a code of the image at a rate -> Code
     code       Code: the blocks and their quantized maps
     fileformat the file: a header naming the version, then the fields (range-coded, or fixed in version 1)
