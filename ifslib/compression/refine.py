@@ -20,6 +20,7 @@ from __future__ import annotations
 import torch
 from tqdm.auto import tqdm
 
+from ..core.fitting.descent import Descent, StepPolicy
 from ..errors import IFSError
 from .code import Code
 from .config import DECODE_MAX_ITER, DECODE_TOL, RefineOptions
@@ -100,17 +101,16 @@ def _levels(latent: torch.Tensor, low: int, high: int) -> torch.Tensor:
 
 def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: bool = False,
             budget: float = float("inf")) -> Code:
-    """Adam on the blocks' s and m levels through the fixed point; the best quantized code seen whose
-    fields fit in ``budget`` bits is returned (``code`` itself if none closer does)."""
+    """Adam (`Descent`) on the blocks' s and m levels through the fixed point; the best quantized code seen
+    whose fields fit in ``budget`` bits is returned (``code`` itself if none closer does)."""
     o, p = code.options, plan(code)
     h, w = target.shape
     zero, flat = zero_s(o), code.flat
-    s_lat = code.s_idx.to(target.dtype).requires_grad_()
-    m_lat = code.m_idx.to(target.dtype).requires_grad_()
-    opt = torch.optim.Adam([s_lat, m_lat], lr=lr)
+    s_lat, m_lat = (levels.to(target.dtype).requires_grad_() for levels in (code.s_idx, code.m_idx))
     best_err, x = decoded_error(code, target, p)
     closer = []  # each code closer than all before it: the last that fits in the budget is returned
-    for _ in tqdm(range(steps), desc="attractor descent", disable=not progress, leave=False):
+    def loss() -> torch.Tensor:
+        nonlocal best_err, x
         s_level = _levels(s_lat, 0, 2 * zero - 1)
         # a non-flat block keeps a non-zero s (its domain's bits stay in the file); a flat one stays flat
         bump = torch.where(s_lat.detach() >= zero, 1.0, -1.0)
@@ -119,14 +119,15 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
         x = implicit_fixed_point(p, dequantize_s(s_level, o, target.dtype), dequantize_m(m_level, o, target.dtype),
                                  x.detach())
         out = post_filter(p, x, o.deblock)[:h, :w]  # the decoder's output: the filter is linear, after the fixed point
-        loss = ((out - target) ** 2).mean()
         err = float(((out.detach().clamp(0, 1) - target) ** 2).mean())
         if err < best_err:
             best_err = err
             closer.append(code.with_maps(s_idx=s_level.detach().round().long(), m_idx=m_level.detach().round().long()))
-        opt.zero_grad()
-        loss.backward()
-        opt.step()
+        return ((out - target) ** 2).mean()
+
+    policy = StepPolicy(rollback=True, name="attractor descent")  # a step whose gradient is not finite is undone
+    with tqdm(total=steps, desc="attractor descent", disable=not progress, leave=False) as bar:
+        Descent([{"params": [s_lat, m_lat], "lr": lr}], loss, policy).run(steps, bar=bar)
     # coding a code to count its bits costs as much as a step: only the closest few are coded
     return next((c for c in reversed(closer) if _fits(c, budget)), code)
 

@@ -1,4 +1,6 @@
 """Attractor coding: the fixed point's implicit gradient against finite differences; refinement keeps the bits."""
+import importlib
+
 import pytest
 import torch
 
@@ -63,3 +65,22 @@ def test_refine_refuses_another_image():
     with pytest.raises(IFSError, match="code is of a 32 x 32"):
         refine(code, photo(48), RefineOptions(steps=1))
 
+
+
+def test_a_step_whose_gradient_is_not_finite_is_undone(monkeypatch):
+    """The descent rolls such a step back (`StepPolicy.rollback`): it stops with a warning, no level NaN."""
+    module = importlib.import_module("ifslib.compression.refine")  # the package's `refine` is the function
+    image = photo(32, seed=3)
+    code = encode(image, O, bpp=1.0)
+    real = module.implicit_fixed_point
+
+    def broken(*args, **kwargs):
+        out = real(*args, **kwargs)
+        out.register_hook(lambda g: torch.full_like(g, float("nan")))
+        return out
+
+    monkeypatch.setattr(module, "implicit_fixed_point", broken)
+    with pytest.warns(UserWarning, match="attractor descent stopped"):
+        result = module.descend(code, image, steps=12, lr=0.3)
+    assert torch.equal(result.size, code.size)
+    assert decoded_error(result, image)[0] <= decoded_error(code, image)[0] + 1e-6
