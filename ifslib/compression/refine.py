@@ -109,6 +109,7 @@ def descend(code: Code, target: torch.Tensor, steps: int, lr: float, progress: b
     s_lat, m_lat = (levels.to(target.dtype).requires_grad_() for levels in (code.s_idx, code.m_idx))
     best_err, x = decoded_error(code, target, p)
     closer = []  # each code closer than all before it: the last that fits in the budget is returned
+
     def loss() -> torch.Tensor:
         nonlocal best_err, x
         s_level = _levels(s_lat, 0, 2 * zero - 1)

@@ -181,8 +181,8 @@ def fit_measure(ifs: IFS, image, options: MeasureFitOptions = MeasureFitOptions(
     def hold() -> None:  # the fixed points do not move
         work.points.grad *= free
 
-    def contract(before: list[torch.Tensor]) -> None:
-        halve_step(work.points, before[1], lambda: float(singular_values(work.maps())[1].max()) < MAX_FIT_SCALE,
+    def contract(before: list[torch.Tensor]) -> None:  # before: every parameter's value, the points last
+        halve_step(work.points, before[-1], lambda: float(singular_values(work.maps())[1].max()) < MAX_FIT_SCALE,
                    MAX_HALVINGS)
 
     policy = StepPolicy(gradient=hold if options.fit_maps else None, contract=contract if options.fit_maps else None,

@@ -47,7 +47,7 @@ class _Run:
                             patience=options.stop_window, gradient=hold if fixed else None, name="fit")
         self.descent = Descent([{"params": [self.work.points], "lr": options.step_lr}], self.loss, policy)
         self.history = History()
-        self.descent.losses = self.history.loss
+        self.descent.losses = self.history.loss  # one list: the descent appends each step's loss to the history
 
     def resume(self, path) -> None:
         """Continue from a checkpoint: the result equals that of an uninterrupted run."""
@@ -61,7 +61,7 @@ class _Run:
         d.index, d.best_loss, d.best_step = state["next_step"], state["best_loss"], state["best_step"]
         d.best = [torch.tensor(state["best_points"], dtype=self.work.points.dtype)]
         self.history = History.from_dict(state["history"])
-        d.losses = self.history.loss
+        d.losses = self.history.loss  # the resumed history's list, as in __init__
 
     def loss(self) -> torch.Tensor:
         """The loss at the current points (the distance field against the target, and the crossings' penalty)."""
