@@ -2,15 +2,15 @@
 
 Each cell is fitted from ``--seeds`` seeded starts to the paper's ``koch.png`` (or ``--target
 rendered``: the library's Koch curve) and judged on the image: recovered when the symmetric Chamfer
-distance to the target mask is at most 1 pixel at the target's size. Runs on Dask: a LocalCluster
+distance to the target mask is at most 1 pixel at the target's size. Runs on a process pool
 of ``--workers`` processes (one torch thread each) by default, ``--scheduler ADDRESS`` for a running
-cluster, ``--scheduler serial`` for no Dask. Prints a markdown table and writes every fit to a CSV.
+Dask cluster, ``--scheduler serial`` in this process. Prints a markdown table and writes every fit to a CSV.
 
     python benchmarks/convergence.py --seeds 30 --size 256 --strategies plain multistart \\
         --gradients exact paper --inits paper line --losses multiscale_distance
 
 ``--cell STRATEGY:GRADIENT:INIT:LOSS`` (repeatable) runs exactly the cells given instead of the
-product of the lists, all on one cluster:
+product of the lists, all on one pool:
 
     python benchmarks/convergence.py --seeds 8 --size 128 --cell plain:exact:paper:multiscale_distance \\
         --cell plain:paper:paper:multiscale_distance --cell multistart:exact:line:multiscale_distance

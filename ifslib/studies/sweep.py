@@ -6,13 +6,15 @@ is at most ``success_chamfer`` pixels at the target's size. Each task is a batch
 cell, run in a worker with one torch thread, so a run is reproducible and the serial result equals
 the parallel one, whichever scheduler runs it.
 
-``scheduler``: ``"serial"`` runs in this process; ``"local"`` starts a ``dask.distributed``
-``LocalCluster``, or where Dask is not installed (a student's environment: ``requirements-student.txt``
-has none) a process pool of the standard library (`concurrent.futures`), with a one-line note saying
-so; any other string is the address of a running Dask scheduler. Dask is an optional extra
-(``pip install -e '.[sweep]'``, which ``make setup`` installs).
+``scheduler``: ``"serial"`` runs in this process; ``"local"`` runs a process pool of the standard
+library (`concurrent.futures`), so a student's environment (``requirements-student.txt``, no Dask)
+runs it too; any other string is the address of a running Dask scheduler, for a sweep larger than
+one machine. Dask is an optional extra (``pip install -e '.[sweep]'``, which ``make setup`` installs).
+A Dask ``LocalCluster`` is not used for ``"local"``: it gives the same rows as the pool, and on a
+loaded machine its nannies log "Worker process still alive ... killing" as they close, which a
+notebook shows as a warning (notebook 06's stored run under ``make test-stored``).
 
-Both parallel schedulers start their workers with ``spawn``: a script that runs a ``"local"`` sweep
+The local pool starts its workers with ``spawn``: a script that runs a ``"local"`` sweep
 calls it under ``if __name__ == "__main__":``, or each worker would run the script again.
 """
 from __future__ import annotations
@@ -35,7 +37,7 @@ from tqdm.auto import tqdm
 from ..errors import IFSError, check_int
 from ..names import DEFAULT_LR, DEFAULT_STEPS
 from ..core.geometry import patterns
-from ..progress import draw_bars, note
+from ..progress import draw_bars
 from ..core.geometry.rules import check_gradient_mode
 from ..threads import cores, fixed_threads
 from ..core.fitting.fit import fit
@@ -169,10 +171,8 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
     batch : int
         Seeds per task.
     scheduler : str
-        ``"serial"``; ``"local"``: ``workers`` processes of one thread each, a Dask ``LocalCluster``,
-        or a `concurrent.futures` process pool where ``dask.distributed`` is not installed (with a
-        note saying so; the rows are the same); or a Dask scheduler's address such as
-        ``"tcp://10.0.0.5:8786"``.
+        ``"serial"``; ``"local"``: a `concurrent.futures` process pool of ``workers`` processes of
+        one thread each; or a Dask scheduler's address such as ``"tcp://10.0.0.5:8786"``.
     workers : int
         Worker processes of a ``"local"`` sweep, at most the cores this process may use (more are
         cut to that, with a warning: workers x threads never exceeds the cores).
@@ -200,31 +200,26 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
             if on_rows is not None:
                 on_rows(parts[-1])
         return _joined(parts)
-    modules = _dask()
-    if modules is None and scheduler != "local":
+    if scheduler == "local":
+        return _joined(_run_pool(tasks, setup, _local_workers(workers), on_rows))
+    distributed = _distributed()
+    if distributed is None:
         raise IFSError(f"a sweep on the Dask scheduler {scheduler!r} needs dask.distributed: "
                        "pip install 'dask[distributed]' (or use scheduler='local' or 'serial')")
-    if scheduler == "local":
-        workers = _local_workers(workers)
-        if modules is None:
-            note(f"sweep: dask.distributed is not installed; running on a process pool of {workers} workers "
-                 "(concurrent.futures), with the same results")
-            return _joined(_run_pool(tasks, setup, workers, on_rows))
-    return _joined(_run_dask(modules, tasks, setup, scheduler, workers, on_rows))
+    return _joined(_run_dask(distributed, tasks, setup, scheduler, on_rows))
 
 
 def _joined(parts: list[list[dict]]) -> list[dict]:
     return [row for part in parts for row in part]
 
 
-def _dask():
-    """``(dask, dask.distributed)``, or None where they are not installed (a student's environment)."""
+def _distributed():
+    """``dask.distributed``, or None where it is not installed (a student's environment)."""
     try:
-        import dask
         import dask.distributed
     except ImportError:
         return None
-    return dask, dask.distributed
+    return dask.distributed
 
 
 def _local_workers(workers: int) -> int:
@@ -244,7 +239,7 @@ def _show_progress() -> bool:
 def _run_pool(tasks: list[tuple[Cell, list[int]]], setup: Setup, workers: int,
               on_rows: Callable[[list[dict]], None] | None) -> list[list[dict]]:
     """Each task on a `ProcessPoolExecutor` of ``workers`` processes; the parts in task order."""
-    # spawn, as Dask starts its workers: a forked child would copy this process's threads (torch's
+    # spawn: a forked child would copy this process's threads (torch's
     # OpenMP pool, a notebook kernel's) in whatever state they hold, which Python warns against
     # since 3.12; a fresh interpreter gives every platform the same workers (macOS and Windows spawn)
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
@@ -262,21 +257,10 @@ def _run_pool(tasks: list[tuple[Cell, list[int]]], setup: Setup, workers: int,
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _run_dask(modules, tasks: list[tuple[Cell, list[int]]], setup: Setup, scheduler: str, workers: int,
+def _run_dask(distributed, tasks: list[tuple[Cell, list[int]]], setup: Setup, scheduler: str,
               on_rows: Callable[[list[dict]], None] | None) -> list[list[dict]]:
-    """Each task on a Dask ``LocalCluster`` (``scheduler="local"``) or the scheduler at ``scheduler``."""
-    dask, distributed = modules
-    env = {"IFSLIB_DATA": os.environ.get("IFSLIB_DATA", ""), "OMP_NUM_THREADS": "1"}
-    if scheduler == "local":
-        # Dask's nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers, so glibc hands every freed
-        # tensor back to the kernel and faults it in again, and a worker spends more time in the
-        # kernel than in torch (docs/results/strategies.md). Unset it.
-        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
-            cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                               dashboard_address=None, env=env)
-        client = distributed.Client(cluster)
-    else:
-        cluster, client = None, distributed.Client(scheduler)
+    """Each task on the running Dask scheduler at ``scheduler``; the parts in task order."""
+    client = distributed.Client(scheduler)
     try:
         futures = [client.submit(run_batch, cell, chunk, setup, pure=False) for cell, chunk in tasks]
         if on_rows is not None:
@@ -287,8 +271,6 @@ def _run_dask(modules, tasks: list[tuple[Cell, list[int]]], setup: Setup, schedu
         return client.gather(futures)
     finally:
         client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 def summarize(rows: list[dict]) -> list[dict]:
