@@ -124,19 +124,8 @@ def nearest_point(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tup
     return (torch.from_numpy(index).to(points.device), torch.from_numpy(dist).to(device=x.device, dtype=x.dtype))
 
 
-def _max_pyramid(upper: torch.Tensor, n_items: int, size: int, side: int, start: int, top: int) -> dict:
-    """Per level from ``start`` to ``top``: ``(items, blocks, blocks)``, the largest ``upper`` over each block's pixels."""
-    grid = torch.full((n_items, side, side), -math.inf, dtype=upper.dtype, device=upper.device)
-    grid[:, :size, :size] = upper.view(n_items, size, size)
-    levels = {top: grid}
-    for level in range(top - 1, start - 1, -1):
-        levels[level] = torch.nn.functional.max_pool2d(levels[level + 1][:, None], 2)[:, 0]
-    return levels
-
-
 @torch.no_grad()
-def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS,
-                 upper: torch.Tensor | None = None, tangent: bool = True) -> NearestResult:
+def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> NearestResult:
     """Find the nearest leaf of every pixel centre, exactly.
 
     Parameters
@@ -150,17 +139,6 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS,
         Image side in pixels.
     max_pairs : int
         Memory bound: a level with more (block, leaf) pairs is split into chunks of blocks.
-    upper : torch.Tensor, optional
-        A warm start: ``(size * size,)`` (item-major for a batch) upper bounds on each pixel's
-        nearest distance, such as each pixel's distance to its winner of the previous fit step.
-        A block's bound is then also the largest of its pixels' (a max pyramid), which can only
-        prune more; the result is the same. Fits do not use it: the pairs that remain are the
-        near-ties of the last two levels, which no bound removes, so it saves no time
-        (docs/results/fits-in-seconds.md).
-    tangent : bool
-        Bound a pair by its leaf's tangent plane where the kind gives its gradient (see the module
-        docstring); False keeps the Lipschitz bound alone, to measure what the plane saves
-        (``benchmarks/search_bound.py``). The result is the same.
 
     Returns
     -------
@@ -171,10 +149,7 @@ def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS,
     IFSError
         When some pixel ends with no leaf, which only a non-finite distance can cause.
     """
-    leaves = leaves.detach()
-    if not isinstance(tangent, bool):
-        raise IFSError(f"tangent must be True or False, got {tangent!r}")
-    tree = _quadtree(leaves, size, upper, tangent)
+    tree = _quadtree(leaves.detach(), size)
     n_pixels = tree.n_items * size * size
     best_leaf = torch.full((n_pixels,), -1, dtype=torch.long, device=tree.device)
     best_dist = torch.full((n_pixels,), math.inf, dtype=tree.dtype, device=tree.device)
@@ -225,7 +200,6 @@ class _Quadtree:
     quad_c: torch.Tensor
     table: torch.Tensor | None  # `leaf_table`, None for mixed primitives
     slopes: bool  # whether the table gives the distances' gradients (`has_slope`)
-    ceiling: dict | None  # the warm start's max pyramid, per level
 
     @property
     def device(self) -> torch.device:
@@ -236,8 +210,8 @@ class _Quadtree:
         return self.leaves.inverse.dtype
 
 
-def _quadtree(leaves: Leaves, size: int, upper: torch.Tensor | None, tangent: bool) -> _Quadtree:
-    """The search's frame for ``leaves`` (detached) at ``size``, with the warm start ``upper`` if any."""
+def _quadtree(leaves: Leaves, size: int) -> _Quadtree:
+    """The search's frame for ``leaves`` (detached) at ``size``."""
     device, dtype = leaves.inverse.device, leaves.inverse.dtype
     n_items = leaves.n_items
     per_item = len(leaves) // n_items
@@ -247,13 +221,12 @@ def _quadtree(leaves: Leaves, size: int, upper: torch.Tensor | None, tangent: bo
     while start < top and 4 ** (start + 1) * per_item <= START_PAIRS:
         start += 1
     table = leaf_table(leaves)
-    ceiling = None if upper is None else _max_pyramid(upper.detach().to(dtype), n_items, size, side, start, top)
     return _Quadtree(leaves=leaves, size=size, side=side, top=top, start=start, n_leaves=len(leaves),
                      n_items=n_items, per_item=per_item, slack=1e-5 if dtype == torch.float32 else 1e-12,
                      rounding=ROUNDING_ULPS * torch.finfo(dtype).eps,
                      quad_r=torch.tensor([0, 0, 1, 1], device=device),
                      quad_c=torch.tensor([0, 1, 0, 1], device=device),
-                     table=table, slopes=tangent and has_slope(table, leaves.kinds[0]), ceiling=ceiling)
+                     table=table, slopes=has_slope(table, leaves.kinds[0]))
 
 
 def _centres(tree: _Quadtree, rows: torch.Tensor, cols: torch.Tensor, block: int
@@ -322,8 +295,6 @@ def _children(tree: _Quadtree, task: _Task, d: torch.Tensor, slope, best: torch.
     inside = (child_rows * child < size) & (child_cols * child < size)
     cx, cy = _centres(tree, child_rows, child_cols, child)
     bound = _distances(tree, cx, cy, best.repeat_interleave(4)) + child_half_diag
-    if tree.ceiling is not None:
-        bound = torch.minimum(bound, tree.ceiling[level + 1][child_items, child_rows, child_cols])
     bound = torch.where(inside, bound, -math.inf).view(-1, 4)
     passes = _lower(tree, d, slope, level) <= bound.index_select(0, pair_block)  # (pairs, 4)
     child_id = torch.where(inside, torch.cumsum(inside.long(), 0) - 1, -1).view(-1, 4)

@@ -1,10 +1,11 @@
-"""`ifslib.core.raster.nearest`: the nearest-leaf search is exact, chunked, for tiny images and warm-started along a fit."""
+"""`ifslib.core.raster.nearest`: the nearest-leaf search is exact, chunked and for tiny images."""
 import pytest
 import torch
 
 import ifslib
 from ifslib.core.geometry.leaves import expand
-from ifslib.core.raster.leaf_distance import sdf_dense, sdf_pairs
+from ifslib.core.raster.leaf_distance import sdf_dense
+from ifslib.core.raster import nearest
 from ifslib.core.raster.nearest import nearest_leaf, pixel_centres
 
 from conftest import PATTERNS, perturbed, sheared, sheared_disks
@@ -22,37 +23,7 @@ def test_search_is_exact_when_chunked_and_for_tiny_images():
     assert one.leaf.shape == (1,)
 
 
-def test_warm_started_search_equals_brute_force_along_a_whole_fit(pattern_name):
-    # each step's search is capped by the distance to the previous step's winners (the warm start);
-    # along 25 Adam steps it must give the brute force's distances and the cold search's winners
-    ifs = perturbed(PATTERNS[pattern_name](), seed=11, dtype=torch.float32)
-    size, depth = 29, 2
-    x, y = pixel_centres(size, dtype=torch.float32)
-    opt = torch.optim.Adam([ifs.points], lr=0.01)
-    fixed = list(ifs.fixed)
-    previous, changed = None, 0
-    for _ in range(25):
-        opt.zero_grad()
-        leaves = expand(ifs, depth)
-        cold = nearest_leaf(leaves, size)
-        if previous is not None:
-            upper = sdf_pairs(leaves.detach(), x, y, previous)
-            warm = nearest_leaf(leaves, size, upper=upper)
-            brute = sdf_dense(leaves, x, y).detach().min(dim=1).values
-            assert torch.equal(warm.leaf, cold.leaf)
-            assert (warm.distance - brute).abs().max().item() <= 1e-6
-            assert warm.pairs <= cold.pairs
-            changed += (cold.leaf != previous).sum().item()
-        previous = cold.leaf
-        field = sdf_pairs(leaves, x, y, cold.leaf)
-        (field - 0.05).square().mean().backward()
-        if fixed:
-            ifs.points.grad[fixed] = 0
-        opt.step()
-    assert changed > 0  # the winners did move: the warm start was put to the test
-
-
-def test_the_tangent_plane_bound_is_exact_and_prunes_more(pattern_name):
+def test_the_tangent_plane_bound_is_exact_and_prunes_more(pattern_name, monkeypatch):
     # on every kind (similar and sheared words, mixed kinds) and an image side that is not a power of two:
     # the brute force's distances; with the tangent planes (one kind of primitive) the winners of the
     # Lipschitz bound alone, from fewer distance evaluations
@@ -64,14 +35,15 @@ def test_the_tangent_plane_bound_is_exact_and_prunes_more(pattern_name):
     brute = sdf_dense(leaves, x, y).detach().min(dim=1).values
     assert (got.distance - brute).abs().max().item() <= 1e-6
     finer = nearest_leaf(leaves, 256)
-    plain = nearest_leaf(leaves, size, tangent=False)
+    monkeypatch.setattr(nearest, "has_slope", lambda table, kind: False)  # the Lipschitz bound alone
+    plain = nearest_leaf(leaves, size)
     assert torch.equal(got.leaf, plain.leaf) and torch.equal(got.distance, plain.distance)
     if pattern_name in ("affine_mixed", "mixed"):  # several kinds: no table, no slopes
         assert got.pairs == plain.pairs
     else:
         assert got.pairs < plain.pairs
     if pattern_name == "koch":  # segments of 8 px at 256²: many near-ties, and the plane drops most of them
-        assert finer.pairs < 0.85 * nearest_leaf(leaves, 256, tangent=False).pairs
+        assert finer.pairs < 0.85 * nearest_leaf(leaves, 256).pairs
 
 
 def _least_over_children(leaves, size, level, side):
@@ -97,12 +69,11 @@ def test_the_bound_never_exceeds_a_leaf_s_least_distance_over_a_child(name, seed
     # the pruning test's lower bound, at every level, against each leaf's least distance over each child
     # block's pixels (the dense field); rosette6's thick segments put block centres on their spines, where
     # a float32 gradient's direction is noise and the plane alone would drop a winner
-    from ifslib.core.raster import nearest
 
     ifs = perturbed(BOUNDED[name](), scale=0.02, seed=seed, dtype=torch.float32)
     leaves = expand(ifs, 3).detach()
     size = 96
-    tree = nearest._quadtree(leaves, size, None, True)
+    tree = nearest._quadtree(leaves, size)
     assert tree.slopes
     stack, checked = [nearest._first_task(tree)], 0
     while stack:
