@@ -210,9 +210,9 @@ class Auto(Pyramid):
     """The ``auto`` strategy's options: the pyramid's, whose stages its chosen candidate climbs."""
 
 
-def _run(frame: Frame, plan: Plan, options: RunOptions, settings: Auto, rng) -> FitResult:
+def _run(frame: Frame, plan: Plan, rng) -> FitResult:
     """The ``auto`` strategy as the core's table runs it (the generator is not used: the plan holds its seeds)."""
-    return fit_plan(plan, frame, options, end_on_attractor=settings.end_on_attractor)
+    return fit_plan(plan, frame, frame.options, end_on_attractor=frame.settings.end_on_attractor)
 
 
 register_strategy("auto", Strategy(_run, Auto, fits=Plan, refusal="strategy 'auto' fits an automatic start, a plan read "

@@ -113,11 +113,11 @@ class Splat:
         check_int(self.max_leaves, "max_leaves", 1)
 
 
-def run_splat(frame: Frame, start: IFS, options: RunOptions, settings: Splat,
-              rng: np.random.Generator) -> FitResult:
+def run_splat(frame: Frame, start: IFS, rng: np.random.Generator) -> FitResult:
     """The ``splat`` strategy as the core's table runs it (see the module docstring; ``rng`` is not used: the frame's
     seed seeds the splat fit)."""
     check_start(start)
+    options = frame.options
     depth = start.depth if options.depth is None else options.depth
     t0 = time.perf_counter()
     fit = fit_splat(frame.target, maps=len(start.rules), start=start, options=splat_options(frame, options))

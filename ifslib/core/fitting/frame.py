@@ -1,5 +1,5 @@
-"""A fit's frame: what every run of one strategy shares (the target, the step budget, the seed, the
-progress bars and the callback), and the target's pyramid, built once when a strategy climbs it.
+"""A fit's frame: what every run of one strategy shares (the target, the step budget, the seed, the run and
+strategy options, the progress bars and the callback), and the target's pyramid, built once when a strategy climbs it.
 """
 from __future__ import annotations
 
@@ -26,6 +26,8 @@ class Frame:
         The fit's step budget (a strategy decides how much of it each run gets).
     seed : int
         Seeds every run.
+    options : RunOptions
+        How every run moves the points, unless a run is given its own.
     progress : bool
         Progress bars and lines (`ifslib.core.fitting.run.run`).
     callback : callable, optional
@@ -39,6 +41,7 @@ class Frame:
     steps: int
     seed: int
     _: KW_ONLY
+    options: RunOptions = RunOptions()
     progress: bool = True
     callback: Callable | None = None
     settings: object = Pyramid()
@@ -57,21 +60,13 @@ class Frame:
         """The pyramid's sizes, coarsest first."""
         return list(self.levels)
 
-    def run(self, start: IFS, steps: int, options: RunOptions, *, target: Target | None = None,
-            desc: str | None = None) -> FitResult:
-        """One run of ``start`` (`ifslib.core.fitting.run.run`) with the frame's seed, callback and progress.
-
-        Parameters
-        ----------
-        start : IFS
-        steps : int
-            This run's budget.
-        options : RunOptions
-        target : Target, optional
-            A level of the pyramid; the frame's own target when None.
-        desc : str, optional
-            The progress bar's label.
-        """
+    def run(self, start: IFS, steps: int, options: RunOptions | None = None, *, target: Target | None = None,
+            desc: str | None = None, **changes) -> FitResult:
+        """One run of ``start`` (`ifslib.core.fitting.run.run`) for ``steps`` steps with the frame's seed, callback and
+        progress, at ``target`` (a level of the pyramid; the frame's own when None), labelled ``desc``, with
+        ``options`` (the frame's when None) changed by ``changes``."""
+        options = self.options if options is None else options
+        options = options.replace(**changes) if changes else options
         target = self.target if target is None else target
         return run(start, target, steps=steps, options=options, seed=self.seed, callback=self.callback,
                    progress=self.progress, desc=desc)

@@ -60,6 +60,7 @@ strategies compare per step spent:
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Callable, Protocol
@@ -98,8 +99,8 @@ class Start(Protocol):
     strategy: str
 
 
-#: ``run(frame, start, options, settings, rng) -> FitResult``: ``settings`` is the strategy's own options object
-Runner = Callable[["Frame", object, RunOptions, object, np.random.Generator], "FitResult"]
+#: ``run(frame, start, rng) -> FitResult``: the frame carries the run options and the strategy's own options object
+Runner = Callable[["Frame", object, np.random.Generator], "FitResult"]
 
 
 @dataclass(frozen=True)
@@ -109,7 +110,8 @@ class Strategy:
     Attributes
     ----------
     run : Runner
-        The strategy's work, from a start, with the run and strategy settings and the seeded generator.
+        The strategy's work, from a start, in a frame (which carries the run and strategy options), with the seeded
+        generator.
     options : type
         The strategy's options: a frozen dataclass whose defaults are the strategy's (`Pyramid`, ...).
     refusal : str
@@ -153,20 +155,6 @@ def resolve(chosen) -> tuple[str, object]:
                    f"({', '.join(e.options.__name__ for e in _TABLE.values())}), got {type(chosen).__name__}")
 
 
-@dataclass(frozen=True)
-class _Job:
-    """One strategy's work: its runs' frame, and the run and strategy settings."""
-
-    frame: Frame
-    options: RunOptions
-    settings: object  # the strategy's options
-
-    def run(self, start: IFS, steps: int, *, desc: str | None = None, **changes) -> FitResult:
-        """One run of ``start`` at the target's size with the options changed by ``changes``."""
-        options = self.options.replace(**changes) if changes else self.options
-        return self.frame.run(start, steps, options, desc=desc)
-
-
 def _split(steps: int, parts: int) -> list[int]:
     """``steps`` split into ``parts`` stages as evenly as possible (the first ones one longer)."""
     return [steps // parts + (i < steps % parts) for i in range(parts)]
@@ -205,10 +193,10 @@ def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Gener
     return out
 
 
-def _pyramid(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
+def _pyramid(frame: Frame, ifs: IFS, rng: np.random.Generator) -> FitResult:
     """The ``pyramid`` strategy (see the module's docstring)."""
-    s, frame, target = job.settings, job.frame, job.frame.target
-    options = with_early_stop(job.options, s)
+    s, target = frame.settings, frame.target
+    options = with_early_stop(frame.options, s)
     final = s.end_on_attractor and not is_attractor(options.depth)
     tried: list[tuple[FitResult, float]] = []
     stages, cost = [], 0
@@ -238,26 +226,26 @@ def _pyramid(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
     return best
 
 
-def _multistart(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
-    s, n = job.settings, job.frame.target.size
-    n_probe = max(1, int(round(s.probe * job.frame.steps)))
-    probes = [job.run(c, n_probe, desc=f"probe {k + 1}/{s.n_starts} · {n}²")
-              for k, c in enumerate(starts(ifs, job.frame.target, s.n_starts, s.jitter, rng))]
+def _multistart(frame: Frame, ifs: IFS, rng: np.random.Generator) -> FitResult:
+    s, n = frame.settings, frame.target.size
+    n_probe = max(1, int(round(s.probe * frame.steps)))
+    probes = [frame.run(c, n_probe, desc=f"probe {k + 1}/{s.n_starts} · {n}²")
+              for k, c in enumerate(starts(ifs, frame.target, s.n_starts, s.jitter, rng))]
     order = sorted(range(len(probes)), key=lambda i: (_crosses(probes[i].best), probes[i].best_loss))
-    finals = [job.run(probes[i].best, job.frame.steps - n_probe, desc=f"continue {j + 1}/{s.keep} · {n}²")
+    finals = [frame.run(probes[i].best, frame.steps - n_probe, desc=f"continue {j + 1}/{s.keep} · {n}²")
               for j, i in enumerate(order[:s.keep])]
     return _best_of(finals, sum(r.history.cost for r in probes + finals))
 
 
-def _restart(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
-    s = job.settings
-    window, limit = max(1, job.frame.steps // 3), int(s.budget * job.frame.steps)
+def _restart(frame: Frame, ifs: IFS, rng: np.random.Generator) -> FitResult:
+    s = frame.settings
+    window, limit = max(1, frame.steps // 3), int(s.budget * frame.steps)
     spent, current, results = 0, ifs, []
     while spent < limit:
-        results.append(job.run(current, min(window, limit - spent)))
+        results.append(frame.run(current, min(window, limit - spent)))
         spent += results[-1].history.cost
         best = min(results, key=lambda r: r.best_loss).best
-        if evaluate(best, job.frame.target, attractor=False)["chamfer"] <= s.success:
+        if evaluate(best, frame.target, attractor=False)["chamfer"] <= s.success:
             break
         last = results[-1].history.loss
         improving = len(last) > 10 and min(last[-len(last) // 4:]) < 0.99 * min(last[:len(last) // 2])
@@ -265,24 +253,24 @@ def _restart(job: _Job, ifs: IFS, rng: np.random.Generator) -> FitResult:
     return _best_of(results, spent)
 
 
-def _in_stages(job: _Job, ifs: IFS, stages: list[dict], steps: list[int]) -> FitResult:
+def _in_stages(frame: Frame, ifs: IFS, stages: list[dict], steps: list[int]) -> FitResult:
     """Runs one after another, each from the last one's best points, with the options changed by each of ``stages``."""
     current, results = ifs, []
     for changes, n in zip(stages, steps):
-        results.append(job.run(current, n, **changes))
+        results.append(frame.run(current, n, **changes))
         current = results[-1].best
     result = results[-1]
     result.history.cost = sum(r.history.cost for r in results)
     return result
 
 
-def _anneal(job: _Job, ifs: IFS) -> FitResult:
-    loss, size = job.options.loss, job.frame.target.size
+def _anneal(frame: Frame, ifs: IFS) -> FitResult:
+    loss, size = frame.options.loss, frame.target.size
     if isinstance(loss, str) and loss_kind(loss).family.sharpens == "sigma":
         stages = [{"sigma": 2.0 ** (3 - stage) / size} for stage in range(4)]
     else:
-        stages = [{"levels": job.options.levels + 3 - stage} for stage in range(4)]
-    return _in_stages(job, ifs, stages, _split(job.frame.steps, 4))
+        stages = [{"levels": frame.options.levels + 3 - stage} for stage in range(4)]
+    return _in_stages(frame, ifs, stages, _split(frame.steps, 4))
 
 
 def run_strategy(name: str, start: IFS | Start, target: Target, *, steps: int, seed: int = 0,
@@ -305,38 +293,39 @@ def run_strategy(name: str, start: IFS | Start, target: Target, *, steps: int, s
         start = start.start
     if not isinstance(start, entry.fits):
         raise IFSError(entry.refusal or f"strategy {name!r} fits a {entry.fits.__name__}, not a {type(start).__name__}")
-    frame = Frame(target, steps, seed, progress=progress, callback=callback, settings=settings)
-    result = entry.run(frame, start, options, settings, np.random.default_rng(seed))
+    frame = Frame(target, steps, seed, options=options, progress=progress, callback=callback, settings=settings)
+    result = entry.run(frame, start, np.random.default_rng(seed))
     result.history.strategy = name
     if not math.isfinite(result.best_loss):
         raise IFSError(f"strategy {name!r} found no finite loss")
     return result.record()  # what a saved fit records of how it was found
 
 
-def _of_one_ifs(body: Callable[[_Job, IFS, np.random.Generator], FitResult], options: type) -> Strategy:
+def _of_one_ifs(body: Runner, options: type) -> Strategy:
     """A strategy of one pattern: its runs at the options' depth, or the start's."""
-    def run(frame: Frame, ifs: IFS, run_options: RunOptions, settings, rng: np.random.Generator) -> FitResult:
-        return body(_Job(frame, run_options.replace(depth=run_options.depth or ifs.depth), settings), ifs, rng)
+    def run(frame: Frame, ifs: IFS, rng: np.random.Generator) -> FitResult:
+        depth = frame.options.depth or ifs.depth
+        return body(dataclasses.replace(frame, options=frame.options.replace(depth=depth)), ifs, rng)
     return Strategy(run, options)
 
 
-def _uncross(job: _Job, ifs: IFS) -> FitResult:
+def _uncross(frame: Frame, ifs: IFS) -> FitResult:
     check_curve(ifs, "strategy 'uncross'")
-    return job.run(ifs, job.frame.steps, crossing_weight=job.options.crossing_weight or job.settings.weight)
+    return frame.run(ifs, frame.steps, crossing_weight=frame.options.crossing_weight or frame.settings.weight)
 
 
-def _coarse_to_fine(job: _Job, ifs: IFS) -> FitResult:
-    depths = list(range(1, job.options.depth + 1))
-    return _in_stages(job, ifs, [{"depth": d} for d in depths], _split(job.frame.steps, len(depths)))
+def _coarse_to_fine(frame: Frame, ifs: IFS) -> FitResult:
+    depths = list(range(1, frame.options.depth + 1))
+    return _in_stages(frame, ifs, [{"depth": d} for d in depths], _split(frame.steps, len(depths)))
 
 
 for _name, (_body, _options) in {
     "pyramid": (_pyramid, Pyramid),
-    "plain": (lambda job, ifs, rng: job.run(ifs, job.frame.steps), Plain),
-    "uncross": (lambda job, ifs, rng: _uncross(job, ifs), Uncross),
-    "coarse_to_fine": (lambda job, ifs, rng: _coarse_to_fine(job, ifs), CoarseToFine),
+    "plain": (lambda frame, ifs, rng: frame.run(ifs, frame.steps), Plain),
+    "uncross": (lambda frame, ifs, rng: _uncross(frame, ifs), Uncross),
+    "coarse_to_fine": (lambda frame, ifs, rng: _coarse_to_fine(frame, ifs), CoarseToFine),
     "multistart": (_multistart, Multistart),
     "restart": (_restart, Restart),
-    "anneal": (lambda job, ifs, rng: _anneal(job, ifs), Anneal),
+    "anneal": (lambda frame, ifs, rng: _anneal(frame, ifs), Anneal),
 }.items():
     register_strategy(_name, _of_one_ifs(_body, _options))
