@@ -7,7 +7,7 @@ import torch
 
 from ...errors import IFSError
 from ..geometry.leaves import Leaves
-from ..geometry.primitives import PARAM_WIDTH, affine_sdf, local_sdf
+from ..geometry.primitives import PARAM_WIDTH
 from ..geometry.shapes import SHAPES
 
 
@@ -20,12 +20,13 @@ def _pull_back(inverse: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple
 def leaf_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, inverse: torch.Tensor, scale: torch.Tensor,
              params: torch.Tensor, forward: torch.Tensor | None) -> torch.Tensor:
     """A leaf's signed distance at ``x``: ``scale * d(T_w^-1 x)`` for a similarity word, and
-    `ifslib.core.geometry.primitives.affine_sdf` when the word's map ``forward`` (``(..., 6)``) is given.
-    ``inverse`` is ``(..., 6)``, the word's inverse map; every tensor broadcasts against ``x``."""
+    the distance in the plane (`ifslib.core.geometry.shapes.Shape.affine`) when the word's map ``forward``
+    (``(..., 6)``) is given. ``inverse`` is ``(..., 6)``, the word's inverse map; every tensor broadcasts against
+    ``x``."""
     qx, qy = _pull_back(inverse, x, y)
     if forward is None:
-        return scale * local_sdf(kind, qx, qy, params)
-    return affine_sdf(kind, x, y, qx, qy, forward, scale, params)
+        return scale * SHAPES[kind].local(qx, qy, params.unbind(-1))
+    return SHAPES[kind].affine(x, y, qx, qy, forward, scale, params.unbind(-1))
 
 
 def _gather_words(leaves: Leaves, leaf: torch.Tensor):

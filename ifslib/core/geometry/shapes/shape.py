@@ -33,8 +33,13 @@ class Shape:
         ``local(qx, qy, params) -> distances``: the signed distance in its own frame (``params`` unbound,
         `PARAM_WIDTH` tensors broadcastable to the points').
     affine : callable
-        ``affine(x, y, qx, qy, forward, smallest, params)``: the distance in the plane to its image under an
-        affine map (see `ifslib.core.geometry.primitives.affine_sdf`).
+        ``affine(x, y, qx, qy, forward, smallest, params)``: the distance in the plane from ``(x, y)`` to its image
+        under the affine map ``forward`` (``(..., 6)``: ``(a, b, tx, c, d, ty)``), whose smallest singular value
+        is ``smallest``, ``(qx, qy)`` being the points pulled back. The similarity law ``s d(T^-1 x)`` fails
+        under a shear, so a segment's and a box's images (a segment, a parallelogram) are measured exactly in the
+        plane from the forward map alone (an inverse of nearly flat maps would lose every digit in float32), a
+        thick segment as the capsule of radius ``smallest * radius``; a disk's image, an ellipse, gets
+        ``smallest * d(q)``, a 1-Lipschitz lower bound with the ellipse as its zero set.
     slope : callable, optional
         ``slope(qx, qy, params) -> (distance, gx, gy, reach)``: `local`'s value, bit for bit, its gradient in
         the primitive's frame (a subgradient where it has a kink: 0 on a bare segment), and the length of the
