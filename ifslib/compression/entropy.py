@@ -39,17 +39,6 @@ class Adaptive:
         """``n`` equally likely symbols, ``weight`` pseudo-counts each."""
         return cls(np.full(max(1, n), weight))
 
-    @classmethod
-    def peaked(cls, n: int, width: float, weight: float) -> "Adaptive":
-        """``n`` symbols whose cyclic distance to 0 is Laplace-distributed (``width`` symbols), ``weight`` pseudo-counts in all.
-
-        For a residual or an offset stored modulo ``n``: 0, 1 and n - 1 are likeliest.
-        """
-        k = np.arange(max(1, n))
-        distance = np.minimum(k, len(k) - k)
-        p = np.exp(-distance / max(width, 1e-3))
-        return cls(weight * p / p.sum() + 1e-3)
-
     def probabilities(self) -> np.ndarray:
         return self.counts / self.total
 

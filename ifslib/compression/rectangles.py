@@ -1,13 +1,6 @@
 """Rectangular range blocks: their 4 isometries, their domain pool, and the HV partition's split.
 
-A block is a rectangle ``(y, x, height, width)`` of the padded image. Its domains are the
-``2 height x 2 width`` blocks on a lattice, averaged over 2 x 2 pixels (as `domains.pool` does for
-squares). A non-square block keeps its shape only under the identity, the two flips and the half turn:
-4 isometries, where a square has 8 (`domains.isometry`).
-
-The HV partition (Fisher and Menlove) splits a block across its strongest edge: the row (or column)
-where the mean gray level jumps most, weighted toward the middle so that parts stay balanced, and
-only where both parts keep at least ``min_side`` pixels.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 
@@ -147,35 +140,3 @@ def split_block(block: Block, axis: int, position: int) -> tuple[Block, Block]:
     if axis == 0:
         return Block(y, x, position, w), Block(y + position, x, h - position, w)
     return Block(y, x, h, position), Block(y, x + position, h, w - position)
-
-
-def hv_leaves(image: torch.Tensor, root: Block, min_side: int, keep) -> list[Block]:
-    """The HV partition of ``root``: blocks split at their strongest edge until ``keep(block)`` says stop.
-
-    Parameters
-    ----------
-    image : torch.Tensor
-        ``(H, W)`` gray levels.
-    root : Block
-        The block to partition.
-    min_side : int
-        The smallest side a part may have.
-    keep : callable
-        ``keep(block) -> bool``: True leaves the block whole (e.g. its collage error is small enough).
-
-    Returns
-    -------
-    list of Block
-        The leaves, depth first (top or left part first): they tile ``root``.
-    """
-    out, stack = [], [root]
-    while stack:
-        block = stack.pop()
-        y, x, h, w = block
-        cut = None if keep(block) else edge_split(image[y:y + h, x:x + w], min_side)
-        if cut is None:
-            out.append(block)
-        else:
-            first, second = split_block(block, *cut)
-            stack += [second, first]
-    return out

@@ -5,7 +5,7 @@ import pytest
 import torch
 
 from ifslib.compression.domains import domain_step, isometry, pool
-from ifslib.compression.rectangles import (Block, edge_split, hv_leaves, isometry_count, rectangle_isometry,
+from ifslib.compression.rectangles import (Block, edge_split, isometry_count, rectangle_isometry,
                                            rectangle_pool, rectangle_step, split_block)
 from ifslib.errors import IFSError
 from compression_images import photo
@@ -82,16 +82,3 @@ def test_edge_split_finds_a_step_edge_and_keeps_parts_at_least_min_side():
     assert edge_split(torch.rand(7, 7), 4) is None
 
 
-def test_hv_leaves_tile_the_block_and_stop_where_keep_says():
-    image = photo(32)
-    root = Block(0, 0, 32, 32)
-    leaves = hv_leaves(image, root, 4, keep=lambda b: b.height * b.width <= 64)
-    cover = torch.zeros(32, 32, dtype=torch.int64)
-    for y, x, h, w in leaves:
-        assert h >= 4 and w >= 4
-        cover[y:y + h, x:x + w] += 1
-    assert torch.equal(cover, torch.ones_like(cover))
-    assert any(h != w for _, _, h, w in leaves)  # the edges make rectangles, not only squares
-    assert hv_leaves(image, root, 4, keep=lambda b: True) == [root]
-    first, second = split_block(root, 0, 12)
-    assert first == Block(0, 0, 12, 32) and second == Block(12, 0, 20, 32)
