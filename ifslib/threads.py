@@ -1,19 +1,6 @@
-"""How many CPU threads torch uses: the cores that are free, or a number set once with ``IFSLIB_THREADS``.
-
-torch picks one thread per core by default. On a shared machine, or when several fits run side by
-side (the Dask sweep, a notebook beside a test run), that oversubscribes the cores, and a fit does
-not slow down by half but collapses, many times slower (measured in docs/results/threads.md).
-
-So by default (``IFSLIB_THREADS`` unset or ``auto``) ifslib counts the cores that other processes
-keep busy (`busy_cores`, a short sample of ``/proc/stat``) and gives torch the rest, at least one:
-when the package's first computing folder is imported (``import ifslib`` itself loads nothing) and again at the start of a single run (`refresh`; each stage of a
-strategy is one) once `REFRESH_SECONDS` have passed since the last look, so a long fit and a
-notebook that runs for an hour follow the machine. ``IFSLIB_THREADS=N`` fixes the count for the
-notebooks, the CLI and the tests alike; `configure_threads` does the same from Python.
-
-Importing this module also sets, unless the user did, two variables that torch's libraries read when they
-load: ``MKL_CBWR`` (a matrix product gives the same bits at any thread count) and ``OMP_WAIT_POLICY=PASSIVE``
-(idle threads sleep rather than spin). It is the one place ifslib writes to the process's environment.
+"""How many CPU threads torch uses: the cores that are free, or a number set once with ``IFSLIB_THREADS``
+(why: docs/results/threads.md). Importing it sets ``MKL_CBWR`` and ``OMP_WAIT_POLICY`` unless the user did:
+the one place ifslib writes to the process's environment.
 """
 from __future__ import annotations
 
@@ -22,19 +9,11 @@ import time
 from contextlib import contextmanager
 from typing import Iterator
 
-# Where torch is configured, and before it loads: every folder that computes imports this module before torch
-# (tests/test_threads.py checks the order), and ``import ifslib`` alone writes nothing to the environment.
-# MKL's strict reproducible mode: a matrix product gives the same bits at any thread count (by
-# default a long product is split between the threads, and its last bits follow their number).
-# MKL reads it at its first call, so it holds when torch was imported first; a value set by the
-# user is kept.
+# Set before torch loads (every computing folder imports this module first; tests/test_threads.py checks the
+# order), a user's value kept: MKL's strict mode gives a matrix product the same bits at any thread count.
 os.environ.setdefault("MKL_CBWR", "AUTO,STRICT")
-# OpenMP's idle threads sleep rather than spin between torch's parallel regions. A spinning thread
-# holds its core for a while after each small operation; beside another busy process (a test worker,
-# a notebook, a sweep's fits) that doubles a 2-thread fit's CPU time and more (a fractal search: 41 s
-# of CPU spinning against 10 s passive, the same maps; docs/results/threads.md). libgomp reads it
-# when torch loads: set before torch is imported it holds here, and always in the processes started
-# from here (notebook kernels, the CLI's runs). A value set by the user is kept.
+# OpenMP's idle threads sleep rather than spin: beside another busy process a spinning thread doubles a fit's
+# CPU time and more (docs/results/threads.md).
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import torch  # noqa: E402

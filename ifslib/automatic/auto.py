@@ -1,40 +1,7 @@
 """An automatic start for any image: curve or shape, how many maps, and where they go.
 
-The thresholds and the starts offered are `ifslib.automatic.config.AUTO`'s ``figure`` and ``start`` sections
-(`FIGURE`, `START` here).
-
-The collage theorem (Barnsley) says that an IFS's attractor is near a target when the union of the
-maps' images of the target is near the target. So a start for any image is a set of maps whose
-copies of the target cover the target:
-
-* **Shapes** (a filled figure): the foreground pixels are split into ``k`` parts by k-means
-  (`scipy.cluster.vq.kmeans2`), and map ``i`` takes the whole figure's mean and covariance onto
-  part ``i``'s (``A_i = C_i^{1/2} C^{-1/2}``, ``t_i = mu_i - A_i mu``): each copy of the figure is
-  stretched and turned to lie over its part. The maps are ``affine`` rules
-  (`ifslib.patterns.affine`) and the leaves draw the primitive given by ``primitive``. A `detailed`
-  figure (much edge for its area) is offered more maps (`START.shape_choices_detailed`), and a `limbed`
-  one has some of them placed by k-means on its thin parts apart from its body (`limb_maps`).
-* **Curves** (a thin figure, about as long as its area in pixels): the figure's skeleton
-  (`skimage.morphology.skeletonize`) is walked from end to end along its longest path
-  (`scipy.sparse.csgraph`), ``k + 1`` points are spaced evenly along it, and the curve is the
-  Koch-like pattern on that polyline (`ifslib.patterns.koch_like`): ``k`` segment rules, each mapping
-  the chord onto one piece.
-
-* **Fractals** (a target of at least `FIGURE.fractal_min_size` pixels whose figure is a lace: fewer than 0.6 of its pixels
-  have all eight neighbours on it at 128², where a silhouette has over 0.88; or one with more interior whose edge
-  is rough, `edge_dimension` at least `FIGURE.rough_edge`, as a fractal's lace and overlapping copies draw, and, when
-  solid, not made rough by thin limbs, `thin_share`; `ifslib.automatic.plan` decides): the figure is
-  searched for copies of itself
-  (`ifslib.automatic.fractal.search`: template matching, covers, the collage refined, 2 to 8 maps
-  compared by minimum description length). When the maps found draw an attractor within
-  `FIGURE.fractal_chamfer` pixels of the target, the start is those maps (``kind="fractal"``, an
-  `ifslib.patterns.affine` IFS); else the figure is fitted as a shape, and ``meta["pattern"]``
-  says why.
-
-Which ``k`` (and depth) is best depends on the image; `candidates` builds a start for each of
-several (`choices`) and the ``auto`` strategy (`ifslib.core.fitting.strategies`) compares them by the
-loss each reaches in the same number of steps. A start records what was chosen in
-``meta["pattern"]``, which the JSON file keeps.
+Maps whose copies of the target cover the target (the collage theorem): k-means parts for a shape, a skeleton's
+polyline for a curve, the fractal search for a lace (docs/guide/design.md). Thresholds: `AUTO` (`FIGURE`, `START`).
 """
 from __future__ import annotations
 

@@ -1,16 +1,7 @@
 """The ``auto`` strategy: a plan read from the image (`ifslib.automatic.plan.Plan`) fitted by
 comparing its candidates, coarse to fine (`ifslib.core.fitting.pyramid`).
 
-Each candidate start is fitted at the coarsest size of the pyramid for the same number of steps
-(`FIT.probe_steps`), and the one with the lowest loss goes on through the pyramid's stages; a
-shape then gets a stage at full size with the pixel loss (`FIT.polish_loss`), which fills the slivers
-between copies, or, ending on the attractor (the default), the attractor stage with that loss. A
-fractal's plan (its maps and their number chosen by the search) goes straight to the attractor
-stage (`FIT.fractal_stage_steps`, `FIT.fractal_loss`); when its attractor's IoU stays below `FIT.splat_below`, the
-splat fit (`ifslib.splatting`) polishes every map and probability at once and the better attractor is kept. A plan
-with rivals (a figure that may be a fractal or a shape) has each of its kinds fitted so, and the one whose attractor
-scores best for its number of maps is kept (`choose_kind`). The plan is taken as it is: nothing here calls discovery
-again.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

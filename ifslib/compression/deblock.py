@@ -1,12 +1,7 @@
 """The decoder's post-filter: each pair of pixels facing across a range block boundary replaced by a
 weighted average of the two (Fisher, "Fractal Image Compression", 1995, ch. 3).
 
-Blocks are coded apart, so their seams show as steps at low rates. With weight ``a`` (the file's
-``deblock``), the pixels ``p | q`` either side of a boundary become ``(1 - a) p + a q`` and
-``a p + (1 - a) q``: ``a = 0.5`` sets both to their mean. Columns are filtered, then rows. The filter is
-linear and follows the blocks of either partition (squares or rectangles): it is a mask built once per
-plan and two array operations, differentiable, so the attractor coder can fit what it outputs. The blocks come
-as an image of labels (`ifslib.compression.decode.block_labels`), so this module needs nothing of the decoder.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

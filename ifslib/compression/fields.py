@@ -1,13 +1,6 @@
 """The fields of a code in the order and the contexts the range coder sees them (file version 2).
 
-Depth first over the quadtree, as version 1: each node above the smallest size says whether it is
-split (a model per size); each leaf says whether it is flat (a model per size), then, for a block
-with a domain, its contrast level (one model), its mean, and, unless flat, its isometry (one model)
-and its domain as an offset from the range (a row and a column model per size). The mean is stored
-as its difference (modulo the levels) from a prediction, the mean of the blocks already decoded
-just above and to the left, one model for flat blocks and one for the rest. The domain's offset is
-counted from the lattice point whose domain is centred on the range, modulo the lattice's rows and
-columns, so that near domains cost least once the models have learnt that they are likely.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,18 +1,6 @@
 """The compact binary file of a code: a header naming the version and the layout, then the fields.
 
-Version 2 (written by default): ``b"IFSC"``, version (1 byte), height and width (2 bytes each), the
-partition (1 byte: its place in `ifslib.names.PARTITIONS`, 0 the quadtree, 1 HV), log2 of the smallest and
-largest blocks (4 bits each), s_bits and m_bits (4 bits each), s_max x 10000 (2 bytes), a CRC-32 of the header's bytes before it and of the
-payload (4 bytes), then the range-coded fields (`fields`). A wrong, truncated or altered file fails
-the CRC and is refused, never decoded into a wrong image.
-
-Version 3 (a code with ``CodeOptions(deblock > 0)``): version 2's header with one more byte before the
-CRC, the decoder's post-filter weight in hundredths (`deblock`); the CRC covers it. A code without
-the filter is still written as version 2, so version 2 files are rewritten byte for byte.
-
-Version 1 (``CodeOptions(coder="fixed")``, and every file before version 2): ``b"IFSC"``, version,
-height and width, log2 of the smallest and largest blocks, s_bits and m_bits (1 byte each), s_max x
-10000 (2 bytes); then the fixed-length fields (`fixedformat`). All big-endian.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,12 +1,6 @@
 """An HV code's fields in the order and contexts the range coder sees them (file version 2, partition "hv").
 
-Depth first from each ``max_block`` square, raster order: a block that can be cut (`rectangles.cut_positions`)
-says whether it is (a model per shorter side); a cut block says along which axis (when both could be
-cut) and where (its index among the axis's positions, a model per count), then its two parts follow,
-top or left first. A leaf codes what a quadtree leaf does (`fields.code_leaf`): flat or not, the contrast, the
-mean as a residual from its decoded neighbours above and to the left, and for a block with a domain its
-isometry (4 for a rectangle, 8 for a square) and its domain's offset from the range on its shape's
-lattice.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

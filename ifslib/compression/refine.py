@@ -1,19 +1,6 @@
 """Attractor coding: improve a collage code for the image the decoder returns, not for the collage.
 
-Three moves, each kept only when the decoded image gets closer to the target. The first two keep the
-file's layout (same partition, same flat blocks, so the same bits):
-
-1. a local search on the discrete choices: each block's domain and isometry are searched again with
-   the domain pool cut from the current decoded image instead of the original;
-2. gradient descent on the quantized contrasts and means through the decoder's fixed point. The
-   gradient is the fixed point's implicit derivative: for x* = T(x*; s, m), dL/d(s, m) = v^T dT/d(s, m)
-   with v = g + J^T v (J = dT/dx, g = dL/dx*), solved by iterating, which settles in a few passes as
-   the decoder does (the centred form's T is not shown to contract; the tests check the gradient
-   against finite differences).
-   Quantization is kept by a straight-through estimate: the forward pass uses the rounded levels.
-
-The third (`repartition`) chooses the quadtree and the flat blocks again for the decoded image, in no
-more bits than the collage code, and the first two run again on the result.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

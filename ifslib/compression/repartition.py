@@ -1,16 +1,6 @@
 """The partition chosen by rate and distortion: quadtree and flat blocks for a domain pool, within a budget.
 
-Every aligned block of every size is fitted with its domain pool cut from a pool image, and also
-stored flat (its mean alone). With the original as the pool this is the collage coder's partition;
-with the *decoded* image x* of the current code (attractor coding) a block's map applied to x* is
-what the decoder will draw there, so its error against the original estimates the block's share of
-the decoded error (exact but for the change it makes to other blocks' domains). `rates.choose` then
-picks the tree and the flat blocks by Lagrangian pruning (`partition.prune_to_budget`) at each
-field's price, coded bits for version 2: the tree of least ``err + lam * bits`` for a price ``lam`` of
-a bit, at the smallest price whose file fits. That tree has the least error of any tree of at most
-its own bits; close to, but not always, the least error within the budget (a price reaches only the
-trees on the lower convex hull of (bits, error)). The attractor coder decodes the result and keeps
-it only if it decodes closer.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,23 +1,6 @@
 """Maps and probabilities read from a measure's gray image by its collage, then fitted.
 
-An invariant measure is its own collage, ``mu = sum_i p_i T_i# mu`` (Barnsley's collage theorem for
-measures: the closer a measure is to its collage, the closer to the attractor's measure). So each true
-map pushes the image onto a piece of it, and the image is a combination with weights ``p_i >= 0`` of
-its own pushes. Where the support alone cannot tell a fern's maps from other maps whose copies cover
-its outline (`fit_measure_from_support`), the gray levels can: two copies laid over one another
-double the density there. The search:
-
-1. *atoms*: the image pushed by every linear part of the fractal search's grid (`linear_grid`) about
-   its centre of mass, each push correlated with what is left to explain (the residual) at every
-   translation at once by FFT, the best translation of each part kept, the `atoms` best overall;
-2. *matching pursuit*: each of `beams` sets grows by one atom at a time, the probabilities of a set
-   by non-negative least squares (`scipy.optimize.nnls`) on the blurred pushes, the sets of least
-   residual kept;
-3. *the collage refined*: maps and probabilities of each kept set by Adam on the multiscale collage
-   error (`push_mass`), every map kept contractive;
-
-and `fit_measure_from_collage` fits each refined set to the image (`fit_measure`) and keeps the
-closest (docs/results/measures.md says how far it gets).
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,14 +1,6 @@
 """How big a fractal is: the similarity dimension (Moran's equation) and the box-counting dimension.
 
-- `similarity_dimension`: the ``D`` with ``sum_i r_i^D = 1`` for scales ``r_i`` (Moran), found by
-  `scipy.optimize.brentq` (for equal scales, ``log m / log(1/r)``). It is the attractor's dimension when
-  the maps are similarities whose copies barely touch (the open set condition); without that it is an
-  upper bound, which overlapping copies can make strictly larger than the dimension. For affine maps,
-  with their largest singular values as scales, it bounds the box dimension from above (it is at least
-  the affinity dimension, Falconer 1988).
-- `box_counting_points` / `box_counting_image`: the slope of ``log N(eps)`` against ``log(1/eps)``,
-  ``N(eps)`` the number of boxes of side ``eps`` that hold a point of a chaos game or a lit pixel of a
-  drawing, fitted by least squares (`scipy.stats.linregress`) with the slope's standard error.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

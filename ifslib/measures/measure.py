@@ -1,23 +1,6 @@
 """The invariant measure of an IFS with probabilities, drawn as gray levels on the pixel grid, three ways.
 
-With probabilities ``p_i`` an IFS has one invariant measure ``mu = sum_i p_i mu o T_i^-1`` (Hutchinson,
-Barnsley): the share of chaos-game points that fall in a region, in the long run. A pixel's gray level
-is the mass of its cell; an image of the measure sums to 1.
-
-- `chaos_measure`: the chaos game's histogram (float64 points, binned, never stored).
-- `cylinder_measure`: deterministic and exact up to a stated share of the mass, not differentiable. The
-  cylinder ``T_w(A)`` of a word ``w`` carries mass ``p_w`` (the product of its maps' probabilities:
-  ``mu = sum_{|w|=k} p_w mu o T_w^-1``; ``T_w(A)`` holds more where other copies overlap it);
-  one whose bounding ellipse lies in a pixel gives that pixel all of it, the others are split into
-  their children, and only those still crossing a pixel's edge when smaller than
-  `CylinderOptions.smallest` pixels are placed at their centre of mass (their share is returned).
-- `invariant_measure`: deterministic and differentiable in the maps and the probabilities. Mass on a
-  grid finer than the output (`MeasureOptions.supersample`) is pushed through every map and split
-  bilinearly among the four cells around its image (the Markov operator of the IFS on the grid),
-  from uniform mass, `MeasureOptions.iterations` times; the fine grid is summed into the output's
-  pixels.
-
-All three cover the frame ``[-0.5, 0.5]^2``, row 0 at the top (``y = 0.5``), like `ifslib.render`.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

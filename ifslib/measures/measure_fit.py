@@ -1,13 +1,6 @@
 """Fitting a measure: an IFS's probabilities, and optionally its maps, fitted to a grayscale image of its measure.
 
-Gradient descent (Adam) through the deterministic invariant measure (`ifslib.measures.measure`): the
-probabilities live on the simplex as a softmax of free logits; the maps move through the IFS's
-control points (its ``fixed`` points stay). The loss compares densities (mass times the number of
-pixels) summed over pooled copies of both images, the multiscale squared error of the paper, so a
-map's copy that lands a few pixels off still feels a pull. `fit_measure` starts from the caller's maps;
-`fit_measure_from_support` reads them from the image first: the measure's support (the pixels with
-mass) is a binary figure, and the library's fractal search (`ifslib.discover`) finds
-maps whose attractor covers it (docs/results/measures.md says how far each start gets).
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,12 +1,6 @@
 """A fit of many maps and their probabilities to an image through the splatting renderer, as the literature fits.
 
-The descent (`ifslib.core.fitting.descent`) moves the maps (`ContractiveMaps`: every map contracts at every
-step) and the probabilities (a softmax of free logits) on a multiscale image loss, coarse to fine (`LEVELS`).
-A figure (a mask) is compared as coverage (a pixel the chains visit reads 1, `coverage`), a gray image as
-density. Two escapes from local minima: Gaussian noise on the parameters, annealed to 0 over the first part of
-the steps, and reselection of the map that covers least of the figure alone (`reselect`). The start is random
-maps placed on the figure, or given maps (the fractal search's best set, say), topped up with random ones to
-the number asked for.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

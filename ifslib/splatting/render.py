@@ -1,15 +1,7 @@
 """The differentiable chaos game: chains' points of an IFS splatted onto the pixel grid, an image of its invariant
 measure with gradients to the maps and the probabilities.
 
-The chains are the library's own (`ifslib.core.raster.chaos.chaos_game`: float64, burned in, 2048 chains side by
-side); which map took each point to the next is read back from consecutive points (the map whose image of the one is
-the other, exactly up to float64 rounding), since `chaos_game` does not return its picks. The image is then rebuilt
-differentiably: each point is the last `SplatOptions.depth` maps of its chain applied, in the maps' dtype (float32 in a
-fit), to its chain's point that many steps before (held fixed): the pathwise gradient to the maps, cut where it has
-shrunk by ``s_max ** depth``. Each point weighs the product of ``p_i / p_i`` over the same picks, 1 in value, whose
-gradient is the score ``sum d log p_i`` (the probabilities' gradient, by the likelihood ratio). The points are splatted
-bilinearly onto a grid `SplatOptions.supersample` times finer and summed into the pixels: mass per pixel, the points
-outside the frame dropped, so the image sums to the share of points inside (1 for an attractor in the frame).
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,13 +1,6 @@
 """The ``splat`` strategy: `fit_splat` from the start's maps and probabilities, registered in the core's table.
 
-The start's maps (their number kept) and probabilities are fitted by the splat renderer on the target's mask for the
-fit's whole step budget; the fitted maps come back as affine rules at the start's depth (segments for a curve's
-start, boxes otherwise). The splat fit minimises its own loss (coverage, `ifslib.splatting.fit.image_loss`), so the
-fitted set and the start are both scored by the run's loss (``options.loss``) at the run's depth (``options.depth``,
-else the start's: ``"attractor"`` scores the attractors), and the lower is returned, as a fit of one run would: the
-strategy never returns worse than its start by the loss the other strategies are compared by. ``history.loss`` holds
-the splat fit's own loss at each step (its levels differ in scale); the returned IFSs' ``meta["splat"]`` says what was
-compared (`comparison`) and which was kept.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,17 +1,6 @@
 """Batched fitting: many seeded starts of one pattern fitted in one computation.
 
-`fit_many` stacks the control points of ``B`` starts into one ``(B, n, 2)`` tensor and carries that
-leading batch dimension through maps, leaves, the nearest-leaf search, the distance and the loss.
-The batch's loss is the sum of the items' losses, so each item's gradient is that of its own loss;
-Adam is applied item by item (its own step count and learning rate), and a step that fails for one
-item (a degenerate or non-contractive rule, a non-finite loss or gradient) is rolled back for that
-item only, exactly as the single run `ifslib.core.fitting.run.run` does. So each item follows the path
-that ``run(start, target, seed=seed)`` (``ifslib.fit(..., strategy="plain")``) follows, up to
-floating-point rounding. It sits beside `run` at the bottom of the fitting layer.
-
-On a CPU a step's cost is the (pixel, leaf) pairs, which batching does not reduce, so it gains
-little there (docs/results/fit-many.md); the default strategy runs its starts one after another
-(and usually needs only the first).
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,19 +1,6 @@
 """Copies matched to what the other maps leave uncovered: a new map for a fractal, by moments.
 
-A fractal ``A`` drawn by maps ``T_1 ... T_k`` is the union of its copies ``T_j(A)``. Given all
-the maps but one, the figure's pixels that none of the other copies covers (the map's
-**region**) are what the missing copy ``T_i(A)`` must cover. An affine copy of a set has the
-set's moments carried by the map: mean ``L mu + t`` and covariance ``L C L^T``. So the maps
-that send the figure's mean and covariance onto the region's are
-
-    ``L = C_R^1/2 Q C_A^-1/2``,  ``t = mu_R - L mu_A``,
-
-one for each rotation or reflection ``Q``; the ``Q`` whose copy overlaps the region most is
-kept. This places a thin copy (a singular value a tenth of the other, or less) as closely as a
-round one, where a grid of copies (`ifslib.automatic.fractal.copy_candidates`) places it only to
-within its grid's step, and a thin map's attractor is recognised only very near the true map.
-`ifslib.automatic.fractal.region_swap` tries these maps in place of the search's; the rotations
-tried and the copies kept are `SearchConfig` fields (``angles``, ``per_region``, ``parts``).
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

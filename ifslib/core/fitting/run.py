@@ -1,13 +1,7 @@
 """One Adam run: the bottom of the fitting layer.
 
-`run` moves an IFS's control points so that its rendering matches a target at one size: the library's descent
-(`ifslib.core.fitting.descent`) on the points, whose loss renders the distance field (exact nearest leaf,
-exact gradient) and compares it with the target. A step whose loss or gradient is not finite, or whose points
-make a rule degenerate or non-contractive, is rolled back (the points and the optimizer go back to before the
-step that led there, the learning rate is halved) and reported in the history instead of poisoning the points.
-``steps`` is a budget: with ``tol`` set, the run stops once its best loss has stopped improving (see
-`ifslib.core.fitting.descent.converged`). Strategies (`ifslib.core.fitting.strategies`) are built on it, and
-the public `ifslib.fit` on them; nothing here knows of either.
+`run` moves an IFS's control points so that its distance field matches a target at one size, by the
+library's descent (`ifslib.core.fitting.descent`); a step that is not finite or breaks a map is rolled back.
 """
 from __future__ import annotations
 

@@ -1,62 +1,7 @@
 """Strategies: how a fit spends its steps over several single runs (`ifslib.core.fitting.run.run`).
 
-Each name of `ifslib.names.STRATEGIES` is an entry of the table `strategy` reads (a `Strategy`: how it
-runs, what start it fits, and its options object: `ifslib.fit` takes the name, or the object itself,
-``strategy=Pyramid(n_starts=2)``). The core's own are below; an extension registers its own with
-`register_strategy` when its folder is imported (``auto``: ``import ifslib.automatic``, which an automatic
-start has already done; ``splat``: ``import ifslib.splatting``): the core never imports an extension.
-
-Each strategy calls `run` (never the public `ifslib.fit`, which sits above this module and picks a
-strategy) and returns the best result. Every step of every run counts in ``history.cost``, so
-strategies compare per step spent:
-
-``pyramid``
-    The default. Coarse to fine in pixels, and starts tried one after another until one recovers
-    the target. Each start runs at the coarsest size of the target's pyramid (64² for a 256²
-    target), then at each finer size (4 times larger, ``Pyramid.pyramid_factor``) up
-    to the target's own, every stage ending when its loss has converged (``tol``, ``patience``),
-    by the one coarse-to-fine driver of `ifslib.core.fitting.pyramid`.
-    Each start then ends with a stage that fits its **attractor** at the full size
-    (`attractor_stage`), and is judged by the attractor's symmetric Chamfer distance to the target;
-    once it is at most ``success`` pixels, no more starts are tried. The starts are those of
-    ``multistart``. Each stage spends at most ``min(steps, stage_steps)`` steps (the
-    attractor's, ``attractor_steps``: fields of `Pyramid`).
-``auto`` (registered by the automatic path)
-    For a plan (``ifslib.discover(target)``, `ifslib.automatic.plan.Plan`), in
-    `ifslib.automatic.fit_plan`: each of its candidate starts is fitted at the coarsest size of the pyramid
-    for the same number of steps (`AUTO.fit.probe_steps`), and the one with the lowest loss goes on
-    through the pyramid's stages as in ``pyramid``; a shape then gets a stage at full size
-    with the pixel loss (`AUTO.fit.polish_loss`), which fills the slivers between copies. With
-    ``end_on_attractor`` (the default) that stage is the attractor stage (`attractor_stage`, with the
-    pixel loss for a shape): it fills the slivers of the attractor itself.
-    ``history.auto`` (`ifslib.automatic.choice.AutoRun`) holds the candidates (`Candidate`: maps, depth,
-    what they were compared by and its value, steps, seconds) and the one chosen, and the fitted
-    IFS's ``meta["pattern"]`` says so. A fractal's start (``kind="fractal"``: its maps
-    and their number were chosen by `ifslib.automatic.fractal.search`) goes straight to the attractor
-    stage, of at most `AUTO.fit.fractal_stage_steps` steps with the single-scale pixel loss (`AUTO.fit.fractal_loss`: the
-    distance loss trades the attractor's thin detail for its outline, and the pooled copies of the
-    multiscale pixel loss blur it); ``history.auto.candidates`` are then the
-    search's rows, compared by its score (``meta["pattern"]["search"]`` keeps its whole table).
-``plain``
-    One run: the paper's procedure (every step spent unless ``tol`` is given).
-``coarse_to_fine``
-    Depth 1, then 2, ... up to the full depth, the steps split evenly (cost: ``steps``).
-``multistart``
-    ``starts`` short probes (the given start, jittered copies of it, and for curves jittered
-    best-fit-line starts), each ``probe`` steps; the ``keep`` best continue to ``steps``. Probes
-    whose curve crosses itself rank after those that do not (the paper's local minima coincide with
-    self-crossings). Cost: about ``2.9 * steps`` with the defaults.
-``restart``
-    Runs in windows; when a window ends without the figure within ``success`` pixels of the target
-    and the loss has stopped improving, the next window starts from a jittered copy of the best
-    points. Stops early on success. Cost: at most ``budget * steps``.
-``anneal``
-    The rendering width (pixel losses) or the pooling levels (distance losses) go from coarse to
-    fine in four stages (cost: ``steps``).
-``uncross``
-    One run with a barrier on self-crossings added to the loss (curves only): ``crossing_weight``
-    (default ``Uncross.weight``) times the summed depth of the curve's crossings
-    (`ifslib.crossings.crossing_penalty`), the paper's suggestion (cost: ``steps``).
+Each name of `ifslib.names.STRATEGIES` is an entry of the table `strategy` reads; an extension registers its own
+with `register_strategy` when its folder is imported. What each strategy does: docs/guide/design.md.
 """
 from __future__ import annotations
 
@@ -194,7 +139,7 @@ def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Gener
 
 
 def _pyramid(frame: Frame, ifs: IFS, rng: np.random.Generator) -> FitResult:
-    """The ``pyramid`` strategy (see the module's docstring)."""
+    """The ``pyramid`` strategy (docs/guide/design.md)."""
     s, target = frame.settings, frame.target
     options = with_early_stop(frame.options, s)
     final = s.end_on_attractor and not is_attractor(options.depth)

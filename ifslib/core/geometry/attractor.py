@@ -1,48 +1,9 @@
 """Leaves of the attractor itself: the word tree cut per branch where the branch is finer than ε.
 
-A drawing at depth K is ``H^K(primitives)``; what the inverse problem asks for is the attractor
-``A = H(A)``, which does not depend on the primitives. This module makes *point* leaves that stand
-for ``A`` within a stated tolerance ``ε`` (plane units), whatever the primitives: a branch of scale
-0.85 is cut much deeper than one of 0.2, and a map with a singular value near 0 (a fern's stem)
-needs no inverse.
-
-The bound, and why it holds
----------------------------
-Let every map ``T_i(x) = L_i x + t_i`` contract (``s_i = ||L_i||_2 < 1``); write ``T_w`` for the
-composition ``T_{w_1} o ... o T_{w_k}`` of a word ``w``, and let ``c`` be any point.
-
-1. *An invariant ball.* With ``R0 = max_i |T_i(c) - c| / (1 - s_i)``, each ``T_i`` maps the ball
-   ``B0 = B(c, R0)`` into itself: ``|T_i(x) - c| <= s_i |x - c| + |T_i(c) - c| <= s_i R0 + (1 - s_i) R0``.
-   So ``H(B0) ⊂ B0`` and ``A``, the limit of ``H^k(B0)``, lies in ``B0``.
-2. *A tighter radius.* ``A = H^k(A) ⊂ ∪_{|w| = k} T_w(B0)`` and ``T_w(B0) ⊂ B(T_w(c), ||L_w|| R0)``, so every
-   point of ``A`` lies within ``R = max_{|w| = k} (|T_w(c) - c| + ||L_w|| R0)`` of ``c`` (`attractor_ball`).
-3. *Leaves.* Cut every branch of the word tree once, at a word ``w`` with ``e_w = ||L_w|| R <= ε``
-   (the cut words form a cover: every infinite word has exactly one prefix among them), and take
-   the leaf point ``p_w = T_w(c)``. Then ``A = ∪_w T_w(A)`` and ``T_w(A) ⊂ B(p_w, e_w)``: every point
-   of ``A`` is within ``ε`` of a leaf, and every leaf is within ``ε`` of a point of ``A``. Hence, for
-   every ``x`` in the plane::
-
-       d(x, A) - ε  <=  d(x, leaves)  <=  d(x, A) + ε.
-
-   ``||L_w||`` is the composed matrix's own largest singular value (not the product of the
-   rules' scales, which can be far larger for shears and rotations).
-4. *A window.* When only the pixels of a window matter: ``d(., A)`` is 1-Lipschitz, so every
-   window point has ``d(x, A) <= U = min_w (|m - p_w| + e_w) + h`` (``m`` the window's centre, ``h``
-   its half-diagonal, the minimum over the current cover). A node whose ball ``B(p_w, e_w)`` lies
-   farther than ``U`` from the window holds no window point's nearest point of ``A``, so its branch
-   is dropped and the bound of 3 still holds at every point of the window. The same holds block by
-   block (`ifslib.core.geometry.reach`): each block ``b`` of the window has its own bound ``U_b``, and
-   a node is dropped when it lies farther than ``U_b + 2ε`` (beyond its ball) from every block. A
-   leaf of such a node lies within ``e_w + ε`` of ``p_w``, so it is farther than ``U_b + ε`` from
-   every pixel, while the leaf that covers the pixel's nearest point of ``A`` is within
-   ``d(x, A) + ε <= U_b + ε``: it wins no pixel, and the field is the same as without the blocks,
-   bit for bit. The leaves then follow the window's pixels (about 2.4 million for a 256² window of
-   the fern at any zoom from 10x to 1000x), not the whole attractor's at the window's scale.
-
-The expansion runs with no autograd and keeps each leaf's word as a link to its parent
-(`ifslib.core.geometry.words.WordTree`; `AttractorLeaves.words` spells them out);
-`leaf_points` recomputes the points of the few leaves that win some pixel with autograd, so the
-gradient is exact (that of ``|x - T_w(c)|`` through the winner) and memory is O(pixels + leaves).
+Point leaves ``p_w = T_w(c)`` stand for the attractor ``A`` within ``ε`` whatever the primitives,
+``d(x, A) - ε <= d(x, leaves) <= d(x, A) + ε`` (the proof: docs/results/attractor.md). The expansion runs
+with no autograd; `leaf_points` recomputes the points of the few winning leaves with autograd, so the
+gradient is exact and memory O(pixels + leaves).
 """
 from __future__ import annotations
 
@@ -67,7 +28,7 @@ DEFAULT_TOLERANCE = 0.5
 #: Default leaf budget (override with ``IFSLIB_MAX_LEAVES``): about 100 bytes a leaf while expanding.
 DEFAULT_MAX_LEAVES = int(os.environ.get("IFSLIB_MAX_LEAVES", 4_000_000))
 
-#: Depth of the words that tighten the invariant ball's radius (step 2 of the module docstring).
+#: Depth of the words that tighten the invariant ball's radius (step 2 of the proof, docs/results/attractor.md).
 BALL_WORDS = 4096
 
 
@@ -150,7 +111,7 @@ def prepare_maps(maps: torch.Tensor, rules=None) -> tuple[torch.Tensor, torch.Te
 
 
 def attractor_ball(maps: torch.Tensor) -> tuple[torch.Tensor, float]:
-    """A centre ``c`` and a radius ``R`` with the attractor inside ``B(c, R)`` (steps 1-2 of the module docstring).
+    """A centre ``c`` and a radius ``R`` with the attractor inside ``B(c, R)`` (steps 1-2 of the proof, docs/results/attractor.md).
 
     Parameters
     ----------
@@ -239,7 +200,7 @@ def _budget_error(tolerance: float, budget: int, level: int, open_nodes: int, m:
 
 def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, float, float, float] | None = None,
                      max_leaves: int | None = None, rules=None) -> AttractorLeaves:
-    """Cut the word tree of ``maps`` per branch where ``||L_w|| R <= tolerance`` (steps 3-4 of the module docstring).
+    """Cut the word tree of ``maps`` per branch where ``||L_w|| R <= tolerance`` (steps 3-4 of the proof, docs/results/attractor.md).
 
     Parameters
     ----------

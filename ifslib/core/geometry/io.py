@@ -1,25 +1,7 @@
-"""The ``ifslib/1`` JSON file: read, validate, write.
+"""The ``ifslib/1`` JSON file: read, validate, write (the format: docs/guide/conventions.md).
 
-One small JSON document holds an IFS (see docs/guide/conventions.md): ``format``, ``name``,
-``points``, ``rules`` (``kind``, ``from``, ``to``), ``primitives`` (``kind``, ``points``, optional
-``radius``), ``depth``, and the optional ``fixed``, ``sigma``, ``probabilities`` (one per rule, each
-> 0, summing to 1: the chaos game's choice of maps and so the invariant measure; absent, the
-default of `ifslib.IFS.measure_probabilities`) and ``meta``. Its JSON Schema (draft
-2020-12) ships beside this module, ``ifslib-1.schema.json``, and `schema` returns it; what a schema
-cannot say (an index below the number of points, finite numbers, a whole number written as ``3``
-and not ``3.0``) the reader checks as well. Whether a rule's source has non-zero length and its map
-contracts depends on the points' values: that is checked when the maps are built (`IFS.maps`, a
-drawing at depth K > 0), not when the file is read.
-
-Rule kinds: ``segment`` and ``square`` take two point indices on each side and make similarities;
-``affine`` takes three on each side (``{"kind": "affine", "from": [0, 1, 2], "to": [4, 5, 6]}``:
-the triangle ``p0 p1 p2`` onto ``p4 p5 p6``) and makes any affine map, shear and reflection
-included. Under an affine map the similarity law ``d_T(S)(x) = s d_S(T^-1 x)`` does not hold;
-the distances stay exact for segments (the image of a segment is a segment) and boxes (a
-parallelogram), and are a 1-Lipschitz lower bound with the exact outline for disks (an ellipse):
-see `ifslib.core.geometry.primitives.affine_sdf`. A map contracts when its largest singular value is
-below 1. A reader rejects a file whose format
-it does not know and names the formats it knows.
+Its JSON Schema ships beside this module (`schema`); what a schema cannot say (an index below the number of
+points, finite numbers) the reader checks too; whether a map contracts is checked when the maps are built.
 """
 from __future__ import annotations
 

@@ -1,14 +1,8 @@
 """Expansion to depth K: every composed leaf map, with its inverse and scale, and a memory estimate.
 
-A leaf is a word ``w = (w_1, ..., w_K)`` of rule indices together with a primitive ``p``; its shape
-is ``T_{w_1} o ... o T_{w_K}(D_p)``. Leaves are numbered ``leaf = word * n_prims + p`` with words in
-lexicographic order, so the primitive varies fastest.
-
-For a similarity ``T`` of scale ``s`` the distance law is ``d_{T(S)}(x) = s * d_S(T^{-1} x)`` (the
-paper prints ``1/s``: an erratum), so each word needs only its inverse map and its scale. When a
-rule is ``affine`` the law fails, and each word also keeps its forward matrix: its leaves' distances
-are measured in the plane (`ifslib.core.geometry.primitives.affine_sdf`), and ``scale`` holds the word's
-smallest singular value.
+Leaves are numbered ``leaf = word * n_prims + p`` with words in lexicographic order. A similarity word needs
+only its inverse and scale (``d_T(S)(x) = s d_S(T^-1 x)``); an affine word also keeps its forward matrix, and
+``scale`` is then its smallest singular value.
 """
 from __future__ import annotations
 

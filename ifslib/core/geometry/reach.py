@@ -1,16 +1,5 @@
-"""How far a window's pixels can be from the attractor: per-block upper bounds that prune the word tree.
-
-The window is cut into ``GRID x GRID`` blocks. Every node ``w`` of the word tree met so far holds a
-non-empty piece ``T_w(A)`` of the attractor inside its ball ``B(p_w, e_w)``, so every point ``x``
-of a block ``b`` has ``d(x, A) <= max_{x in b} |x - p_w| + e_w``; and ``d(., A)`` is 1-Lipschitz,
-so a block's bound ``U_b`` also gives ``U_b' <= U_b + |c_b - c_b'|_1`` (block centres ``c``). Each
-node bounds the block nearest to it; the bounds then spread to every block.
-
-A node is pruned when, for every block, its ball plus ``margin`` lies farther than ``U_b`` from
-it: then none of its leaves can be the nearest leaf of a pixel (see `ifslib.core.geometry.attractor`,
-step 4). Nodes inside the window are always kept; for a node outside, the segment to any block
-crosses a border block ``b'``, so ``d(p, b) - U_b >= d(p, b') - V_b'`` with
-``V_b' = max_b (U_b - d(b', b))``, and only the ``4 GRID - 4`` border blocks are tested.
+"""How far a window's pixels can be from the attractor: per-block upper bounds that prune the word tree
+(the argument: docs/results/attractor.md, step 4).
 """
 from __future__ import annotations
 

@@ -1,38 +1,5 @@
-"""Symmetry rules: each rule kind builds one differentiable map T_i from the control points.
-
-A rule ``(P_i, R_i)`` names control points by index; its map is a 3 x 3 homogeneous matrix
-``[[a, b, tx], [c, d, ty], [0, 0, 1]]`` acting on column vectors ``(x, y, 1)``
-(see ``docs/guide/conventions.md``).
-
-Kinds
------
-``segment``
-    The similarity (rotation + uniform scale + translation, no reflection) taking the segment
-    ``p_a -> p_b`` onto ``p_c -> p_d``. In complex numbers it is ``z -> alpha z + beta`` with
-    ``alpha = (p_d - p_c) / (p_b - p_a)`` and ``beta = p_c - alpha p_a``: every entry is a rational
-    function of the points, so autograd gives the exact gradient, rotation included.
-``square``
-    Uniform scale + translation taking the axis-aligned square with diagonal corners ``P_i`` onto
-    the one with diagonal corners ``R_i``: scale = ratio of the diagonals' lengths, lower-left corner
-    to lower-left corner.
-``affine``
-    The general affine map (any 2 x 2 matrix: non-uniform scale, shear, reflection) taking the
-    triangle ``P_i = (p_a, p_b, p_c)`` onto ``R_i = (p_d, p_e, p_f)``, vertex to vertex:
-    ``A = [p_e - p_d, p_f - p_d] [p_b - p_a, p_c - p_a]^-1`` and ``t = p_d - A p_a``. Its six
-    parameters are the three target points, so it trains like every other rule. The similarity law
-    of the distance does not hold for it; `ifslib.core.geometry.primitives.affine_sdf` says how each
-    primitive's distance stays exact (segments, boxes) or bounded (disks) under it.
-
-Contraction and degeneracy are read from the singular values of each map's matrix
-(`singular_values`): a map contracts when its largest singular value is below 1, and is
-degenerate when its smallest is near zero. For a similarity both equal its scale.
-
-Gradient modes
---------------
-``"exact"`` (default) differentiates everything. ``"paper"`` reproduces the code published with the
-paper, which rebuilt each segment rule's rotation with ``torch.tensor([...])`` and so cut its
-gradient: the rotation's value is used, but no gradient flows through it, while scale and
-translation keep theirs. Square rules have no rotation and are the same in both modes.
+"""Symmetry rules: each rule kind (``segment``, ``square``, ``affine``) builds one differentiable map
+from the control points, a 3 x 3 homogeneous matrix (the kinds and gradient modes: docs/guide/conventions.md).
 """
 from __future__ import annotations
 
@@ -62,7 +29,7 @@ class Rule:
     Parameters
     ----------
     kind : {"segment", "square", "affine"}
-        How the point tuples define the map (see the module docstring).
+        How the point tuples define the map (docs/guide/conventions.md, "Rules").
     source, target : tuple of int
         Two control-point indices each (segment endpoints, or diagonal corners of a square), or
         three for an ``affine`` rule (triangle vertices).
@@ -181,7 +148,7 @@ def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") 
     rules : list of Rule
         The ``m`` symmetry rules.
     gradient : {"exact", "paper"}
-        Gradient mode (see the module docstring).
+        Gradient mode (docs/guide/conventions.md, "Rules").
 
     Returns
     -------

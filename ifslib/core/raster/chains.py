@@ -1,14 +1,6 @@
 """The chains of the chaos game: one generator that every chaos game of the library walks.
 
-Chains run side by side from given starts; at each step each chain applies a map drawn with the
-probabilities. The callers differ only in where the chains start, how many steps they take before
-their points count (the burn-in: what forgetting the start means for them) and what they do with
-each step's points: `ifslib.chaos_game` keeps them, `ifslib.measures.measure.chaos_measure` bins them,
-the splat renderer (`ifslib.splatting.chains`) keeps them with the maps that made them.
-
-The sampled leaves of `ifslib.core.geometry.sampled` are not chains: each walker draws one word down
-the tree of copies from fixed uniforms, to a tolerance, and keeps the word for the gradient, so that
-its leaves move smoothly with the maps from one fit step to the next.
+The callers differ only in where the chains start, their burn-in and what they do with each step's points.
 """
 from __future__ import annotations
 

@@ -1,21 +1,7 @@
 """The chaos game: points of an IFS's attractor by random iteration, in float64 (Barnsley).
 
-Every map's fixed point lies on the attractor, and so does the image of any point of it under any
-map: a chain that starts at a fixed point and applies randomly chosen maps never leaves the
-attractor (up to float64 rounding). The maps are chosen with the IFS's probabilities, or by default
-in proportion to the area they keep (``|det L_i|``), with a floor so that a map that flattens (a
-fern's stem) is still visited (`ifslib.IFS.measure_probabilities`).
-
-The points are a fair sample of the invariant measure those probabilities define, at any ``n``:
-each chain first takes `burn_in_steps` steps, after which its start weighs less than float64's
-rounding (``s_max ** k`` times the attractor's diameter), so every point it records is a draw of
-the measure. Up to `CHAINS` chains run side by side, one per point below that, so that the first
-``min(n, CHAINS)`` points are independent draws; beyond it each chain records the next points of
-its walk (each still a draw of the measure, though a chain's consecutive points are not independent).
-
-This is the independent reference of the tests (no leaves, no bound, no search of ours) and the
-classic way to draw an attractor: `chaos_field` turns the points into a distance field of the same
-pixel grid, which `ifslib.render` shades with ``method="chaos"``.
+Chains start at a map's fixed point and burn in until their start weighs less than float64's rounding, so
+every recorded point is a draw of the invariant measure; the tests' independent reference.
 """
 from __future__ import annotations
 

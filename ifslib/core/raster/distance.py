@@ -1,24 +1,8 @@
 """`distance_field`: the signed distance from every pixel centre to the depth-K leaves.
 
-The distance of the union is the minimum over leaves, and the (sub)gradient of a minimum is the
-gradient of its winner. So the ``"fast"`` method finds each pixel's nearest leaf with no autograd
-(`ifslib.nearest`), then evaluates the distance to that one leaf with autograd: value and gradient
-are those of the full minimum, and memory is O(pixels + leaves) rather than O(pixels x leaves).
-
-The ``"brute"`` method is the paper's algorithm as written, every leaf at every pixel, kept as the
-reference. It runs in chunks of pixels under activation checkpointing, so its memory stays bounded
-while autograd still differentiates the true minimum.
-
-Inside overlapping closed shapes (boxes, disks, thick segments) the minimum of the leaves' signed
-distances is what the paper computes; outside the union it is the exact distance to the union.
-
-``depth="attractor"`` measures the distance to the attractor itself instead of a drawing at one
-depth: the leaves are points of the attractor's word tree, each branch cut where it is finer than
-``tolerance`` pixels (`ifslib.core.geometry.attractor`, which proves the bound
-``|field - d(x, A)| <= tolerance``), the nearest leaf of each pixel is found by a KD-tree
-(`ifslib.core.raster.nearest.nearest_point`), and the distance to it is taken with autograd through the
-winning leaf's word. That distance is unsigned: a filled attractor reads 0 (within the tolerance)
-inside.
+``"fast"`` finds each pixel's nearest leaf with no autograd, then differentiates the distance to that one
+leaf (the (sub)gradient of a minimum is its winner's); ``"brute"`` is the paper's algorithm, every leaf at
+every pixel, kept as the reference; ``depth="attractor"`` measures to the attractor's certified cut.
 """
 from __future__ import annotations
 

@@ -1,29 +1,7 @@
 """The no-grad search for each pixel's nearest leaf: exact, and O(pixels + leaves) in memory.
 
-The search walks a quadtree over the pixel grid, top down. Each block of pixels keeps a list of
-candidate leaves, and each step splits every block into its four children and prunes their lists.
-
-Why the pruning is exact: every leaf's signed distance ``d_j`` is exact, hence 1-Lipschitz. For a
-block with centre ``b`` whose pixel centres lie within ``h`` of ``b``, and a pixel ``x`` in it,
-``d_j(b) - h <= d_j(x) <= d_j(b) + h``. So every leaf that is nearest at some pixel of the block
-satisfies ``d_j(b) <= min_k d_k(b) + 2h``, the minimum taken over the parent's candidates (which,
-by induction, contain every pixel's nearest leaf). Leaves failing this can never win in the
-block and are dropped. At the last level a block is one pixel (``h = 0``): what survives are
-exactly the leaves at the minimum distance, and ties go to the smallest leaf id.
-
-Every primitive is a convex set, and so every leaf's signed distance is a convex function: it lies
-above its tangent plane, ``d_j(x) >= d_j(b) + g_j(b) . (x - b)`` for its gradient ``g_j(b)``. Where the
-kind gives its gradient (`ifslib.core.geometry.shapes.Shape.slope`: segments, boxes and disks, under
-similarity words), a pair's bound over a child block is that plane's least value over the child's
-pixel centres, at a corner of their box, or the Lipschitz bound where that is higher. A computed
-gradient's direction is only as good as the rounding of the vector it is taken from (a pixel on a
-thick segment's spine has none), so the plane is lowered by its possible error first. Leaves that
-lie beyond the block in another direction than the winner then drop a level earlier; near the
-Koch curve this leaves about 1.2 candidates a pixel at the last level instead of 5.
-
-No bounding ball and no "k nearest usually suffice" enters the argument, so leaves of any sizes,
-shapes and overlaps, and pixels inside boxes, come out right. It runs on the leaves'
-device (CPU or CUDA), in their dtype, with flat tensor operations only.
+A quadtree over the pixel grid, walked top down, prunes each block's candidate leaves by the leaves' 1-Lipschitz
+bound and, where a kind gives its gradient, its tangent plane (the argument: docs/guide/design.md).
 """
 from __future__ import annotations
 

@@ -1,19 +1,6 @@
 """Barnsley's collage distance: how far the union of the maps' copies of the target is from the target.
 
-The collage theorem bounds the distance between an IFS's attractor ``A`` and a target ``T`` by
-``h(T, H(T)) / (1 - s)``, with ``H(T) = union_i T_i(T)`` and ``s`` the largest contraction. The
-collage distance ``h(T, H(T))`` needs no rendering and no depth: only the maps and the target's
-pixels. Here it is a smooth, differentiable stand-in for the Hausdorff distance, on ``n`` of the
-target's foreground pixel centres ``P``, both terms read from the target's distance transform
-(`lookup`: bilinear, `torch.nn.functional.grid_sample`):
-
-* **outside**: the mean squared distance, to the target, of the copies ``T_i(p)``;
-* **cover**: the mean squared distance from each ``p`` to its nearest copy ``T_i(T)``, bounded
-  through the maps' inverses: ``d(p, T_i(T)) <= s_i d(T_i^-1 p, T)``.
-
-`collage_terms` takes a batch of IFSs' maps at once (the fractal search refines thousands,
-`ifslib.automatic.fractal`, whose `refine` is the library's one optimizer of it); `collage_distance`
-is one IFS's.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,18 +1,7 @@
 """Losses between a rendered IFS and a target: pixel or distance, fine or multiscale.
 
-Each name of `ifslib.names.LOSSES` is an entry of `LOSS_KINDS`, which carries what the code branches on:
-its `Family` (the two images it compares, how a pyramid pools them, what a schedule sharpens), whether
-it is summed over a pyramid, and how two images are compared (MSE unless it says otherwise). A new loss
-is a line in `ifslib.names.LOSSES` and an entry here.
-
-``pixel``
-    MSE between the rendered pixels ``exp(-relu(d)^2 / sigma^2)`` and the target's mask.
-``distance``
-    MSE between ``relu(d)`` and the target's distance transform (both in plane units).
-``multiscale_*``
-    The same MSE summed over the full image and ``levels`` pooled copies (2 x 2 pooling each
-    time; average pooling for pixels, min pooling for distances, as in the paper's repository), the
-    multiscale MSE the paper borrows from Mihai et al.
+Each name of `ifslib.names.LOSSES` is an entry of `LOSS_KINDS`, which carries what the code branches on; a new
+loss is a line in `ifslib.names.LOSSES` and an entry here.
 """
 from __future__ import annotations
 

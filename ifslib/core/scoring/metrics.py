@@ -1,14 +1,5 @@
-"""How good a fit is: IoU and F1 of the masks, symmetric Chamfer distance, control-point error,
-and a curve's self-crossings.
-
-`evaluate` scores two figures of one IFS: its drawing at depth K and its **attractor** (the answer
-to the inverse problem). A figure's mask is where its render is >= 0.5, that is where its distance
-is at most ``sigma * sqrt(ln 2)`` (0.83 px at the default sigma). The attractor's distance is the
-certified depth-free one (`ifslib.distance_field` with ``depth="attractor"``, within `EVAL_TOLERANCE`
-pixels) when its cut has at most `EVAL_MAX_LEAVES` leaves; the attractor of many overlapping maps
-(a silhouette's 24) has millions, and is drawn by the float64 chaos game instead (`EVAL_POINTS`
-points, seed 0, all on the attractor; in the tests the two agree to a quarter pixel plus the chaos
-game's coverage).
+"""How good a fit is: IoU and F1 of the masks, symmetric Chamfer distance, control-point error, and a
+curve's self-crossings; of the drawing at depth K and of the attractor (docs/guide/conventions.md, "Judging a fit").
 """
 from __future__ import annotations
 

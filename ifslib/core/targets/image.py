@@ -1,33 +1,7 @@
 """Which part of an image file is the figure, and its gray levels on the target's grid.
 
-The background is the colour that touches the image's border. The file's gray levels are scaled
-to ``[0, 1]`` by their own range and the border band (its outermost ``1/32`` of the smaller side,
-at least one pixel: a scan's thin dark edge does not outvote the page) is read
-(`border_polarity`):
-
-* mostly dark (under ``0.5 - SPLIT`` of its pixels at or above the threshold): the figure is the
-  light part, as in the paper's files, whose borders are black;
-* mostly light (over ``0.5 + SPLIT``): the figure is the dark part, as in most drawings;
-* split between the two (a figure that touches much of the border): there is no majority to go
-  by, the light part is taken, as in the paper's files, and `Target.polarity` says it is a guess.
-
-An image with a transparent part (RGBA, LA, PA, or a palette or colour key with transparency, its
-alpha not uniform) is read by its alpha channel: the figure is what is drawn, whatever its colour,
-unless the alpha's own border is mostly opaque (rounded corners, a transparent hole): then the
-transparency is not the background, and the colours, composited over white, are read as above.
-An image opaque everywhere is read by its colours.
-
-``invert=True`` takes the dark (or transparent) part as the figure and ``invert=False`` the light
-(or opaque) part, whatever the border. Arrays and IFSs are not guessed: an array's figure is where
-it is high, an IFS's is its drawing. `Target.polarity` says which part was taken and why; the
-command line prints it, so that a fit of the background is never silent.
-
-Gray levels are thresholded at the middle of the image's own range, ``(min + max) / 2``, because
-the paper's images are anti-aliased (the Koch curve peaks at 194 of 255), or at an explicit
-``threshold`` in ``[0, 1]``. 16-bit images are scaled by their own range too (Pillow's conversion to
-8 bits would clip them). An image larger than `READ_SIDE` pixels a side (and than twice the target)
-is reduced while it is read, so that memory stays bounded: the resampling to the target would
-average those pixels anyway.
+The background is the colour (or the transparency) that touches the image's border; the rules, and how
+`Target.polarity` says which part was taken: docs/guide/conventions.md, "Targets and polarity".
 """
 
 from __future__ import annotations

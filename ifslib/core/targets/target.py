@@ -52,7 +52,7 @@ class Target:
         bright, before thresholding (None for a mask or an IFS source). See `picture`.
     polarity : str
         Which part of the source is the figure, and why, in words: e.g. ``"a dark figure on a light
-        background (its border is light: 97 % of it)"`` (see the module docstring).
+        background (its border is light: 97 % of it)"`` (docs/guide/conventions.md).
     inverted : bool
         True when the figure is the source's dark (or transparent, or low) part.
     """
@@ -157,7 +157,7 @@ def load_target(source, size: int, invert: bool | None = None, threshold: float 
         Pixels per side of the target.
     invert : bool, optional
         None (the default): an image file's figure is found from its border, or its alpha channel
-        (module docstring); an array's figure is where it is high, an IFS's is its drawing.
+        (docs/guide/conventions.md); an array's figure is where it is high, an IFS's is its drawing.
         True: the figure is the dark (transparent, low) part; False: the light (opaque, high) part.
     threshold : float, optional
         Gray level in ``[0, 1]`` of the image's range above which a pixel is figure (0.5).
