@@ -1,24 +1,8 @@
 """ifslib: differentiable iterated function systems.
 
-The paper's core, one folder (`ifslib.core`), a stage a subfolder::
-
-    core/geometry/  JSON / pattern -> IFS -> maps -> leaves
-    core/raster/    leaves -> nearest leaf -> distance -> render
-    core/targets/   image -> Target (mask, distance transform, sizes)
-    core/scoring/   how close a drawing is: losses, metrics, the collage distance
-    core/fitting/   one Adam run -> strategies -> fit -> FitResult
-
-Beyond the paper, each extension a folder that uses the core and registers what it adds::
-
-    compression/  fractal image compression of gray photographs: collage and attractor coding
-    splatting/    a differentiable chaos game, a fit of many maps on it and the ``splat`` strategy
-    automatic/    a start read from the image (curve, shape, a fractal's maps) and the ``auto`` strategy
-    measures/     invariant measures, their fit to gray images, dimensions
-    studies/      sweeps and batches of many fits
-    teaching/     what the notebooks show and ask
-
-Data flows one way: the core imports no extension, and a folder imports only from those above it in
-this list (and from the top-level helpers ``errors``, ``names``, ``data``, ``paths``, ``threads``, ``progress``).
+The paper's core is `ifslib.core` (geometry, raster, targets, scoring, fitting); each extension beyond it is a
+folder that uses the core and registers what it adds (compression, splatting, automatic, measures, studies,
+teaching). Data flows one way: docs/guide/design.md.
 
 Typical use::
 

@@ -1,11 +1,7 @@
 """What discovery hands fitting: a `Plan`, the start read from the image and the candidates an
 automatic fit compares, made by `discover`.
 
-Fitting takes the plan as it is (`ifslib.fit` fits a plan with the ``auto`` strategy) and never
-calls back into discovery; the plan's ``pattern`` is the description the JSON file keeps. When the
-image alone cannot say whether the figure is a fractal or a shape (`ambiguous`), the plan carries
-both: the fractal search's maps as the plan and a shape plan as its rival, and fitting keeps the
-kind whose fitted attractor scores better.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

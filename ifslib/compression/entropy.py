@@ -1,11 +1,6 @@
 """Adaptive models and the range coder that store a code's fields in as few bits as their statistics allow.
 
-The coder is constriction's range coder (`constriction.stream.queue`, a queue: symbols come out in the
-order they went in, so each model may depend on everything decoded before). A field's symbol goes
-through `Coder.code(model, value, key)`: the encoder codes ``value`` and returns it, the decoder
-ignores ``value`` and returns what it decodes; either way the model then counts the symbol. One
-function walks a code's fields for both (`fields.code_fields`), so the writer and the reader cannot
-drift apart.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,11 +1,6 @@
 """The HV partition chosen by rate and distortion: rectangles cut at their strongest edge, pruned to a budget.
 
-Every ``max_block`` square is cut at its strongest edge (`rectangles.edge_split`), and each part again,
-down to blocks that cannot be cut: the full tree. Every node is fitted with a domain from the pool
-image (its shape's pool, `rectangles.rectangle_pool`, under its 4 or 8 isometries) and flat. Then, as
-the quadtree's `partition.prune`, dynamic programming keeps for a price of a bit the subtree of least
-``err + lam * bits`` under every node, the price bisected until the estimate fits; the estimate's bias
-is corrected by coding the result and aiming again (`config.RATE_ROUNDS`).
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

@@ -1,14 +1,6 @@
 """Grading runs: while nbgrader autogrades or validates a lesson, skip the demonstrations its checks do not need.
 
-nbgrader sets ``NBGRADER_EXECUTION`` (``"autograde"`` or ``"validate"``) in the kernel's environment
-while it executes a notebook. The course's release (``course/grading.py``) puts a locked cell after
-each lesson's parameters cell that, in such a run only, sets the lesson's grading sizes and calls
-`skip_cells` with the keys of the cells the exercises do not depend on (the lesson's long fits and
-sweeps): IPython then runs ``pass`` in their place. The student's own answers and the test cells
-always run, and a reader running the lesson sees every cell as written.
-
-A cell is named by `cell_key`, a hash of its source with each line's surrounding blanks and the empty
-lines dropped, so that a cell that a student edits is no longer skipped (it simply runs).
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

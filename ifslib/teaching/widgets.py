@@ -1,17 +1,6 @@
 """The explorer: move an IFS's control points with sliders and watch the fractal, its maps and its fit.
 
-``Explorer()`` shows, for a pattern (Koch, the paper's Koch start, the carpet, a grid, a rosette, the fern
-or an ``ifslib/1`` JSON file): the render, the outlines of the copies that make it up, every map's matrix
-with its contraction factor and, when a target is chosen, the loss and IoU, all redrawn when a
-slider moves. The ``attractor`` box draws the attractor itself instead of the drawing at the depth,
-and ``zoom`` (with its centre, ``zoom x`` and ``zoom y``) magnifies it up to 1024 times, its leaves
-refined for the window's own pixels (`ifslib.render`'s ``window``: certified within half a pixel, at a
-cost that follows the pixels; where overlapping copies make that cut exceed the leaf budget, the chaos
-game confined to the window draws it instead). An invalid state (a zero-length segment, a map that
-does not contract) shows a readable warning instead of a traceback. Without a frontend (papermill,
-nbval) nothing waits for input: `Explorer.figure` draws the current state as a static matplotlib figure.
-
-Needs ``ipywidgets`` (installed with ``pip install -e '.[dev]'``).
+Needs ``ipywidgets`` (``pip install -e '.[dev]'``); what it shows: docs/guide/internals.md.
 """
 from __future__ import annotations
 

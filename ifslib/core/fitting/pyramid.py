@@ -1,11 +1,7 @@
 """Coarse to fine in pixels: the one driver the ``pyramid`` and ``auto`` strategies climb with, and
 the attractor stage that ends them.
 
-A start is fitted at the coarsest size of the target's pyramid (64² for a 256² target), then at
-each finer size (`Pyramid.pyramid_factor` times larger) up to the target's own, each
-stage from the last one's best points and ending when its loss has converged. The learning rate
-grows with the pixel size (``lr * size / stage_size``), so a coarse step moves the points as far,
-in pixels, as a fine one.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 

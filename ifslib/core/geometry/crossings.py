@@ -1,12 +1,6 @@
 """Self-crossings of a curve: its depth-K segments, and a differentiable penalty on their crossings.
 
-The paper remarks that its fits' local minima coincide with self-crossings and suggests a barrier
-that prevents them. Two segments ``AB`` and ``CD`` properly cross when each one's endpoints lie
-strictly on opposite sides of the other's line. How deep such a crossing is: the shortest distance
-one endpoint has to travel to its partner's line to undo it,
-``min(|AB x AC|, |AB x AD|) / |AB|`` and ``min(|CD x CA|, |CD x CB|) / |CD|``, the smaller of the two.
-`crossing_penalty` sums that depth over all crossing pairs: zero for a curve that does not cross
-itself, continuous as a crossing opens, and differentiable in the control points.
+How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 
