@@ -105,19 +105,10 @@ if failed:
 EOF
 echo "wheel.sh: imports checked in $((SECONDS - step)) s"
 step=$SECONDS
-# Step 2: course/run_edition.py, less its injection of the quick values (it has no option for a
-# student's run yet): each notebook runs at the teaching values of its parameters cell. The copies keep
-# their metadata (the glossary reads notebook 01's quick values). A teaching run's longest cell (06's
-# sweep, 02's gallery) takes minutes: a shared machine may double it.
+# Step 2: course/run_edition.py --teaching: each notebook at the values of its parameters cell, as a student runs it,
+# two at a time at one thread each (the venv's own kernel; the copies keep their metadata: the glossary reads
+# notebook 01's quick values). A teaching run's longest cell (06's sweep, 02's gallery) takes minutes.
 status=0
-"$work/venv/bin/python" - "$work" <<'EOF' || status=$?
-import sys
-
-sys.path.insert(0, sys.argv[1])
-import run_edition  # noqa: E402
-
-run_edition.with_quick_values = lambda book: book
-sys.exit(run_edition.main([f"{sys.argv[1]}/class", "--timeout", "1800"]))
-EOF
+"$work/venv/bin/python" "$work/run_edition.py" "$work/class" --teaching --jobs 2 --timeout 1800 || status=$?
 echo "wheel.sh: every notebook at its teaching values in $((SECONDS - step)) s; $((SECONDS - started)) s in all"
 exit "$status"

@@ -1,10 +1,12 @@
 """Run every notebook of a folder as a student would, with nothing of the repository beside it.
 
-    python run_edition.py FOLDER [--timeout S]
+    python run_edition.py FOLDER [--timeout S] [--teaching] [--jobs N]
 
 Run by the Python of the environment under test (a fresh venv with the wheel of ifslib and
 requirements-student.txt): each notebook is executed in FOLDER with that Python's own kernel, its
-quick values (``metadata["ifslib"]["quick"]``) injected after its parameters cell when it has them.
+quick values (``metadata["ifslib"]["quick"]``) injected after its parameters cell when it has them
+(``--teaching``: at the values of its parameters cell, as a student runs it). ``--jobs`` notebooks
+run at once, each its own kernel (give each one thread: ``IFSLIB_THREADS=1``).
 An nbgrader test cell may raise ``AssertionError`` (an unanswered exercise); any other error fails
 the run. Needs only nbformat and nbclient, which JupyterLab brings.
 """
@@ -12,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from concurrent.futures import ThreadPoolExecutor
 import time
 from pathlib import Path
 
@@ -35,9 +38,11 @@ def is_test(cell) -> bool:
     return bool(grader.get("grade")) and not grader.get("solution")
 
 
-def run(path: Path, timeout: int) -> list[str]:
-    """Execute one notebook in its folder; the errors that are not an unanswered exercise's test."""
-    book = with_quick_values(nbformat.read(path, as_version=4))
+def run(path: Path, timeout: int, teaching: bool = False) -> tuple[list[str], float]:
+    """Execute one notebook in its folder: the errors that are not an unanswered exercise's test, and seconds."""
+    started = time.perf_counter()
+    book = nbformat.read(path, as_version=4)
+    book = book if teaching else with_quick_values(book)
     NotebookClient(book, timeout=timeout, kernel_name="python3", allow_errors=True,
                    resources={"metadata": {"path": str(path.parent)}}).execute()
     problems = []
@@ -45,24 +50,27 @@ def run(path: Path, timeout: int) -> list[str]:
         for output in cell.get("outputs", []):
             if output.output_type == "error" and not (is_test(cell) and output.ename == "AssertionError"):
                 problems.append(f"cell {index} raised {output.ename}: {output.evalue[:300]}")
-    return problems
+    return problems, time.perf_counter() - started
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=Path)
     parser.add_argument("--timeout", type=int, default=900, help="seconds a cell may run")
+    parser.add_argument("--teaching", action="store_true", help="run at the parameters cell's values")
+    parser.add_argument("--jobs", type=int, default=1, help="notebooks run at once")
     args = parser.parse_args(argv)
+    if args.jobs < 1:
+        parser.error(f"--jobs must be at least 1, got {args.jobs}")
     paths = sorted(args.folder.glob("*.ipynb"))
     failed = 0
-    for path in paths:
-        started = time.perf_counter()
-        problems = run(path, args.timeout)
-        seconds = time.perf_counter() - started
-        failed += bool(problems)
-        print(f"{path.name}: {'FAILED' if problems else 'ran'} in {seconds:.0f} s", flush=True)
-        for problem in problems:
-            print(f"    {problem}", flush=True)
+    with ThreadPoolExecutor(args.jobs) as pool:  # each notebook's work is in its kernel's process
+        runs = pool.map(lambda p: run(p, args.timeout, args.teaching), paths)
+        for path, (problems, seconds) in zip(paths, runs):
+            failed += bool(problems)
+            print(f"{path.name}: {'FAILED' if problems else 'ran'} in {seconds:.0f} s", flush=True)
+            for problem in problems:
+                print(f"    {problem}", flush=True)
     print(f"{len(paths) - failed} passed, {failed} failed (notebooks run from {args.folder})", flush=True)
     return 1 if failed or not paths else 0
 

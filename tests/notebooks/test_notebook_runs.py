@@ -71,7 +71,18 @@ def test_every_notebook_is_run():
     assert set(FIGURES) <= set(BOOKS)
 
 
-@pytest.mark.parametrize("book", sorted(BOOKS))
+#: The lessons make test runs: the paper's first (00, 01, 03) and the glossary, about 60 s of CPU in all. The
+#: others' quick runs (about 240 s of CPU, 08's splat fit and 07's the longest) are the ``slow`` tier: .ci/run runs
+#: them after make test, and make test-stored runs every notebook again at its teaching values.
+FIRST = ("00_", "01_", "03_", "glossary")
+
+
+def tiered(books):
+    """``books`` as pytest parameters, those not in `FIRST` marked ``slow``."""
+    return [pytest.param(b, marks=() if b.startswith(FIRST) else pytest.mark.slow) for b in books]
+
+
+@pytest.mark.parametrize("book", tiered(sorted(BOOKS)))
 def test_runs_at_quick_values(book, tmp_path_factory):
     executed = json.loads((quick_run(book, tmp_path_factory).parent / f"{book}.ipynb").read_text())
     # an exercise's locked test cell (nbgrader: grade, not solution) raises on a wrong answer, so a run
@@ -83,7 +94,7 @@ def test_runs_at_quick_values(book, tmp_path_factory):
             assert not any(o["output_type"] == "error" for o in cell["outputs"]), f"{book}, cell {k}: its test failed"
 
 
-@pytest.mark.parametrize("book", FIGURES)
+@pytest.mark.parametrize("book", tiered(FIGURES))
 def test_figure_matches_reference(book, tmp_path_factory):
     name = FIGURES[book]
     try:
