@@ -38,14 +38,15 @@ setup-grading: $(VENV)/.installed-grading  ## nbgrader for make student and .ci/
 
 setup: $(VENV)/.installed $(VENV)/.installed-grading $(VENV)/.installed-docs  ## create .venv and install ifslib (editable) with all its extras, at the tested versions (constraints.txt)
 
-# one pytest-xdist worker per core, at one torch thread each (tests/conftest.py); notebooks 00, 01, 03 and the
-# glossary run at their quick values (metadata["ifslib"]["quick"]) in a temporary copy, their figures compared on
+# one pytest-xdist worker per core, at one torch thread each (tests/conftest.py); notebooks 00, 01 and 03
+# run at their quick values (metadata["ifslib"]["quick"]) in a temporary copy, their figures compared on
 # the same worker; the other notebooks' quick runs are in the slow tier
-test: $(VENV)/.installed  ## run the test suite (the library, notebooks 00, 01, 03 and the glossary at their quick values); the slow tier: make test-slow
+test: $(VENV)/.installed  ## run the test suite (the library, notebooks 00, 01 and 03 at their quick values); the slow tier: make test-slow
 	$(PY) -m pytest -q -n auto --dist loadscope -m "not slow and not grading"
 
 # the tests marked `slow` (whole fractal searches, several fits, the sweep's process pool, the literature's
-# samplers, notebooks 02 and 04-10 at their quick values): a third of the suite's CPU, so make test leaves them out and .ci/run runs them after it
+# samplers, notebooks 02, 04-10 and the glossary at their quick values): about half the suite's CPU, so make test leaves
+# them out and .ci/run runs them after it
 test-slow: $(VENV)/.installed  ## the slow tier: whole fractal searches and several fits (CI runs it after make test)
 	$(PY) -m pytest -q -n auto --dist loadscope -m "slow and not grading"
 

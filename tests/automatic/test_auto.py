@@ -120,6 +120,7 @@ def test_auto_strategy_compares_candidates_by_loss_after_equal_steps_and_records
         ifslib.fit(plan, target, depth=3, steps=2, progress=False)
 
 
+@pytest.mark.slow
 def test_cli_fits_any_image_with_pattern_auto(tmp_path, capsys):
     target = ellipse_target(48)
     png = tmp_path / "blob.png"

@@ -1,5 +1,7 @@
 """The ``auto`` strategy's choice between kinds: a plan with a rival is fitted both ways and the fit whose
 attractor scores least (1 - IoU plus a cost a map) is kept, with the decision recorded."""
+import pytest
+
 import ifslib
 from ifslib.automatic import auto
 from ifslib.automatic.plan import Plan
@@ -85,6 +87,7 @@ def test_a_fractal_fit_never_returns_an_attractor_worse_than_its_start(monkeypat
     assert fitted.best.points.detach().equal(truth.points.detach()) and fitted.history.stages[0].kept_start is None
 
 
+@pytest.mark.slow
 def test_a_fractal_that_falls_short_is_polished_by_the_splat_fit_and_the_better_attractor_kept(monkeypatch):
     import dataclasses
 

@@ -39,6 +39,7 @@ def test_search_compares_the_numbers_of_maps_given_and_sampled_leaves_refuse_a_m
         sample_attractor(slow, 1e-3, 64)
 
 
+@pytest.mark.slow
 def test_search_runs_again_from_the_next_seed_only_while_no_attractor_fits(monkeypatch):
     """`search` wraps one search (`_search`): run again from the next seed when no attractor reaches `swap_below`,
     and the search whose chosen maps score least kept (the searches themselves are stood in for)."""

@@ -42,6 +42,7 @@ def test_an_hv_partition_from_the_command_line(tmp_path, png, capsys):
     assert tuple(choices) == tuple(PARTITIONS)  # the command line's list is the coder's
 
 
+@pytest.mark.slow
 def test_the_deblocking_filter_from_the_command_line(tmp_path, png, capsys):
     import subprocess
     import sys

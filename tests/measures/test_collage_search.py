@@ -60,6 +60,7 @@ def test_the_fft_correlation_and_norm_are_the_brute_force_ones():
             np.testing.assert_allclose(norm, slow_norm, rtol=1e-3)
 
 
+@pytest.mark.slow
 def test_a_lopsided_triangle_s_maps_and_probabilities_come_from_its_gray_image(lopsided):
     """The support cannot tell (0.5, 0.3, 0.2) from any other probabilities; its collage can (measured: 0.491, 0.297,
     0.211, every map's larger singular value 0.50, the smaller 0.44 to 0.50)."""
@@ -74,6 +75,7 @@ def test_a_lopsided_triangle_s_maps_and_probabilities_come_from_its_gray_image(l
     assert 0 < best.residual < 1
 
 
+@pytest.mark.slow
 def test_the_fit_from_the_collage_reaches_the_measure(lopsided):
     _, image = lopsided
     fit = fit_measure_from_collage(image, 3, MeasureFitOptions(steps=30, map_lr=0.001, fit_maps=True, measure=QUICK),
@@ -99,6 +101,7 @@ def test_the_blur_is_a_share_of_the_frame():
     assert CollageSearchOptions().blur_pixels == 1.0 and CollageSearchOptions(size=32).blur_pixels == 0.5
 
 
+@pytest.mark.slow
 def test_the_same_sets_at_one_and_two_threads(lopsided):
     _, image = lopsided
     options = CollageSearchOptions(size=32, turns=6, refine_steps=20, beams=2)

@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 import torch
 from PIL import Image
 
@@ -16,6 +17,7 @@ THREE = torch.tensor([[[0.5, 0.0, -0.2], [0.0, 0.5, -0.2], [0, 0, 1]],
                       [[0.5, 0.0, 0.0], [0.0, 0.5, 0.2], [0, 0, 1]]], dtype=torch.float64)
 
 
+@pytest.mark.slow
 def test_the_command_line_fits_with_the_splat_strategy(tmp_path):
     picture = ifslib.render(patterns.affine(THREE, depth=4, dtype=torch.float64), 32).detach().numpy()
     image = tmp_path / "three.png"
