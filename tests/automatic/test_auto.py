@@ -40,6 +40,7 @@ def test_a_blob_is_a_shape_a_thin_curve_is_a_curve_and_a_network_is_a_shape():
     assert auto.classify(ifslib.load_target(grid, 64)) == "shape"
 
 
+@pytest.mark.slow
 def test_shape_start_maps_contract_and_their_copies_cover_the_figure():
     target = ellipse_target()
     for k in (3, 5):

@@ -31,6 +31,7 @@ def _fit_both(fractal, target):
     return ifslib.fit(plan, target, steps=20, progress=False)
 
 
+@pytest.mark.slow
 def test_a_fractal_is_kept_over_a_shape_when_its_attractor_draws_the_figure():
     truth = ifslib.patterns.random_ifs(3, 1)
     target = ifslib.load_target(ifslib.render(truth, 64, method="chaos", points=200_000, seed=1).numpy(), 64)
@@ -49,6 +50,7 @@ def test_a_fractal_is_kept_over_a_shape_when_its_attractor_draws_the_figure():
                                       "steps": 0, "seconds": 0.0}]
 
 
+@pytest.mark.slow
 def test_a_shape_is_kept_when_the_fractal_draws_the_figure_worse():
     from ifslib.core.targets import silhouettes
 

@@ -27,6 +27,7 @@ def test_compress_then_decompress(tmp_path, png, capsys, method):
     assert np.abs(decoded - np.asarray(Image.open(png).convert("L"), dtype=float) / 255).mean() < 0.08
 
 
+@pytest.mark.slow
 def test_an_hv_partition_from_the_command_line(tmp_path, png, capsys):
     from ifslib.compression import read
     from ifslib.compression.config import PARTITIONS

@@ -14,6 +14,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 
+@pytest.mark.slow
 def test_explorer_notebook_without_the_papers_images(tmp_path, monkeypatch):
     papermill = pytest.importorskip("papermill")
     monkeypatch.delenv("IFSLIB_DATA", raising=False)           # the kernel inherits this environment

@@ -40,6 +40,7 @@ def test_splat_is_registered_by_its_home_module():
     assert strategies.strategy("splat").run is run_splat
 
 
+@pytest.mark.slow
 def test_a_fit_brings_the_attractor_nearer(target, start):
     result = ifslib.fit(start, target, steps=STEPS, progress=False, strategy="splat", depth="attractor")
     history = result.history

@@ -50,6 +50,7 @@ def test_resize_target_keeps_a_thin_curve_connected_and_a_shape_its_area():
     assert abs(resize_target(shape, 64).mask.mean() - disk.mean()) < 0.01
 
 
+@pytest.mark.slow
 def test_early_stop_is_the_same_run_cut_short(target):
     start = ifslib.initialize(KOCH, target, jitter=0.03, seed=1)
     short = run(start, target, steps=200, progress=False,
@@ -62,6 +63,7 @@ def test_early_stop_is_the_same_run_cut_short(target):
     assert torch.equal(short.final.points, full.final.points)
 
 
+@pytest.mark.slow
 def test_early_stop_ends_where_the_full_run_ends(target):
     # where both converge, stopping early costs no accuracy: the same points as 400 more steps
     start = ifslib.initialize(KOCH, target, jitter=0.03, seed=2)
