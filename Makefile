@@ -9,7 +9,8 @@ export IFSLIB_DATA
 # pip byte-compiles every module it installs (torch's thousands: a third of the set-up's time), so the
 # installs below skip it (--no-compile) and Python compiles a module the first time it is imported and
 # keeps it, even where the shell sets PYTHONDONTWRITEBYTECODE (the .pyc files go to .venv and to
-# __pycache__ folders that git ignores)
+# __pycache__ folders that git ignores); the set-up imports what every test worker imports once, so that
+# the workers do not each compile it at the same time (about 10 s of CPU a process)
 export PYTHONDONTWRITEBYTECODE :=
 
 .PHONY: setup setup-grading test test-slow test-fast test-stored figures book slides student student-binder setup-browser test-browser bench clean
@@ -22,6 +23,7 @@ $(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet --no-compile -c constraints.txt -e '.[dev,sweep]'
+	$(PY) -c 'import torch, scipy.optimize, matplotlib.pyplot, skimage.metrics, papermill, xdist, ifslib.automatic'
 	touch $@
 
 # nbgrader (and the classic notebook server it brings) only for the commands that run it: make student,
