@@ -35,6 +35,7 @@ import shutil
 import sys
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -263,20 +264,22 @@ def check_notebook(path: Path, instructor_path: Path, timeout: int = 600) -> tup
 
 
 def check(editions: list[Path], source: Path = NOTEBOOKS, timeout: int = 600) -> int:
-    """Execute and check each released notebook; prints one line each, returns the number that failed."""
+    """Execute and check each released notebook, one per core at a time (one thread each); prints one line each,
+    returns the number that failed."""
     os.environ["IFSLIB_THREADS"] = "1"  # the kernels inherit the environment
     os.environ.pop("MPLBACKEND", None)  # the student's inline backend
     failed = 0
-    for path in editions:
-        problems, seconds, count = check_notebook(path, source / path.name, timeout)
-        if problems:
-            failed += 1
-            print(f"{path.name}: FAILED in {seconds:.0f} s", flush=True)
-            for problem in problems:
-                print(f"    {problem}", flush=True)
-        else:
-            print(f"{path.name}: ran in {seconds:.0f} s; each of its {count} test cells raised AssertionError "
-                  "(nothing answered), no other cell raised; no solution or hidden test left", flush=True)
+    with ThreadPoolExecutor(len(os.sched_getaffinity(0))) as pool:  # each notebook's work is in its kernel
+        runs = pool.map(lambda path: check_notebook(path, source / path.name, timeout), editions)
+        for path, (problems, seconds, count) in zip(editions, runs):
+            if problems:
+                failed += 1
+                print(f"{path.name}: FAILED in {seconds:.0f} s", flush=True)
+                for problem in problems:
+                    print(f"    {problem}", flush=True)
+            else:
+                print(f"{path.name}: ran in {seconds:.0f} s; each of its {count} test cells raised AssertionError "
+                      "(nothing answered), no other cell raised; no solution or hidden test left", flush=True)
     return failed
 
 
