@@ -64,21 +64,6 @@ def pytest_configure(config):
     _wrap_nbval()
 
 
-def pytest_collection_modifyitems(config, items):
-    """The notebooks longest first (``notebooks/run.py``'s ``LONGEST``): pytest-xdist gives each worker its next
-    notebook as one ends, so the long runs start first and the two workers end together (in name order, 02, 04
-    and 06 could fall to one worker, which then ran alone for minutes)."""
-    if not config.getoption("nbval", False):
-        return
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("ifslib_notebooks_run", ROOT / "notebooks" / "run.py")
-    run = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(run)
-    order = {path: k for k, path in enumerate(run.longest_first(sorted({Path(item.fspath) for item in items})))}
-    items.sort(key=lambda item: order[Path(item.fspath)])
-
-
 def pytest_xdist_auto_num_workers(config):
     """``-n auto``: as many notebooks at once as the cores hold at ``IFSLIB_THREADS`` threads each, as ``notebooks/run.py`` runs them."""
     from ifslib.threads import cores
