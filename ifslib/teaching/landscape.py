@@ -22,7 +22,7 @@ from ..core.targets.target import Target
 
 
 def gradient_field(ifs: IFS, target: Target, index: int, xs: np.ndarray, ys: np.ndarray,
-                   loss: str | Callable = "multiscale_pixel", *, depth: int | None = None,
+                   loss: str | Callable, *, depth: int | None = None,
                    sigma: float | None = None, levels: int = 5, progress: bool = True) -> np.ndarray:
     """Descent direction of a loss for control point ``index`` placed at each grid position.
 
@@ -36,7 +36,7 @@ def gradient_field(ifs: IFS, target: Target, index: int, xs: np.ndarray, ys: np.
     xs, ys : numpy.ndarray
         ``(nx,)`` and ``(ny,)`` grid coordinates in plane units.
     loss : str or callable
-        As for `ifslib.loss`.
+        As for `ifslib.loss`; named, since the lesson compares the losses.
     depth, sigma, levels
         Render depth (``ifs.depth`` when None), pixel-loss width and multiscale levels.
     progress : bool

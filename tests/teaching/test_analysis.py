@@ -112,7 +112,8 @@ def test_alignment_of_known_fields():
 def test_gradient_field_rejects_a_bad_index():
     target = ifslib.load_target(ifslib.patterns.koch(depth=1), 16)
     with pytest.raises(ifslib.IFSError, match="out of range"):
-        landscape.gradient_field(ifslib.patterns.koch(depth=1), target, 9, np.zeros(1), np.zeros(1), progress=False)
+        landscape.gradient_field(ifslib.patterns.koch(depth=1), target, 9, np.zeros(1), np.zeros(1), "pixel",
+                                 progress=False)
 
 
 def test_copy_outlines_are_the_maps_of_the_bounding_box():

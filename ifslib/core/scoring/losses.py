@@ -130,7 +130,7 @@ def multiscale_mse(a: torch.Tensor, b: torch.Tensor, levels: int = 5, mode: str 
     return multiscale(mse, a, b, levels, mode)
 
 
-def loss(distance: torch.Tensor, target: Target, kind: str | Callable = "multiscale_pixel",
+def loss(distance: torch.Tensor, target: Target, kind: str | Callable = DEFAULT_LOSS,
          sigma: float | None = None, levels: int = 5) -> torch.Tensor:
     """The loss of a distance field against a target.
 
@@ -143,7 +143,7 @@ def loss(distance: torch.Tensor, target: Target, kind: str | Callable = "multisc
         Same size.
     kind : str or callable
         One of ``pixel``, ``multiscale_pixel``, ``distance``, ``multiscale_distance``, or a function
-        ``f(distance, target) -> scalar``.
+        ``f(distance, target) -> scalar``; by default a fit's (`ifslib.names.DEFAULT_LOSS`).
     sigma : float, optional
         Rendering width for pixel losses (one pixel by default).
     levels : int
