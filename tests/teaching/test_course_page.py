@@ -24,6 +24,9 @@ import nbformat
 import pytest
 from common_testing import load_module
 
+pytestmark = pytest.mark.slow  # make test-slow: the course page's commands run in subprocesses
+
+
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "guide" / "course.md"
 NOTEBOOKS = ROOT / "notebooks"

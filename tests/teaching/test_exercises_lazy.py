@@ -37,6 +37,9 @@ from ifslib.core.targets.target import foreground_points
 from ifslib.paths import load_script
 from ifslib.teaching.exercises import harness
 
+pytestmark = pytest.mark.slow  # make test-slow: the lazy answers' checks run the lessons' targets at several sizes
+
+
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "course"))
 import grading_run  # noqa: E402  the grading values nbgrader runs a lesson at

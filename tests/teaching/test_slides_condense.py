@@ -15,6 +15,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
+pytestmark = pytest.mark.slow  # make test-slow: the decks are built from the stored notebooks
+
+
 ROOT = Path(__file__).resolve().parents[2]
 v4 = nbformat.v4
 

@@ -14,6 +14,9 @@ import nbformat
 from common_testing import load_module
 import pytest
 
+pytestmark = pytest.mark.slow  # make test-slow: each deck is built for the students
+
+
 ROOT = Path(__file__).resolve().parents[2]
 NOTEBOOKS = ROOT / "notebooks"
 v4 = nbformat.v4
