@@ -47,7 +47,7 @@ test: $(VENV)/.installed  ## run the test suite (the library, notebooks 00, 01 a
 	$(PY) -m pytest -q -n auto --dist loadscope -m "not slow and not grading"
 
 # the tests marked `slow` (whole fractal searches, several fits, the sweep's process pool, the literature's
-# samplers, notebooks 02, 04-10 and the glossary at their quick values): about half the suite's CPU, so make test leaves
+# samplers, the course's own checks, notebooks 02, 04-10 and the glossary at their quick values): about half the suite's CPU, so make test leaves
 # them out and .ci/run runs them after it
 test-slow: $(VENV)/.installed  ## the slow tier: whole fractal searches and several fits (CI runs it after make test)
 	$(PY) -m pytest -q -n auto --dist loadscope -m "slow and not grading"
