@@ -106,9 +106,9 @@ EOF
 echo "wheel.sh: imports checked in $((SECONDS - step)) s"
 step=$SECONDS
 # Step 2: course/run_edition.py --teaching: each notebook at the values of its parameters cell, as a student runs it,
-# two at a time at one thread each (the venv's own kernel; the copies keep their metadata: the glossary reads
+# one per core at a time, at one thread each (the venv's own kernel; the copies keep their metadata: the glossary reads
 # notebook 01's quick values). A teaching run's longest cell (06's sweep, 02's gallery) takes minutes.
 status=0
-"$work/venv/bin/python" "$work/run_edition.py" "$work/class" --teaching --jobs 2 --timeout 1800 || status=$?
+"$work/venv/bin/python" "$work/run_edition.py" "$work/class" --teaching --timeout 1800 || status=$?
 echo "wheel.sh: every notebook at its teaching values in $((SECONDS - step)) s; $((SECONDS - started)) s in all"
 exit "$status"

@@ -6,16 +6,18 @@ Run by the Python of the environment under test (a fresh venv with the wheel of 
 requirements-student.txt): each notebook is executed in FOLDER with that Python's own kernel, its
 quick values (``metadata["ifslib"]["quick"]``) injected after its parameters cell when it has them
 (``--teaching``: at the values of its parameters cell, as a student runs it). ``--jobs`` notebooks
-run at once, each its own kernel (give each one thread: ``IFSLIB_THREADS=1``).
+run at once (one per core by default, as ``notebooks/student.py`` runs them), each its own kernel (give
+each one thread: ``IFSLIB_THREADS=1``).
 An nbgrader test cell may raise ``AssertionError`` (an unanswered exercise); any other error fails
 the run. Needs only nbformat and nbclient, which JupyterLab brings.
 """
 from __future__ import annotations
 
 import argparse
+import os
 import sys
-from concurrent.futures import ThreadPoolExecutor
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import nbformat
@@ -58,7 +60,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("folder", type=Path)
     parser.add_argument("--timeout", type=int, default=900, help="seconds a cell may run")
     parser.add_argument("--teaching", action="store_true", help="run at the parameters cell's values")
-    parser.add_argument("--jobs", type=int, default=1, help="notebooks run at once")
+    parser.add_argument("--jobs", type=int, default=len(os.sched_getaffinity(0)),
+                        help="notebooks run at once (default: one per core)")
     args = parser.parse_args(argv)
     if args.jobs < 1:
         parser.error(f"--jobs must be at least 1, got {args.jobs}")
