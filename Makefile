@@ -56,10 +56,12 @@ test-slow: $(VENV)/.installed  ## the slow tier: whole fractal searches and seve
 # checked cell's text compared, sanitized by notebooks/nbval-sanitize.cfg, and its pictures by
 # tests/nbval_stored.py), as many at once as the cores hold at one thread each (notebooks/run.py's way).
 # NOTEBOOKS: name prefixes or paths, e.g. `make test-stored NOTEBOOKS="00_tutorial 01 03 glossary"`; all by default.
+# KERNEL: a Jupyter kernel's name to run them in (CI: the students' venv, .ci/wheel.sh); this venv's Python by default.
 NOTEBOOKS ?=
+KERNEL ?=
 STORED = $(if $(strip $(NOTEBOOKS)),$(foreach n,$(NOTEBOOKS),$(if $(filter %.ipynb,$(n)),$(n),$(wildcard notebooks/$(n)*.ipynb))),$(wildcard notebooks/[0-9][0-9]_*.ipynb) notebooks/glossary.ipynb)
 test-stored: $(VENV)/.installed  ## the stored notebooks run again and compared with their outputs, pictures included (nbval; NOTEBOOKS="01 03")
-	$(PY) -m pytest -p tests.nbval_stored --nbval --nbval-current-env --nbval-sanitize-with notebooks/nbval-sanitize.cfg \
+	$(PY) -m pytest -p tests.nbval_stored --nbval $(if $(KERNEL),--nbval-kernel-name $(KERNEL),--nbval-current-env) --nbval-sanitize-with notebooks/nbval-sanitize.cfg \
 		-n auto --dist loadfile -q $(sort $(STORED))
 
 # the inner loop of work: the library's quick tests, without the notebooks' runs and the slow searches

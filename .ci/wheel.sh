@@ -8,9 +8,13 @@
 #   1. every module the student edition's code cells import, every module of the installed ifslib and
 #      every module ifslib imports inside a function (its lazy imports) imports; an import guarded by
 #      `except ImportError` is optional and left out (the sweep's Dask);
-#   2. every notebook runs at its teaching values, the ones a student runs, with that venv's kernel
-#      (course/run_edition.py): the quick values the rest of CI uses take other code paths
-#      (notebook 06's "serial" scheduler where a student's is "local").
+#   2. every notebook of the student edition runs whole at its quick values with that venv's kernel
+#      (course/run_edition.py): no lesson cell needs a missing package or an exercise's answer;
+#   3. every stored notebook runs again at its teaching values, the ones a student runs, in that venv's
+#      kernel, and strict nbval compares it with what is stored (`make test-stored KERNEL=...`, the same
+#      check as on the project's venv): the teaching values take code paths the quick ones do not
+#      (notebook 06's "local" scheduler where the quick run's is "serial"). One run at the teaching
+#      values serves both checks, the stored outputs' and the students' venv's: they cost about 1,000 s each.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo="$(pwd)"
@@ -105,10 +109,20 @@ if failed:
 EOF
 echo "wheel.sh: imports checked in $((SECONDS - step)) s"
 step=$SECONDS
-# Step 2: course/run_edition.py --teaching: each notebook at the values of its parameters cell, as a student runs it,
-# one per core at a time, at one thread each (the venv's own kernel; the copies keep their metadata: the glossary reads
-# notebook 01's quick values). A teaching run's longest cell (06's sweep, 02's gallery) takes minutes.
+# Step 2: course/run_edition.py: the student edition at its quick values, one notebook per core at a time, at one thread
+# each (the venv's own kernel; the copies keep their metadata: the glossary reads notebook 01's quick values).
 status=0
-"$work/venv/bin/python" "$work/run_edition.py" "$work/class" --teaching --timeout 1800 || status=$?
-echo "wheel.sh: every notebook at its teaching values in $((SECONDS - step)) s; $((SECONDS - started)) s in all"
+"$work/venv/bin/python" "$work/run_edition.py" "$work/class" --timeout 900 || status=$?
+echo "wheel.sh: the student edition at its quick values in $((SECONDS - step)) s"
+step=$SECONDS
+# Step 3: the stored notebooks in the students' venv, compared with nbval. The kernel is registered inside that venv
+# (its share/jupyter, found through JUPYTER_PATH); pytest and nbval are the project's, the kernel's Python the venv's,
+# started in notebooks/, so the cells import the installed wheel.
+"$work/venv/bin/python" -m ipykernel install --prefix "$work/venv" --name ifslib-student --display-name "ifslib (students' venv)" >/dev/null
+cd "$repo/notebooks"  # where nbval starts the kernel: the repository's ifslib must not be the one imported
+"$work/venv/bin/python" -c "import ifslib; assert 'site-packages' in ifslib.__file__, ifslib.__file__"
+cd "$repo"
+JUPYTER_PATH="$work/venv/share/jupyter" .venv/bin/jupyter kernelspec list | grep -q "ifslib-student *$work/venv/"
+JUPYTER_PATH="$work/venv/share/jupyter" make test-stored KERNEL=ifslib-student || status=$?
+echo "wheel.sh: the stored notebooks at their teaching values in the students' venv in $((SECONDS - step)) s; $((SECONDS - started)) s in all"
 exit "$status"
