@@ -5,7 +5,7 @@ A pytest plugin, loaded with ``-p tests.nbval_stored`` next to ``--nbval`` (the 
 
 * **The kernel's environment, as ``notebooks/store.py`` stores a run**: no ``MPLBACKEND`` (the
   inline backend, so the figure cells show their pictures; CI exports ``MPLBACKEND=Agg``),
-  ``TQDM_DISABLE=1``, the figure that a notebook saves written into ``build/nbval-figures``
+  ``store.KERNEL_ENV`` (no progress bar, torch's AVX2 kernels), the figure that a notebook saves written into ``build/nbval-figures``
   (``IFSLIB_FIGURES``), never over ``figures/``, and ``IFSLIB_THREADS=1`` unless it is set: the
   stored runs are made two notebooks at a time at one thread each (``notebooks/run.py``), and
   ``-n auto`` runs as many notebooks at once as the cores hold at that thread count.
@@ -58,7 +58,7 @@ def pytest_configure(config):
     if not config.getoption("nbval", False):
         return
     os.environ.pop("MPLBACKEND", None)
-    os.environ["TQDM_DISABLE"] = "1"
+    os.environ.update(_store().KERNEL_ENV)
     os.environ.setdefault("IFSLIB_THREADS", "1")
     os.environ.setdefault("IFSLIB_FIGURES", str(FIGURES))
     _wrap_nbval()
