@@ -21,35 +21,25 @@ from ..geometry.leaves import check_bytes
 from .chains import Step, fixed_points, walk
 from .nearest import nearest_point, pixel_centres
 
-#: Chains of `chaos_game` run side by side, at most (one per point below it). Each pays the burn-in
-#: (`burn_in_steps`: 227 steps for the fern), so more chains make more of the first points independent but
-#: cost more for few points: 50,000 points of the fern take 10 ms with 1024 chains, 16 ms with 2048 and
-#: 19 ms with 4096 on one thread; 10^6 points take 0.04 to 0.07 s with any of them.
+#: Chains of `chaos_game` run side by side, at most: each pays the burn-in, so more cost more for few points.
 CHAINS = 2048
 
-#: The most steps a chain of `chaos_game` takes to forget its start (a largest scale up to about 0.993 needs no
-#: more): its points are on the attractor whatever the burn-in, but maps that contract more slowly (a stalled
-#: fit's) leave the sample leaning towards the start, and `chaos_game` warns. More steps, a fairer sample of such
-#: maps; each 1,000 steps cost about 0.1 s of one thread for 2048 chains.
+#: The most steps a chain of `chaos_game` takes to forget its start (enough for a largest scale up to about 0.993).
 MAX_BURN_IN = 5_000
 
 #: Points of the chaos game a picture uses by default.
 DEFAULT_POINTS = 1_000_000
 
-#: A window's chaos game keeps the points of the window grown by this share of its size on each side,
-#: so that a pixel near its edge still finds the points just outside.
+#: A window's chaos game keeps the points of the window grown by this share of its size on each side.
 WINDOW_MARGIN = 0.25
 
-#: A window's chaos game maps its points into copies whose balls are this share of the window's
-#: half-diagonal: smaller copies waste fewer points outside the window (1,000,000 points of a 1000x window
-#: of the fern in 0.5 s of CPU, against 0.9 s with copies of the whole half-diagonal).
+#: A window's chaos game maps its points into copies whose balls are this share of the window's half-diagonal.
 COPY_SHARE = 0.25
 
 #: A window's chaos game draws at most this many rounds of points before it returns what it has.
 MAX_ROUNDS = 64
 
-# Rough bytes per point (the float64 points, their copy for the KD-tree, the tree) and per pixel
-# (its centre, its nearest point's index and distance), rounded up.
+# Rough bytes per point (points, their KD-tree copy, the tree) and per pixel, rounded up.
 _BYTES_PER_POINT = 64
 _BYTES_PER_PIXEL = 64
 
@@ -63,30 +53,8 @@ def burn_in_steps(maps: torch.Tensor, rules=None, dtype=np.float64) -> int:
     """Steps after which a chain of the chaos game has forgotten its start to the precision of ``dtype``.
 
     Two chains that apply the same ``k`` maps end at most ``s_max ** k`` times their starts' distance
-    apart (``s_max`` the largest scale, each map's largest singular value). A chain started on the
-    attractor is within its diameter of any other point of it, so after the least ``k`` with
-    ``s_max ** k * diameter`` below ``dtype``'s resolution at the attractor (its epsilon times the
-    largest coordinate) its points are draws of the invariant measure, whatever the start.
-
-    Parameters
-    ----------
-    maps : torch.Tensor
-        ``(m, 3, 3)`` (or ``(m, 2, 3)``) maps in plane units.
-    rules : sequence, optional
-        The IFS's rules, to name the one that does not contract.
-    dtype : numpy dtype
-        The chains' float type.
-
-    Returns
-    -------
-    int
-        ``k >= 0`` (0 when the attractor is one point); `chaos_game` takes at most `MAX_BURN_IN` of them.
-
-    Raises
-    ------
-    IFSError
-        For a map that does not contract.
-    """
+    apart, so after the least ``k`` with ``s_max ** k * diameter`` below ``dtype``'s resolution at the
+    attractor its points are draws of the invariant measure. `IFSError` for a map that does not contract."""
     with torch.no_grad():
         maps = maps.detach().double()
         largest = float(check_contractive_maps(maps, rules).max())
@@ -101,49 +69,19 @@ def burn_in_steps(maps: torch.Tensor, rules=None, dtype=np.float64) -> int:
 
 
 def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
-    """``n`` points of the attractor by the chaos game, in float64: ``n`` draws of the invariant measure.
+    """``n`` points of the attractor by the chaos game, in float64: ``(n, 2)`` draws of the invariant measure.
 
-    ``min(n, CHAINS)`` chains start at the first map's fixed point and take `burn_in_steps` steps, so
-    that they have forgotten it; then each records its next ``ceil(n / chains)`` points. The maps are
-    drawn with `IFS.measure_probabilities`.
-
-    Parameters
-    ----------
-    ifs : IFS
-        Its rules must contract (largest singular value < 1); primitives and depth play no part.
-    n : int
-        Number of points, >= 1.
-    seed : int
-        Seeds `numpy.random.default_rng`: the same seed gives the same points (at any thread count).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(n, 2)`` float64 points on the attractor (plane units), step by step: row ``i`` is chain
-        ``i % chains``'s point ``i // chains``, so the first ``min(n, CHAINS)`` rows are independent draws.
-
-    Raises
-    ------
-    IFSError
-        For ``n < 1``, more points than the memory budget holds, or a map that does not contract.
-
-    Warns
-    -----
-    UserWarning
-        When the maps contract so slowly that a chain would need more than `MAX_BURN_IN` steps to forget
-        its start: the points still lie on the attractor, but lean towards the first map's fixed point.
-    """
+    ``min(n, CHAINS)`` chains start at the first map's fixed point and take `burn_in_steps` steps, then
+    record; row ``i`` is chain ``i % chains``'s point ``i // chains``. The same ``seed`` gives the same
+    points at any thread count. Warns when the burn-in is cut at `MAX_BURN_IN` (the points still lie on
+    the attractor, but lean towards the start)."""
     return _points(ifs, n, seed, warn=True)
 
 
 def chaos_chains(maps: torch.Tensor, probabilities: np.ndarray, chains: int, steps: int, seed: int,
                  rules=None, warn: bool = False) -> Iterator[Step]:
-    """The chaos game's chains as every caller walks them: ``chains`` chains from the first map's fixed point,
-    `burn_in_steps` unrecorded (at most `MAX_BURN_IN`), then ``steps`` recorded steps, seeded by ``seed``.
-
-    ``maps`` are ``(m, 3, 3)`` float64; ``rules`` the IFS's, for the burn-in's contraction. ``warn``: say when
-    the burn-in is cut, for callers that sample the measure (a picture of the set lies on it whatever the cut).
-    """
+    """The chaos game's chains: ``chains`` from the first map's fixed point, `burn_in_steps` unrecorded
+    (at most `MAX_BURN_IN`), then ``steps`` recorded; ``warn`` when the burn-in is cut (for callers that sample the measure)."""
     burn = burn_in_steps(maps, rules)
     if burn > MAX_BURN_IN:
         if warn:
@@ -157,9 +95,7 @@ def chaos_chains(maps: torch.Tensor, probabilities: np.ndarray, chains: int, ste
 
 
 def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
-    """`chaos_game`'s points; ``warn``: say when the burn-in is cut at `MAX_BURN_IN`. A picture of the
-    attractor (`chaos_field`, `chaos_reach`, a window) does not warn: it draws the set, which every point
-    lies on whatever the burn-in, not the measure."""
+    """`chaos_game`'s points; a picture of the set (``warn=False``) lies on it whatever the burn-in."""
     check_int(n, "the number of chaos-game points", 1)
     check_int(seed, "seed", 0)
     _check_memory(n)
@@ -175,23 +111,11 @@ def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
 
 
 def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
-    """The copies ``T_w(A)`` of the attractor that may meet ``window``, each a small share of its size.
+    """The copies ``T_w(A)`` of the attractor that may meet ``window``, each at most `COPY_SHARE` of its size:
+    ``(K, 2, 3)`` composed maps and ``(K,)`` their words' probabilities (K may be 0).
 
-    The words are expanded from the root while their ball ``B(T_w(c), ||L_w|| R)`` (which holds
-    ``T_w(A)``; `ifslib.core.geometry.attractor.attractor_ball`) meets the window and is wider than
-    `COPY_SHARE` of the window's half-diagonal (small copies waste fewer points outside the window):
-    a branch whose ball misses the window holds no point of it. The words kept form
-    a cut of every branch that meets the window, so the invariant measure restricted to the window
-    is that of the mixture of ``T_w`` applied to chaos-game points, ``T_w`` chosen with the word's
-    probability.
-
-    Returns
-    -------
-    maps : numpy.ndarray
-        ``(K, 2, 3)`` float64 composed maps ``T_w`` (K may be 0: the window misses the attractor).
-    weight : numpy.ndarray
-        ``(K,)`` each word's probability under `ifslib.IFS.measure_probabilities`.
-    """
+    The words kept form a cut of every branch that meets the window, so the measure restricted to the window
+    is the mixture of ``T_w`` applied to chaos-game points."""
     window = check_window(window)
     with torch.no_grad():
         maps = ifs.to(torch.float64).maps()
@@ -213,18 +137,8 @@ def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
 
 
 def chaos_window(ifs: IFS, n: int, window, seed: int = 0) -> np.ndarray:
-    """Up to ``n`` points of the attractor inside ``window``, by the chaos game mapped into the copies that meet it.
-
-    Each round maps chaos-game points (`chaos_game`) by copies ``T_w`` of `window_copies`, chosen
-    with their words' probabilities, and keeps those inside the window: points of the attractor
-    (up to float64 rounding), spread as the chaos game's own points are, however small the window.
-    Stops at ``n`` points or after `MAX_ROUNDS` rounds (a window that barely meets the attractor).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(k, 2)`` float64 points, ``k <= n`` (0 when the window misses the attractor).
-    """
+    """Up to ``n`` points of the attractor inside ``window``: chaos-game points mapped by `window_copies`,
+    those inside kept, for at most `MAX_ROUNDS` rounds."""
     check_int(n, "the number of chaos-game points", 1)
     _check_memory(n)
     window = check_window(window)
@@ -254,20 +168,8 @@ def _grown(window, share: float) -> tuple[float, float, float, float]:
 def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, window=None) -> torch.Tensor:
     """Distance from every pixel centre to the nearest of ``n`` chaos-game points: ``(size, size)`` float64.
 
-    Every chaos-game point lies on the attractor, so this is never below the distance to the
-    attractor; it exceeds it only where the points have not yet come near (rarely visited parts).
-
-    Parameters
-    ----------
-    ifs : IFS
-    size : int
-    n, seed
-        As in `chaos_game`.
-    window : (x0, y0, x1, y1), optional
-        The box of the plane the picture covers (the frame when None). Its ``n`` points are those
-        of the window grown by `WINDOW_MARGIN` (`chaos_window`), so that a deep zoom gets as many
-        as the frame; where the window misses the attractor, the whole attractor's.
-    """
+    Never below the distance to the attractor. A ``window`` draws the points of the window grown by
+    `WINDOW_MARGIN` (`chaos_window`), so a deep zoom gets as many as the frame."""
     check_int(n, "the number of chaos-game points", 1)
     _check_memory(n, check_int(size, "size", 1) ** 2)
     found = np.empty((0, 2)) if window is None else chaos_window(ifs, n, _grown(window, WINDOW_MARGIN), seed)
@@ -278,17 +180,11 @@ def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, win
 
 def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
                 seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """Every (pixel, chaos-game point) pair closer than ``radius`` (plane units), found without a KD-tree:
-    ``(pixel, distance)``, the flat row-major pixel index and the float64 distance of each pair.
+    """Every (pixel, chaos-game point) pair closer than ``radius``: the flat pixel index and the float64 distance.
 
-    A pixel's least distance among its pairs is `chaos_field`'s value there wherever that is at most
-    ``radius`` (the same ``n`` points of the same ``seed``, the same pixel centres and the same float64
-    distance), and the pixels with no pair are farther than ``radius`` from every point. A point can only be
-    within ``radius`` of the pixel centres in the box of ``radius`` around it, so each point is tested
-    against those few (2 x 2 within 0.83 px, the reach of `figure_mask`'s default): at a screening
-    drawing's 50,000 points 11 ms where the distance field's KD-tree took 24, and the fractal search draws
-    hundreds (`ifslib.figure_mask` uses it for ``method="chaos"``).
-    """
+    A pixel's least distance is `chaos_field`'s value wherever that is at most ``radius``. Each point is tested
+    only against the pixel centres in the box of ``radius`` around it, faster than the KD-tree at the fractal
+    search's sizes (`ifslib.figure_mask` with ``method="chaos"``)."""
     check_int(n, "the number of chaos-game points", 1)
     check_int(size, "size", 1)
     if not (isinstance(radius, (int, float)) and 0 <= radius < math.inf):
