@@ -21,7 +21,7 @@ from ...progress import note
 from ..scoring.losses import loss_kind
 from ..scoring.metrics import evaluate, self_crossings
 from ...names import DEFAULT_STRATEGY, STRATEGIES  # the names live apart, for the command line to check without torch
-from ..targets.placement import place
+from ..targets.placement import initialize
 from ..targets.target import Target
 from .options import Anneal, CoarseToFine, Multistart, Plain, Pyramid, Restart, RunOptions, Uncross
 from .frame import Frame
@@ -123,15 +123,15 @@ def _crosses(ifs: IFS) -> bool:
 
 def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Generator) -> list[IFS]:
     """``n`` starting points: ``ifs`` itself, then jittered copies of it and, for curves, every other
-    one a best-fit-line start (`ifslib.core.targets.placement.place`, no discovery): the first exactly
+    one a best-fit-line start (`ifslib.core.targets.placement.initialize`, no discovery): the first exactly
     on the line, the paper's advice and the start that recovers most often (docs/results/strategies.md),
     the later ones jittered."""
     out = [ifs]
     for k in range(1, n):
         if is_curve(ifs) and k % 2 == 1:
-            line = place(ifs, target, jitter=0.0 if k == 1 else jitter, seed=int(rng.integers(2**31)))
+            line = initialize(ifs, target, jitter=0.0 if k == 1 else jitter, seed=int(rng.integers(2**31)))
             if k == 1 and torch.allclose(line.points, ifs.points):  # the given start is the line itself
-                line = place(ifs, target, jitter=jitter, seed=int(rng.integers(2**31)))
+                line = initialize(ifs, target, jitter=jitter, seed=int(rng.integers(2**31)))
             out.append(line)
         else:
             out.append(ifs.jittered(jitter, rng))

@@ -24,10 +24,8 @@ MAX_WORD_LENGTH = 512
 def _uniforms(seed: int, n: int, cols: int) -> torch.Tensor:
     """``(n, cols)`` float64 uniforms, the same for the same ``(seed, n)`` whatever was asked before.
 
-    Cached (a fit asks every step), and drawn column by column (walker ``i``'s uniform for letter ``j`` is the
-    generator's number ``j * n + i``), so a cache grown for longer words keeps the columns it had: drawn row by row,
-    growing it changed every uniform, and a fit's sampled leaves depended on the fits run before it in the process.
-    """
+    Cached (a fit asks every step) and drawn column by column, so a cache grown for longer words keeps its
+    columns: a fit's sampled leaves do not depend on the fits run before it in the process."""
     cached = _UNIFORMS.get((seed, n))
     if cached is None or cached.shape[1] < cols:
         generator = torch.Generator().manual_seed(seed)
@@ -48,40 +46,12 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
                      window=None) -> AttractorLeaves:
     """``n`` leaves of the cut of `attractor_leaves`, drawn at random: a chaos game on the word tree.
 
-    Each of ``n`` walkers descends the word tree from the root, choosing map ``i`` with the chaos
-    game's probability (`chaos_probabilities`: in proportion to
-    ``|det L_i|``, with a floor), and stops at the first word with ``||L_w|| R <= tolerance``: it
-    ends on a leaf of the certified cut. So every sampled leaf is within ``tolerance`` of the
-    attractor (the field from them is never below ``d(x, A) - tolerance``), and, where the
-    walkers have come, the attractor is within ``tolerance`` of them; unlike the full cut, the
-    number of leaves is ``n`` however much the copies overlap (24 overlapping maps of a silhouette
-    need millions of leaves for the certified cut at a pixel's tolerance, and 65,536 samples
-    cover it several times per pixel). This is how Tu et al. (AAAI 2023) and Djeacoumar et al.
-    (CGF 2025) fit attractors; here every leaf keeps its word, so the gradient is exact for the
-    sampled points.
-
-    Parameters
-    ----------
-    maps : torch.Tensor
-        ``(m, 3, 3)`` contracting maps, with or without autograd.
-    tolerance : float
-        ``ε`` in plane units.
-    n : int
-        Number of walkers (leaves; some may repeat).
-    seed : int
-        Seeds the walkers' choices: the same seed gives the same digits, so leaves move smoothly
-        with the maps from one fit step to the next.
-    rules : sequence of Rule, optional
-        The rules the maps come from, named in the message of a map that does not contract.
-    window : (x0, y0, x1, y1), optional
-        Confine the walkers to the copies of the attractor about half this box's size that may hold
-        the nearest point of one of its points (`_walker_starts`): a 1000x zoom gets as many leaves
-        as the frame, where walkers from the root would almost all land outside it.
-
-    Returns
-    -------
-    AttractorLeaves
-    """
+    Each walker descends from the root, choosing maps with `chaos_probabilities` from uniforms fixed by
+    ``seed`` (so leaves move smoothly with the maps from step to step), and stops at the first word with
+    ``||L_w|| R <= tolerance``: a leaf of the certified cut, whose word it keeps, so the gradient is exact.
+    The count is ``n`` however much the copies overlap (as Tu et al., AAAI 2023, and Djeacoumar et al., CGF
+    2025, fit attractors). A ``window`` starts the walkers at the copies about half its size that may hold
+    its points' nearest points (`_walker_starts`), so a deep zoom gets as many leaves as the frame."""
     tolerance = check_plane_tolerance(tolerance)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")
@@ -122,12 +92,8 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
 
 
 def _walker_starts(work: torch.Tensor, radius: float, n: int, window, tolerance: float, uniform: torch.Tensor, rules):
-    """Where `sample_attractor`'s ``n`` walkers start: their maps ``(n, 2, 3)``, errors ``(n,)`` and words ``(n, K0)``.
-
-    Without a window, all at the root. With one, each at a copy ``T_w(A)`` about half the window's size
-    that may hold a window pixel's nearest point (`attractor_leaves` at that tolerance), drawn with the
-    word's probability from ``uniform`` ``(n,)``: the chaos game's measure, restricted to those copies.
-    """
+    """Where `sample_attractor`'s ``n`` walkers start: their maps ``(n, 2, 3)``, errors ``(n,)`` and words ``(n, K0)``:
+    the root, or for a window copies drawn with their words' probabilities from ``uniform``."""
     m, dtype, device = work.shape[0], work.dtype, work.device
     word_dtype = torch.uint8 if m < 255 else torch.int16
     if window is None:
