@@ -23,10 +23,7 @@ def check_int(value, name: str, minimum: int, hint: str = "", maximum: int | Non
 
 
 def check_positive(value, name: str, unit: str = "") -> float:
-    """Return ``value`` as a float if it is a finite real number > 0 (not a bool), else raise `IFSError`.
-
-    The message reads ``{name} must be a finite number{unit} > 0, got {value!r}``.
-    """
+    """Return ``value`` as a float if it is a finite real number > 0 (not a bool), else raise `IFSError`."""
     try:
         number = float(value)
     except (TypeError, ValueError):

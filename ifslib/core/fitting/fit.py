@@ -1,8 +1,5 @@
-"""`fit`: the public entry to the inverse problem, on top of the fitting layer.
-
-It checks its arguments once (into `RunOptions`, the strategy's options and a `Checkpoint`), picks a
-strategy (`ifslib.core.fitting.strategies`) and hands the work down; nothing below calls back up.
-"""
+"""`fit`: the public entry to the inverse problem. It checks its arguments once, picks a strategy and hands the
+work down; nothing below calls back up."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -46,44 +43,30 @@ def fit(ifs: IFS | Start, target: Target, *, steps: int = DEFAULT_STEPS, strateg
     Parameters
     ----------
     ifs : IFS or Plan
-        The starting point (not modified), or a plan read from the image
-        (``ifslib.discover(target)``), which is fitted by comparing its candidates.
+        The starting point (not modified), or a plan read from the image (``ifslib.discover(target)``).
     target : Target
         From `ifslib.load_target`; its size sets the render size.
     steps : int
-        The step budget of each run (the paper used 1500 steps in one run). With the default
-        strategy each stage of each start spends at most ``min(steps, 500)`` and most stop
-        long before.
+        The step budget of each run (the paper used 1500 in one run); the default strategy's stages spend
+        at most ``min(steps, 500)`` each.
     strategy : str or a strategy's options, optional
-        How the steps are spent: a name of `ifslib.names.STRATEGIES` (with its defaults) or the strategy's
-        options object, ``strategy=ifslib.strategies.Pyramid(n_starts=2)``. None (the default) is
-        ``"pyramid"``: coarse to fine in pixels with early stopping, starts tried until one recovers the
-        target; a plan is fitted with ``"auto"``, and a fit with a checkpoint is a single run, ``"plain"``
-        (the paper's procedure). The others are in `ifslib.core.fitting.strategies`.
+        A name of `ifslib.names.STRATEGIES` or its options object (``ifslib.strategies.Pyramid(n_starts=2)``).
+        None: ``"pyramid"`` (coarse to fine, starts tried until one recovers the target), ``"auto"`` for a
+        plan, ``"plain"`` (the paper's single run) with a checkpoint.
     seed : int
-        Seeds torch and the strategies' jitter, from 0 to ``ifslib.errors.MAX_SEED``; a seeded fit
-        on CPU is reproducible.
-    lr, loss, depth : optional
-        The learning rate, the loss and the render depth of every run (`RunOptions`), over ``options``.
-    options : RunOptions, optional
-        How each Adam run moves the points (early stop, rendering method, device, ...); the defaults where
-        not given.
-    progress : bool
-        Show progress bars naming the stage (start k of n, size) and the current loss.
-    callback : callable, optional
-        ``callback(step, loss, ifs)`` after every step of every run.
+        Seeds torch and the strategies' jitter; a seeded fit on CPU is reproducible.
+    lr, loss, depth, options
+        How each Adam run moves the points (`RunOptions`); the named ones over ``options``.
+    progress, callback
+        Progress bars naming the stage; ``callback(step, loss, ifs)`` after every step of every run.
     checkpoint : Checkpoint or path, optional
-        A resumable single run (`ifslib.core.fitting.options.Checkpoint`; a path is where to write it,
-        every 100 steps).
+        A resumable single run (a path: written every 100 steps).
 
     Returns
     -------
     FitResult
-        ``history.stopped`` says why the returned run ended; the default strategy adds
-        ``history.stages`` (each stage's start, size, steps and why it stopped),
-        ``history.starts_tried`` and ``history.recovered``; ``history.cost`` counts every step
-        of every run.
-    """
+        ``history.stopped`` says why the returned run ended, ``history.cost`` counts every step of every
+        run; the default strategy adds ``stages``, ``starts_tried`` and ``recovered``."""
     saved = _checkpoint(checkpoint)
     run_options = _run_options(options, lr=lr, loss=loss, depth=depth)
     _check(ifs, target, steps, seed, run_options)
