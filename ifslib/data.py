@@ -14,11 +14,6 @@ NAMES = ("koch", "sierpinski", "apple", "flower")
 BASE_URL = "https://raw.githubusercontent.com/cory-b-scott/diff_ifs/main/"
 
 
-def cache_dir() -> Path:
-    """The download cache: ``$IFSLIB_CACHE`` or ``~/.cache/ifslib``."""
-    return Path(os.environ.get("IFSLIB_CACHE", Path.home() / ".cache" / "ifslib"))
-
-
 def path(name: str, base_url: str | None = None, timeout: float = 30.0) -> Path:
     """Local path of one of the paper's images (`NAMES`, with or without ``.png``), downloaded from ``base_url``
     (``$IFSLIB_DATA_URL`` or the paper's repository) when neither ``IFSLIB_DATA`` nor the cache holds it."""
@@ -29,7 +24,7 @@ def path(name: str, base_url: str | None = None, timeout: float = 30.0) -> Path:
     folder = os.environ.get("IFSLIB_DATA")
     if folder and (Path(folder) / filename).is_file():
         return Path(folder) / filename
-    cached = cache_dir() / filename
+    cached = Path(os.environ.get("IFSLIB_CACHE", Path.home() / ".cache" / "ifslib")) / filename
     if cached.is_file():
         return cached
     url = (base_url or os.environ.get("IFSLIB_DATA_URL") or BASE_URL).rstrip("/") + "/" + filename

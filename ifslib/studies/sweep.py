@@ -79,31 +79,27 @@ def load_setup_target(setup: Setup):
 
 
 def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
-    """Fit one cell for each seed; one row per fit (the task a worker runs)."""
+    """Fit one cell for each seed, with one torch thread; one row per fit (the task a worker runs)."""
     with fixed_threads(1):
-        return _fit_cell(cell, seeds, setup)
-
-
-def _fit_cell(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
-    target = load_setup_target(setup)
-    stop = {} if cell.strategy == "pyramid" else dict(tol=setup.tol, patience=setup.patience)
-    # the study judges the drawing at depth K, as the paper: the pyramid does not end on the attractor
-    chosen = Pyramid(end_on_attractor=False) if cell.strategy == "pyramid" else cell.strategy
-    rows = []
-    for seed in seeds:
-        start = start_for(cell, seed, setup, target)
-        t0 = time.perf_counter()
-        result = fit(start, target, steps=setup.steps, lr=setup.lr, loss=cell.loss, seed=seed, progress=False,
-                     strategy=chosen, options=RunOptions(gradient=cell.gradient, **stop))
-        seconds = time.perf_counter() - t0
-        m = evaluate(result.best, target, attractor=False)  # the study judges the depth-K drawing, as the paper
-        tried, kept = starts_used(result.history)
-        rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
-                     "chamfer": m["chamfer"], "iou": m["iou"], "crossings": self_crossings(result.best),
-                     "point_error": point_error(result.best, patterns.koch()),
-                     "steps": result.history.cost, "seconds": seconds, "starts_tried": tried, "start": kept,
-                     "points": result.best.points.detach().tolist()})
-    return rows
+        target = load_setup_target(setup)
+        stop = {} if cell.strategy == "pyramid" else dict(tol=setup.tol, patience=setup.patience)
+        # the study judges the drawing at depth K, as the paper: the pyramid does not end on the attractor
+        chosen = Pyramid(end_on_attractor=False) if cell.strategy == "pyramid" else cell.strategy
+        rows = []
+        for seed in seeds:
+            start = start_for(cell, seed, setup, target)
+            t0 = time.perf_counter()
+            result = fit(start, target, steps=setup.steps, lr=setup.lr, loss=cell.loss, seed=seed, progress=False,
+                         strategy=chosen, options=RunOptions(gradient=cell.gradient, **stop))
+            seconds = time.perf_counter() - t0
+            m = evaluate(result.best, target, attractor=False)  # the study judges the depth-K drawing, as the paper
+            tried, kept = starts_used(result.history)
+            rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
+                         "chamfer": m["chamfer"], "iou": m["iou"], "crossings": self_crossings(result.best),
+                         "point_error": point_error(result.best, patterns.koch()),
+                         "steps": result.history.cost, "seconds": seconds, "starts_tried": tried, "start": kept,
+                         "points": result.best.points.detach().tolist()})
+        return rows
 
 
 def starts_used(history) -> tuple[int, int]:

@@ -49,16 +49,6 @@ def check_depth_or_attractor(depth) -> int | str:
     return check_depth(depth)
 
 
-def check_tolerance(tolerance) -> float:
-    """Return ``tolerance`` (pixels) as a float if it is finite and > 0, else raise `IFSError`."""
-    return check_positive(tolerance, "tolerance", " of pixels")
-
-
-def check_plane_tolerance(tolerance) -> float:
-    """``tolerance`` (plane units) as a float, if it is a finite real number > 0; else `IFSError`."""
-    return check_positive(tolerance, "tolerance", " (plane units)")
-
-
 def check_window(window) -> tuple[float, float, float, float]:
     """Return ``window = (x0, y0, x1, y1)`` as floats if it is a finite box with ``x1 > x0`` and ``y1 > y0``."""
     try:
@@ -173,7 +163,7 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     A ``window`` drops the branches that cannot hold the attractor's nearest point to any point of it. The
     expansion raises `LeafBudgetError` as soon as it knows it would exceed ``max_leaves`` (`DEFAULT_MAX_LEAVES`
     when None), before allocating the next level; ``rules`` name a map that does not contract."""
-    tolerance = check_plane_tolerance(tolerance)
+    tolerance = check_positive(tolerance, "tolerance", " (plane units)")
     budget = DEFAULT_MAX_LEAVES if max_leaves is None else int(max_leaves)
     if budget < 1:
         raise IFSError(f"max_leaves must be >= 1, got {max_leaves!r}")
@@ -249,4 +239,4 @@ def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
 
 __all__ = ["ATTRACTOR", "AttractorLeaves", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
            "attractor_ball", "attractor_leaves", "check_contractive_maps", "check_depth_or_attractor",
-           "check_tolerance", "check_window", "is_attractor", "leaf_points"]
+           "check_window", "is_attractor", "leaf_points"]

@@ -19,7 +19,6 @@ FEW = 1 << 12
 SAMPLES = 1 << 14
 
 
-
 def to_window(points: torch.Tensor, window: tuple[float, float, float, float]) -> torch.Tensor:
     """Distance from each of ``(N, 2)`` points to the box ``window`` (0 inside): ``(N,)``."""
     x0, y0, x1, y1 = window
@@ -65,21 +64,9 @@ def _tables(window: tuple[float, float, float, float], dtype: torch.dtype, devic
 
 
 class WindowReach:
-    """Per-block upper bounds ``U_b`` of ``d(x, A)`` over a window, and the pruning test they give.
-
-    Also keeps the coarser bound of the whole window, ``U = min_w (|m - p_w| + e_w) + h`` (``m`` its
-    centre, ``h`` its half-diagonal; `ifslib.core.geometry.attractor`, step 4).
-
-    Parameters
-    ----------
-    window : (x0, y0, x1, y1)
-        Checked by the caller.
-    margin : float
-        How far outside its node's ball a leaf of the node can lie, plus how much farther than the
-        nearest point of the attractor a pixel's nearest leaf can be: twice the tolerance.
-    dtype, device
-        Those of the nodes' points.
-    """
+    """Per-block upper bounds ``U_b`` of ``d(x, A)`` over a window, and the pruning test they give, with the coarser
+    bound of the whole window (`ifslib.core.geometry.attractor`, step 4). ``margin``: twice the tolerance, how far
+    a node's leaf can lie outside its ball plus how much farther than the attractor a pixel's nearest leaf can be."""
 
     def __init__(self, window: tuple[float, float, float, float], margin: float, dtype: torch.dtype,
                  device: torch.device) -> None:

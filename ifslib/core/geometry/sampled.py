@@ -8,8 +8,8 @@ import math
 
 import torch
 
-from ...errors import IFSError
-from .attractor import (AttractorLeaves, apply_maps, check_plane_tolerance, prepare_maps, word_maps, attractor_leaves,
+from ...errors import IFSError, check_positive
+from .attractor import (AttractorLeaves, apply_maps, prepare_maps, word_maps, attractor_leaves,
                         check_window)
 from .rules import chaos_probabilities, singular_values
 from .words import DenseWords
@@ -52,7 +52,7 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
     The count is ``n`` however much the copies overlap (as Tu et al., AAAI 2023, and Djeacoumar et al., CGF
     2025, fit attractors). A ``window`` starts the walkers at the copies about half its size that may hold
     its points' nearest points (`_walker_starts`), so a deep zoom gets as many leaves as the frame."""
-    tolerance = check_plane_tolerance(tolerance)
+    tolerance = check_positive(tolerance, "tolerance", " (plane units)")
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")
     if window is not None:

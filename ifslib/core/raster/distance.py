@@ -11,9 +11,9 @@ from dataclasses import dataclass
 import torch
 from torch.utils.checkpoint import checkpoint
 
-from ...errors import IFSError, check_int
+from ...errors import IFSError, check_int, check_positive
 from ..geometry.attractor import (DEFAULT_SAMPLES, DEFAULT_TOLERANCE, AttractorLeaves, check_depth_or_attractor,
-                                  check_tolerance, check_window, is_attractor, leaf_points)
+                                  check_window, is_attractor, leaf_points)
 from ..geometry.expand import expand_attractor
 from ..geometry.ifs import IFS
 from ..geometry.leaves import Leaves, check_budget, expand, expand_batch
@@ -95,7 +95,7 @@ def attractor_leaves_for(ifs: IFS, size: int, window=None, tolerance: float = DE
     size = check_size(size)
     given = window
     window = FRAME if window is None else check_window(window)
-    eps = check_tolerance(tolerance) * pixel_size(size, window)
+    eps = check_positive(tolerance, "tolerance", " of pixels") * pixel_size(size, window)
     if sampled:
         samples = min(DEFAULT_SAMPLES, max(1 << 14, 2 * size * size)) if samples is None else samples
         return expand_attractor(ifs, eps, given, device=device, dtype=dtype, gradient=gradient, samples=samples)

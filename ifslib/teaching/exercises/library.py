@@ -29,7 +29,7 @@ LIBRARY = {
              ("ifslib.core.scoring.losses", "multiscale_mse"), ("ifslib.core.scoring.losses", "pyramid")],
     "best-fit-line start": [("ifslib", "initialize"), ("ifslib", "best_fit_line"),
                             ("ifslib.core.targets.placement", "initialize"),
-                            ("ifslib.core.targets.placement", "best_fit_line"), ("ifslib.core.targets.placement", "place"),
+                            ("ifslib.core.targets.placement", "best_fit_line"),
                             ("ifslib.core.targets.placement", "placed_points")],
     "leaf map": [("ifslib", "expand"), ("ifslib.core.geometry.leaves", "expand"),
                  ("ifslib.core.geometry.leaves", "compose_words"), ("ifslib.core.geometry.attractor", "word_maps")],
