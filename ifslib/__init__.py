@@ -1,11 +1,5 @@
-"""ifslib: differentiable iterated function systems.
-
-The paper's core is `ifslib.core`; each extension beyond it is a folder that uses the core and registers what
-it adds (docs/guide/design.md). Typical use::
-
-    import ifslib
-    ifs = ifslib.patterns.koch(depth=4)
-    image = ifslib.render(ifs, 256)            # (256, 256) tensor in [0, 1], differentiable"""
+"""ifslib: differentiable iterated function systems. The paper's core is `ifslib.core`; each extension is a
+folder that uses it and registers what it adds (docs/guide/design.md)."""
 import importlib
 
 #: Every public name, and where it lives: (module, attribute), or (module, None) for a module, imported on

@@ -1,8 +1,4 @@
-"""The one exception type that ifslib raises for bad input.
-
-`IFSError` subclasses `ValueError`, so ``except ValueError`` keeps working; every message names the
-field, index or value at fault.
-"""
+"""The one exception type that ifslib raises for bad input (a `ValueError`), its message naming what is at fault."""
 
 
 class IFSError(ValueError):

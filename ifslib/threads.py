@@ -1,7 +1,5 @@
-"""How many CPU threads torch uses: the cores that are free, or a number set once with ``IFSLIB_THREADS``
-(why: docs/results/threads.md). Importing it sets ``MKL_CBWR`` and ``OMP_WAIT_POLICY`` unless the user did:
-the one place ifslib writes to the process's environment.
-"""
+"""How many CPU threads torch uses: the free cores, or ``IFSLIB_THREADS`` (docs/results/threads.md). Importing it
+sets ``MKL_CBWR`` and ``OMP_WAIT_POLICY`` unless the user did, the one write to the environment."""
 from __future__ import annotations
 
 import os
@@ -76,10 +74,8 @@ def free_threads() -> int:
 
 
 def configure_threads(threads: int | str | None = None) -> int:
-    """Set torch's CPU thread count from ``threads`` or, when None, from ``$IFSLIB_THREADS`` (unset or empty: ``"auto"``).
-
-    ``"auto"``: the cores other processes leave free (`free_threads`), picked again at the start of each run
-    (`refresh`). Returns the count in force; `IFSError` for anything but ``"auto"`` or a positive integer."""
+    """Set torch's thread count from ``threads`` or ``$IFSLIB_THREADS``: a positive integer, or ``"auto"`` (the
+    default), the cores other processes leave free, picked again at each run (`refresh`)."""
     source = f"{ENV}={os.environ.get(ENV)!r}" if threads is None else f"threads={threads!r}"
     value = os.environ.get(ENV, "") if threads is None else threads
     if isinstance(value, str):

@@ -1,11 +1,6 @@
-"""Convergence sweeps: many seeded Koch fits per cell (strategy x gradient x start x loss), in parallel.
-
-A fit is recovered when the symmetric Chamfer distance between its figure and the target mask is at most
-``success_chamfer`` pixels. Each task, a batch of seeds of one cell, runs with one torch thread, so the
-serial result equals the parallel one. ``scheduler``: ``"serial"``, ``"local"`` (a process pool of the
-standard library, so a student's environment without Dask runs it; a Dask ``LocalCluster``'s nannies log
-warnings as they close) or the address of a running Dask scheduler (``pip install -e '.[sweep]'``).
-The pool spawns its workers: a script runs a ``"local"`` sweep under ``if __name__ == "__main__":``."""
+"""Convergence sweeps: many seeded Koch fits per cell (strategy x gradient x start x loss), in parallel, one torch
+thread a task so the serial result equals the parallel one: ``"serial"``, ``"local"`` (a process pool, spawned:
+run it under ``if __name__ == "__main__":``) or a Dask scheduler's address."""
 from __future__ import annotations
 
 import csv
@@ -103,10 +98,7 @@ def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
 
 
 def starts_used(history) -> tuple[int, int]:
-    """(starts tried, the one whose fit is kept, counted from 1) of a fit's history; (1, 1) for a single run.
-
-    A seed's rate is only a trial of its own start when ``start`` is 1: ``pyramid``'s second start, the
-    best-fit line without jitter, is the same for every seed."""
+    """(starts tried, the one kept, from 1) of a fit's history; (1, 1) for a single run (a seed's own start only when 1)."""
     judged = [stage for stage in (history.stages or []) if stage.start is not None and stage.chamfer is not None]
     if not judged:
         return 1, 1
@@ -127,11 +119,8 @@ def _check(cells: list[Cell], seeds: list[int]) -> None:
 
 def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch: int = 2,
           scheduler: str = "local", workers: int = 2, on_rows: Callable[[list[dict]], None] | None = None) -> list[dict]:
-    """Run every cell for every seed: one row per fit, in cell order then seed order.
-
-    ``batch`` seeds per task; ``scheduler`` as in the module docstring; ``workers`` of a ``"local"`` sweep,
-    cut to the cores with a warning; ``on_rows`` is called with each task's rows as it ends, so a long sweep
-    can save as it goes."""
+    """Run every cell for every seed: one row per fit, in cell order then seed order; ``on_rows`` gets each task's rows
+    as it ends."""
     _check(cells, seeds)
     check_int(batch, "batch", 1)
     tasks = [(cell, seeds[i:i + batch]) for cell in cells for i in range(0, len(seeds), batch)]

@@ -20,9 +20,8 @@ from ..core.targets.target import Target
 def gradient_field(ifs: IFS, target: Target, index: int, xs: np.ndarray, ys: np.ndarray,
                    loss: str | Callable, *, depth: int | None = None,
                    sigma: float | None = None, levels: int = 5, progress: bool = True) -> np.ndarray:
-    """Descent direction ``(ny, nx, 2)`` of a loss for control point ``index`` placed at each grid position ``xs, ys``,
-    the other points where they are in ``ifs``: minus the gradient (zero where it vanishes, e.g. far from the
-    figure for a pixel loss). ``loss``, ``sigma`` and ``levels`` as for `ifslib.loss`."""
+    """Descent direction ``(ny, nx, 2)`` of a loss for control point ``index`` placed at each grid position, the other
+    points as in ``ifs`` (zero where the gradient vanishes)."""
     check_int(index, "index", 0)
     if index >= ifs.n_points:
         raise IFSError(f"index {index} is out of range for an IFS with {ifs.n_points} points")

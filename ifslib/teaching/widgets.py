@@ -1,7 +1,4 @@
-"""The explorer: move an IFS's control points with sliders and watch the fractal, its maps and its fit.
-
-Needs ``ipywidgets`` (``pip install -e '.[dev]'``); what it shows: docs/guide/internals.md.
-"""
+"""The explorer: move an IFS's control points with sliders and watch the fractal, its maps and its fit (ipywidgets)."""
 from __future__ import annotations
 
 import html
@@ -165,9 +162,8 @@ class Explorer:
         return buf.getvalue()
 
     def update(self, _change=None) -> dict:
-        """Redraw from the controls; returns what was drawn: ``image``, ``scales``, ``seconds``, ``warning`` (None when
-        valid) and, with a target, ``loss``, ``iou`` and for a curve ``chamfer``, the score shown first (as
-        `ifslib.metrics.caption`). On an invalid state only ``warning``."""
+        """Redraw from the controls; returns what was drawn (the image, scales, the scores against a target), or only the
+        ``warning`` of an invalid state."""
         if self._quiet:
             return self.last
         started = time.perf_counter()

@@ -1,10 +1,5 @@
-"""The descent: one Adam loop that the library's fits run, each handing it its parameters and its loss.
-
-The paper's fit (`ifslib.core.fitting.run`), the fractal search's collages, the measure fit, its collage
-search, the splat fit and compression's refinement each build a `Descent` (torch's Adam, a loss closure) and a
-`StepPolicy` (what happens around each step). The one other Adam is the batch of fits' (`ifslib.studies.batch`):
-its items each keep their own step count and learning rate, which torch's Adam cannot.
-"""
+"""The descent: the one Adam loop the library's fits run, each handing it its parameters and its loss (the other,
+`ifslib.studies.batch`'s, keeps a step count and learning rate per item, which torch's Adam cannot)."""
 from __future__ import annotations
 
 import math
@@ -29,14 +24,8 @@ def converged(losses: list[float], tol: float, patience: int) -> bool:
 
 @dataclass(frozen=True)
 class StepPolicy:
-    """What a `Descent` does around each Adam step.
-
-    ``rollback``: a step whose loss or gradient is not finite, or whose loss raises `IFSError` (a rule became
-    degenerate or non-contractive), is undone at half the learning rate, ``max_rollbacks`` in a row stop the
-    descent; without it a loss that is not finite raises `IFSError` with ``advice``. ``keep_best`` keeps the
-    parameters of the least loss. ``tol``/``patience``: early stop (`converged`). ``gradient()`` edits the
-    gradients before the step (fixed points), ``schedule(index)`` scales the rates, ``contract(before)`` moves
-    the parameters back into the contractive maps after it (`clamp_scales`, `halve_step`)."""
+    """What a `Descent` does around each Adam step: roll back a step that is not finite or breaks a map (at half the
+    rate), keep the best, stop early (`converged`), edit the gradients, schedule the rates, restore contraction."""
 
     rollback: bool = False
     max_rollbacks: int = 10
@@ -55,9 +44,8 @@ class StepPolicy:
 
 
 class Descent:
-    """Adam on parameter groups (``{"params": [...], "lr": rate}``) and a loss closure, one step at a time under a
-    `StepPolicy`: ``index`` counts the steps taken, ``losses`` the loss of each not rolled back, ``rates`` each
-    group's rate (halved by each rollback); ``best`` with ``policy.keep_best``."""
+    """Adam on parameter groups and a loss closure, one step at a time under a `StepPolicy` (``index``: the steps
+    taken; ``losses``: each not rolled back; ``rates``: halved by each rollback)."""
 
     def __init__(self, groups: Sequence[dict], loss: Callable[[], torch.Tensor], policy: StepPolicy = StepPolicy()):
         if not isinstance(policy, StepPolicy):

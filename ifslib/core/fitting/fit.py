@@ -43,30 +43,23 @@ def fit(ifs: IFS | Start, target: Target, *, steps: int = DEFAULT_STEPS, strateg
     Parameters
     ----------
     ifs : IFS or Plan
-        The starting point (not modified), or a plan read from the image (``ifslib.discover(target)``).
-    target : Target
-        From `ifslib.load_target`; its size sets the render size.
+        The start (not modified), or a plan read from the image (``ifslib.discover(target)``).
     steps : int
-        The step budget of each run (the paper used 1500 in one run); the default strategy's stages spend
-        at most ``min(steps, 500)`` each.
+        The budget of each run (the paper: 1500 in one run); the default strategy's stages spend at most 500.
     strategy : str or a strategy's options, optional
-        A name of `ifslib.names.STRATEGIES` or its options object (``ifslib.strategies.Pyramid(n_starts=2)``).
-        None: ``"pyramid"`` (coarse to fine, starts tried until one recovers the target), ``"auto"`` for a
-        plan, ``"plain"`` (the paper's single run) with a checkpoint.
+        A name of `ifslib.names.STRATEGIES` or its options (``ifslib.strategies.Pyramid(n_starts=2)``); None:
+        ``"pyramid"``, ``"auto"`` for a plan, ``"plain"`` (the paper's single run) with a checkpoint.
     seed : int
         Seeds torch and the strategies' jitter; a seeded fit on CPU is reproducible.
     lr, loss, depth, options
         How each Adam run moves the points (`RunOptions`); the named ones over ``options``.
-    progress, callback
-        Progress bars naming the stage; ``callback(step, loss, ifs)`` after every step of every run.
     checkpoint : Checkpoint or path, optional
         A resumable single run (a path: written every 100 steps).
 
     Returns
     -------
     FitResult
-        ``history.stopped`` says why the returned run ended, ``history.cost`` counts every step of every
-        run; the default strategy adds ``stages``, ``starts_tried`` and ``recovered``."""
+        ``history.stopped`` says why the returned run ended, ``history.cost`` counts every step of every run."""
     saved = _checkpoint(checkpoint)
     run_options = _run_options(options, lr=lr, loss=loss, depth=depth)
     _check(ifs, target, steps, seed, run_options)

@@ -1,6 +1,4 @@
-"""A fit's frame: what every run of one strategy shares (the target, the step budget, the seed, the run and
-strategy options, the progress bars and the callback), and the target's pyramid, built once when a strategy climbs it.
-"""
+"""A fit's frame: what every run of one strategy shares, and the target's pyramid, built once when climbed."""
 from __future__ import annotations
 
 from dataclasses import KW_ONLY, dataclass
@@ -41,8 +39,7 @@ class Frame:
 
     def run(self, start: IFS, steps: int, options: RunOptions | None = None, *, target: Target | None = None,
             desc: str | None = None, **changes) -> FitResult:
-        """One run of ``start`` (`ifslib.core.fitting.run.run`) for ``steps`` steps with the frame's seed, callback and
-        progress, at ``target`` (a level of the pyramid; the frame's own when None), labelled ``desc``, with
+        """One run of ``start`` with the frame's seed, callback and progress, at ``target`` (the frame's when None), with
         ``options`` (the frame's when None) changed by ``changes``."""
         options = self.options if options is None else options
         options = options.replace(**changes) if changes else options

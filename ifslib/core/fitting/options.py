@@ -1,6 +1,5 @@
 """The settings of a fit, as frozen dataclasses validated where they are built: `RunOptions` (one Adam run),
-each strategy's own options and `Checkpoint`. A number two strategies share is written once, in `Pyramid`.
-"""
+each strategy's own options and `Checkpoint`."""
 from __future__ import annotations
 
 import dataclasses
@@ -35,14 +34,8 @@ def check_stop(tol: float | None, patience: int | None) -> None:
 
 @dataclass(frozen=True)
 class RunOptions:
-    """How one Adam run moves the control points (`ifslib.core.fitting.run.run`).
-
-    ``lr``: at the target's size (the paper used 0.003), at most `MAX_LR`; ``stage_lr`` a coarser stage's,
-    set by the strategies. ``loss``: a name of `ifslib.core.scoring.losses.LOSSES` or ``f(distance, target)``,
-    with ``sigma`` and ``levels``. ``depth``: ``ifs.depth`` when None, or ``"attractor"``. ``method``,
-    ``device``, ``gradient``: `ifslib.distance_field`'s. ``max_rollbacks`` consecutive rolled-back steps stop
-    a run; ``keep_every`` keeps snapshots for `ifslib.animate`; ``crossing_weight`` adds the crossings'
-    penalty (curves). ``tol``/``patience``: early stop (None keeps the strategy's own: off for ``plain``)."""
+    """How one Adam run moves the control points (`ifslib.core.fitting.run.run`): the learning rate (the paper's
+    0.003), the loss, the depth, the renderer's settings, rollbacks, snapshots, the crossings' penalty, early stop."""
 
     #: The window of early stopping when ``tol`` is set and ``patience`` is not.
     DEFAULT_PATIENCE: ClassVar[int] = 50
@@ -140,14 +133,7 @@ class Uncross:
 @dataclass(frozen=True)
 class Pyramid:
     """The default strategy: coarse to fine in pixels, starts tried until one recovers the target, each ending on
-    its attractor (docs/guide/design.md).
-
-    ``n_starts`` tried at most, jittered by ``jitter`` (plane units), until one reaches ``success`` (Chamfer,
-    pixels). Stages from ``coarsest`` pixels, ``pyramid_factor`` apart (a middle 128² stage costs more than it
-    saves, docs/results/fits-in-seconds.md), each at most ``stage_steps`` with its early stop ``stage_tol``/
-    ``stage_patience``. ``attractor_steps`` for the last stage, which fits the attractor itself (what the
-    inverse problem asks: a drawing at depth K can match while its attractor does not), from its certified cut
-    up to ``max_leaves``, else sampled leaves; ``end_on_attractor=False`` keeps the paper's question."""
+    its attractor (what the inverse problem asks: docs/guide/design.md)."""
 
     n_starts: int = 8
     jitter: float = 0.05
@@ -200,10 +186,7 @@ class Restart:
 
 @dataclass(frozen=True)
 class Checkpoint:
-    """A resumable run: write the state to ``path`` every ``every`` steps and at the end; continue from ``resume``.
-
-    Either path may be None; a fit with a checkpoint is a single run (strategy ``plain``).
-    """
+    """A resumable single run: write the state to ``path`` every ``every`` steps and at the end; continue from ``resume``."""
 
     path: str | Path | None = None
     every: int = 100

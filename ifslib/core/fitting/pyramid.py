@@ -41,9 +41,8 @@ def attractor_method(ifs: IFS, size: int, max_leaves: int) -> str:
 
 def attractor_stage(frame: Frame, ifs: IFS, options: RunOptions, label: str, *, steps: int | None = None,
                     max_leaves: int | None = None) -> tuple[FitResult, Stage]:
-    """Fit the attractor of ``ifs`` at the target's size, the last stage of ``pyramid`` and ``auto``: at most
-    ``min(steps, attractor_steps)`` steps, with the certified cut when it has at most ``max_leaves`` leaves at the
-    start, else (or once the cut outgrows the budget) with sampled leaves. Returns the result and its stage."""
+    """Fit the attractor of ``ifs`` at the target's size (the last stage of ``pyramid`` and ``auto``): with the
+    certified cut when it has at most ``max_leaves`` leaves, else (or once it outgrows them) sampled leaves."""
     target = frame.target
     method = attractor_method(ifs, target.size, frame.settings.max_leaves if max_leaves is None else max_leaves)
     budget = min(frame.steps if steps is None else steps, frame.settings.attractor_steps)

@@ -45,13 +45,8 @@ class Stage:
 
 @dataclass
 class History:
-    """How a fit went.
-
-    Per step taken: ``step``, ``loss`` (before it) and ``seconds``; ``rollbacks`` (``{"step", "reason", "lr"}``);
-    ``stopped``: why the returned run ended; ``cost``: every step of every run, rolled back or not. The
-    pyramid's ``starts_tried``, ``chamfer``, ``recovered`` and ``judged``; a plan's ``kind`` and ``auto``
-    record (`ifslib.automatic.choice.AutoRun`); with ``keep_every``, ``snapshots`` and ``pattern`` for
-    `ifslib.animate`."""
+    """How a fit went: per step its index, loss and time; the rollbacks; why the returned run stopped; ``cost``, every
+    step of every run; the strategy's stages and judgement; snapshots for `ifslib.animate`."""
 
     step: list[int] = field(default_factory=list)
     loss: list[float] = field(default_factory=list)

@@ -1,8 +1,4 @@
-"""One Adam run: the bottom of the fitting layer.
-
-`run` moves an IFS's control points so that its distance field matches a target at one size, by the
-library's descent (`ifslib.core.fitting.descent`); a step that is not finite or breaks a map is rolled back.
-"""
+"""One Adam run: the bottom of the fitting layer (a step that is not finite or breaks a map is rolled back)."""
 from __future__ import annotations
 
 import math
@@ -101,11 +97,8 @@ class _Run:
 def run(ifs: IFS, target: Target, *, steps: int = DEFAULT_STEPS, options: RunOptions = RunOptions(), seed: int = 0,
         callback: Callable | None = None, checkpoint: Checkpoint | None = None, progress: bool = True,
         desc: str | None = None) -> FitResult:
-    """One Adam run on the control points at the target's size, seeded by ``seed``, for at most ``steps`` steps.
-
-    ``checkpoint`` writes the state every ``checkpoint.every`` steps and at the end, and continues from
-    ``checkpoint.resume``. ``progress``: a tqdm bar labelled ``desc`` on a terminal or in Jupyter, else one line
-    when the run ends. ``history.stopped`` says why it ended: ``"steps"``, ``"converged"`` or ``"rollbacks"``."""
+    """One Adam run on the control points at the target's size, seeded by ``seed``, for at most ``steps`` steps,
+    resumable by ``checkpoint``; ``history.stopped`` says why it ended."""
     check_int(steps, "steps", 0)
     if options.crossing_weight:
         check_curve(ifs, "crossing_weight")

@@ -1,8 +1,5 @@
-"""Strategies: how a fit spends its steps over several single runs (`ifslib.core.fitting.run.run`).
-
-Each name of `ifslib.names.STRATEGIES` is an entry of the table `strategy` reads; an extension registers its own
-with `register_strategy` when its folder is imported. What each strategy does: docs/guide/design.md.
-"""
+"""Strategies: how a fit spends its steps over several single runs, a table `strategy` reads (extensions register
+their own when imported). What each does: docs/guide/design.md."""
 from __future__ import annotations
 
 import dataclasses
@@ -50,9 +47,8 @@ Runner = Callable[["Frame", object, np.random.Generator], "FitResult"]
 
 @dataclass(frozen=True)
 class Strategy:
-    """A strategy as the table holds it: ``run(frame, start, rng)``, its ``options`` type (a frozen dataclass of its
-    defaults), the start type it ``fits`` (an IFS, or an extension's start such as a plan) and the ``refusal``
-    given another start."""
+    """A strategy as the table holds it: its ``run(frame, start, rng)``, its ``options`` type, the start type it
+    ``fits`` (an IFS, or a plan) and the ``refusal`` given another start."""
 
     run: Runner
     options: type

@@ -1,10 +1,5 @@
-"""Leaves of the attractor itself: the word tree cut per branch where the branch is finer than ε.
-
-Point leaves ``p_w = T_w(c)`` stand for the attractor ``A`` within ``ε`` whatever the primitives,
-``d(x, A) - ε <= d(x, leaves) <= d(x, A) + ε`` (the proof: docs/results/attractor.md). The expansion runs
-with no autograd; `leaf_points` recomputes the points of the few winning leaves with autograd, so the
-gradient is exact and memory O(pixels + leaves).
-"""
+"""Leaves of the attractor itself: the word tree cut per branch where the branch is finer than ε, point leaves
+within ε of the attractor whatever the primitives (the proof: docs/results/attractor.md)."""
 from __future__ import annotations
 
 import math
@@ -96,11 +91,8 @@ def prepare_maps(maps: torch.Tensor, rules=None) -> tuple[torch.Tensor, torch.Te
 
 
 def attractor_ball(maps: torch.Tensor) -> tuple[torch.Tensor, float]:
-    """A centre ``c`` ``(2,)``, differentiable in ``maps``, and a float64 radius ``R`` with the attractor inside
-    ``B(c, R)`` (steps 1-2 of the proof, docs/results/attractor.md); the maps are not checked here.
-
-    ``c`` is the centre of the box around ``T_w(f)`` for short words ``w``, which keeps ``R`` near the
-    attractor's own radius."""
+    """A centre ``c``, differentiable in ``maps``, and a radius ``R`` with the attractor inside ``B(c, R)`` (steps 1-2 of
+    the proof); ``c`` centres the box of ``T_w(f)`` for short words, which keeps ``R`` near the attractor's."""
     m = maps.shape[0]
     k = max(1, int(math.log(BALL_WORDS) / math.log(max(m, 2))))
     fixed = torch.linalg.solve(torch.eye(2, dtype=maps.dtype, device=maps.device) - maps[0, :2, :2], maps[0, :2, 2])
@@ -119,10 +111,8 @@ def attractor_ball(maps: torch.Tensor) -> tuple[torch.Tensor, float]:
 
 @dataclass
 class AttractorLeaves:
-    """Point leaves standing for an IFS's attractor within ``tolerance`` (see the module docstring).
-
-    ``points`` ``(L, 2)`` (no gradient, for the search), each within ``error`` ``e_w = ||L_w|| R <= tolerance``
-    of its copy ``T_w(A)``; ``tree`` the leaves' words; ``maps`` and ``centre`` with autograd, for `leaf_points`."""
+    """Point leaves within ``tolerance`` of an IFS's attractor: ``points`` (no gradient), each one's ``error``
+    ``||L_w|| R``, their words (``tree``), and ``maps`` and ``centre`` with autograd for `leaf_points`."""
 
     points: torch.Tensor
     error: torch.Tensor
@@ -157,12 +147,8 @@ def _budget_error(tolerance: float, budget: int, level: int, open_nodes: int, m:
 
 def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, float, float, float] | None = None,
                      max_leaves: int | None = None, rules=None) -> AttractorLeaves:
-    """Cut the word tree of ``maps`` per branch where ``||L_w|| R <= tolerance`` (steps 3-4 of the proof,
-    docs/results/attractor.md).
-
-    A ``window`` drops the branches that cannot hold the attractor's nearest point to any point of it. The
-    expansion raises `LeafBudgetError` as soon as it knows it would exceed ``max_leaves`` (`DEFAULT_MAX_LEAVES`
-    when None), before allocating the next level; ``rules`` name a map that does not contract."""
+    """Cut the word tree of ``maps`` per branch where ``||L_w|| R <= tolerance`` (steps 3-4 of the proof), within
+    ``window``; `LeafBudgetError` before the level that would exceed ``max_leaves`` is allocated."""
     tolerance = check_positive(tolerance, "tolerance", " (plane units)")
     budget = DEFAULT_MAX_LEAVES if max_leaves is None else int(max_leaves)
     if budget < 1:

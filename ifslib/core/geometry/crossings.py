@@ -1,7 +1,4 @@
-"""Self-crossings of a curve: its depth-K segments, and a differentiable penalty on their crossings.
-
-How it works: docs/guide/internals.md.
-"""
+"""Self-crossings of a curve: its depth-K segments, and a differentiable penalty on their crossings."""
 from __future__ import annotations
 
 import torch
@@ -46,9 +43,8 @@ def _cross(p: torch.Tensor, q: torch.Tensor, r: torch.Tensor) -> torch.Tensor:
 
 def crossing_pairs(segments: torch.Tensor, tol: float = 1e-9
                    ) -> tuple[torch.Tensor, torch.Tensor, tuple[torch.Tensor, ...]]:
-    """The pairs ``i < j`` of ``(S, 2, 2)`` segments that properly cross, and the ``(S, S)`` cross products
-    ``AB x AC``, ``AB x AD``, ``CD x CA``, ``CD x CB``; within ``tol`` (times the squared extent) counts as
-    collinear, so touching or overlapping segments never cross."""
+    """The pairs ``i < j`` of ``(S, 2, 2)`` segments that properly cross, and the four ``(S, S)`` cross products;
+    touching or collinear segments (within ``tol``) never cross."""
     a, b = segments[:, None, 0], segments[:, None, 1]        # (S, 1, 2)
     c, d = segments[None, :, 0], segments[None, :, 1]        # (1, S, 2)
     tol = tol * max(1.0, float(segments.detach().abs().max())) ** 2

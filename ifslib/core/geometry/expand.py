@@ -1,6 +1,4 @@
-"""An IFS's attractor as point leaves: the certified cut of its word tree (`ifslib.core.geometry.attractor`)
-or sampled leaves of it (`ifslib.core.geometry.sampled`), the one entry point for both.
-"""
+"""An IFS's attractor as point leaves: the certified cut or sampled leaves of it, the one entry point for both."""
 from __future__ import annotations
 
 import torch
@@ -15,9 +13,8 @@ def expand_attractor(ifs: IFS, tolerance: float, window: tuple[float, float, flo
                      max_leaves: int | None = None, device: torch.device | str = "cpu",
                      dtype: torch.dtype | None = None, gradient: str = "exact",
                      samples: int | None = None) -> AttractorLeaves:
-    """The attractor's point leaves of an IFS within ``tolerance`` (plane units): the certified cut
-    (`attractor_leaves`, up to ``max_leaves``) or, with ``samples``, that many sampled leaves of it
-    (`sample_attractor`); ``window``, ``device``, ``dtype`` and ``gradient`` as theirs and `expand`'s."""
+    """The attractor's point leaves within ``tolerance`` (plane units): the certified cut (`attractor_leaves`) or,
+    with ``samples``, sampled leaves of it (`sample_attractor`)."""
     ifs.validate()
     points = ifs.points.to(device=device, dtype=dtype or ifs.points.dtype)
     maps = rule_maps(points, ifs.rules, gradient)

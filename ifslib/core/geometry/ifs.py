@@ -27,12 +27,8 @@ def _as_primitive(prim: Primitive | dict) -> Primitive:
 
 
 class IFS:
-    """An iterated function system on control points: the paper's ``(P, L, D)`` and the depth ``K``.
-
-    ``points`` ``(n, 2)`` in plane units; ``rules`` and ``primitives`` (or their dicts as in the JSON file);
-    ``fixed``: indices fitting must not move; ``sigma``: the rendering width `ifslib.render` uses when given
-    none; ``meta``: free-form, saved in the file; ``probabilities``: one per rule, each > 0, summing to 1
-    (the chaos game's choice, so the attractor's measure), None for `measure_probabilities`' default."""
+    """An iterated function system on control points: the paper's ``(P, L, D)`` and the depth ``K``, with the points
+    ``fixed`` in a fit, a rendering ``sigma``, free ``meta`` and the chaos game's ``probabilities``."""
 
     def __init__(self, points: Any, rules: Sequence[Rule | dict], primitives: Sequence[Primitive | dict],
                  depth: int = 3, name: str = "", fixed: Iterable[int] = (), sigma: float | None = None,

@@ -1,8 +1,4 @@
-"""The ``ifslib/1`` JSON file: read, validate, write (the format: docs/guide/conventions.md).
-
-Its JSON Schema ships beside this module (`schema`); what a schema cannot say (an index below the number of
-points, finite numbers) the reader checks too; whether a map contracts is checked when the maps are built.
-"""
+"""The ``ifslib/1`` JSON file: read, validate, write (the format: docs/guide/conventions.md)."""
 from __future__ import annotations
 
 import functools
@@ -31,10 +27,8 @@ def _schema_text() -> str:
 
 
 def schema() -> dict:
-    """The JSON Schema (draft 2020-12) of the ``ifslib/1`` file, a fresh dict each call.
-
-    It refuses what `load_ifs` refuses where a schema can say so; the reader alone checks that indices are
-    below the number of points, numbers finite and whole numbers without a fraction."""
+    """The JSON Schema (draft 2020-12) of the ``ifslib/1`` file, a fresh dict; the reader also checks what a schema
+    cannot say (indices in range, finite numbers)."""
     return json.loads(_schema_text())
 
 

@@ -1,7 +1,4 @@
-"""Expansion to depth K: every composed leaf map, with its inverse and scale, and a memory estimate.
-
-Leaves are numbered ``leaf = word * n_prims + p`` with words in lexicographic order.
-"""
+"""Expansion to depth K: every composed leaf map, with its inverse and scale, and a memory estimate."""
 from __future__ import annotations
 
 import math
@@ -25,12 +22,8 @@ _BYTES_PER_PIXEL = {"fast": 600, "brute": 120}
 
 @dataclass
 class Leaves:
-    """All leaves of an IFS at one depth: each word's inverse ``(W, 2, 3)`` and scale ``(W,)`` (the smallest
-    singular value when ``forward``, the ``(W, 6)`` forward maps of affine rules, is kept), the packed primitives
-    ``(p, PARAM_WIDTH)`` and their kinds.
-
-    ``words_per_item`` is 0 for one IFS; for a batch of ``B`` point sets (`expand_batch`) it is ``m**K``, the
-    words item-major and item ``b`` owning the leaf ids ``b * m**K * p`` to ``(b + 1) * m**K * p - 1``."""
+    """All leaves of an IFS at one depth (``leaf = word * n_prims + p``): each word's inverse map and scale (the
+    forward maps of affine words), the packed primitives; for a batch, ``words_per_item`` words per item."""
 
     inverse: torch.Tensor
     scale: torch.Tensor
@@ -131,9 +124,7 @@ def expand(ifs: IFS, depth: int | None = None, *, device: torch.device | str = "
 
 
 def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gradient: str = "exact") -> Leaves:
-    """Expand ``(B, n, 2)`` point sets of one pattern to their leaves in one computation (``words_per_item = m**K``).
-
-    The points are not checked here: the caller makes sure every item's rules are non-degenerate and contractive."""
+    """Expand ``(B, n, 2)`` point sets of one pattern in one computation; the caller checks every item's rules."""
     depth = ifs.depth if depth is None else check_depth(depth)
     if points.ndim != 3 or points.shape[1:] != ifs.points.shape:
         raise IFSError(f"points must have shape (B, {ifs.n_points}, 2), got {tuple(points.shape)}")

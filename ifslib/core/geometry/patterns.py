@@ -12,10 +12,8 @@ from .ifs import IFS
 
 
 def koch(depth: int = 3, width: float = 0.8, radius: float = 0.0) -> IFS:
-    """The Koch curve from five control points, as the paper builds it: base segment ``p0 -> p4`` of ``width``.
-
-    With ``width = 1`` these are the paper's Eq. (1), except that its printed ``T3`` translation ``(1/3, 0)``
-    must be ``(1/2, sqrt(3)/6)``. The primitive is the base segment (a capsule when ``radius`` > 0)."""
+    """The Koch curve from five control points, as the paper builds it (its Eq. (1) with ``width = 1``, except that the
+    printed ``T3`` translation ``(1/3, 0)`` must be ``(1/2, sqrt(3)/6)``)."""
     w = float(width)
     points = [[-w / 2, 0.0], [-w / 6, 0.0], [0.0, w * math.sqrt(3) / 6], [w / 6, 0.0], [w / 2, 0.0]]
     return koch_like(points, depth=depth, radius=radius, name="koch")
@@ -77,11 +75,8 @@ def rosette(n: int = 6, depth: int = 3, radius: float = 0.4, inner: float = 0.05
 
 
 def koch_like(points, depth: int = 3, radius: float = 0.0, name: str = "koch_like") -> IFS:
-    """A self-similar curve from any polyline ``(n, 2)``, ``n >= 3``, with the Koch curve's rules: rule ``i`` maps
-    the base ``p0 -> p_(n-1)`` onto ``p_(i-1) -> p_i``.
-
-    `IFSError` unless every segment is strictly shorter than the base and longer than 0 (else a rule would
-    not contract, or would collapse)."""
+    """A self-similar curve from any polyline ``(n, 2)`` with the Koch curve's rules; every segment must be shorter
+    than the base ``p0 -> p_(n-1)`` (else its rule would not contract)."""
     pts = np.asarray(points.detach().cpu() if isinstance(points, torch.Tensor) else points, dtype=np.float64)
     if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 3:
         raise IFSError(f"koch_like needs an (n, 2) polyline with n >= 3 points, got shape {pts.shape}")
@@ -105,11 +100,8 @@ AFFINE_FRAME = ((-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5))
 
 def affine(maps, depth: int = 3, primitive: str = "box", name: str = "affine", extent: float = 1.0,
            dtype: torch.dtype = torch.float32) -> IFS:
-    """An IFS of general affine maps ``(m, 2, 3)`` or ``(m, 3, 3)``, each an ``affine`` rule on control points.
-
-    Points 0-3 are the fixed corners of the source square (side ``extent``); each map owns the three images
-    of its corners, so its six parameters train like any control points. ``primitive``: ``"box"`` (a filled
-    figure) or ``"segment"`` (a curve)."""
+    """An IFS of general affine maps ``(m, 2, 3)``, each an ``affine`` rule: the images of the fixed source square's
+    corners are control points, so its six parameters train like any."""
     m = torch.as_tensor(maps, dtype=torch.float64)
     if m.ndim != 3 or m.shape[1] not in (2, 3) or m.shape[2] != 3 or m.shape[0] == 0:
         raise IFSError(f"maps must have shape (m, 2, 3) or (m, 3, 3) with m >= 1, got {tuple(m.shape)}")
@@ -165,12 +157,8 @@ MAX_RANDOM_SCALE = 0.9
 
 
 def random_ifs(maps: int, seed: int = 0, depth: int = 3, extent: float = 0.8) -> IFS:
-    """A random contractive affine IFS whose attractor is neither dust nor a blob, fitted into the frame.
-
-    The sampler of FractalDB's successors (Anderson and Farrell, "Improving Fractal Pre-training", WACV 2022):
-    ``U diag(s1, s2) V`` per map with ``sum_i (s1_i + 2 s2_i)`` drawn from ``[(5 + maps) / 2, (6 + maps) / 2]``
-    (each scale below `MAX_RANDOM_SCALE`), then conjugated by one similarity that puts the attractor's
-    bounding box in the frame with its longer side ``extent``. Named ``random<maps>_<seed>``."""
+    """A random contractive affine IFS whose attractor is neither dust nor a blob (the sampler of Anderson and Farrell,
+    WACV 2022), conjugated so that the attractor's box fills ``extent`` of the frame."""
     check_int(maps, "number of maps", 1)
     if maps > 64:
         raise IFSError(f"random_ifs draws at most 64 maps, got {maps}")

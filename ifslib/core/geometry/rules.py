@@ -1,6 +1,4 @@
-"""Symmetry rules: each rule kind (``segment``, ``square``, ``affine``) builds one differentiable map
-from the control points, a 3 x 3 homogeneous matrix (the kinds and gradient modes: docs/guide/conventions.md).
-"""
+"""Symmetry rules: each kind builds one differentiable 3 x 3 map from the control points (docs/guide/conventions.md)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -127,9 +125,8 @@ def check_rule_lengths(points: torch.Tensor, rules: list[Rule]) -> None:
 
 
 def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") -> torch.Tensor:
-    """The rules' ``(m, 3, 3)`` homogeneous matrices from control points ``(n, 2)`` (any leading batch shape),
-    differentiable in ``points``. One point set is checked for zero-length sources; a batch's caller checks
-    each item with `rule_lengths`."""
+    """The rules' ``(m, 3, 3)`` maps from control points ``(n, 2)`` (any leading batch shape), differentiable; a
+    batch is not checked here (its caller checks each item with `rule_lengths`)."""
     check_gradient_mode(gradient)
     if points.ndim == 2:
         check_rule_lengths(points, rules)
@@ -165,10 +162,8 @@ def map_scales(maps: torch.Tensor) -> torch.Tensor:
 
 
 def singular_values(maps: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """Smallest and largest singular values ``(...,)`` of each ``(..., 3, 3)`` map's 2 x 2 matrix, in closed form.
-
-    ``sigma_max +- sigma_min`` are the norms of ``(a + d, b - c)`` and ``(a - d, b + c)``, each clamped so the
-    gradient stays finite where it vanishes (the second, for every similarity without reflection)."""
+    """Smallest and largest singular values of each map's 2 x 2 matrix in closed form, from the norms of
+    ``(a + d, b - c)`` and ``(a - d, b + c)``, clamped so the gradient stays finite where they vanish."""
     a, b, c, d = maps[..., 0, 0], maps[..., 0, 1], maps[..., 1, 0], maps[..., 1, 1]
     tiny = torch.finfo(maps.dtype).tiny
     n1 = ((a + d) ** 2 + (b - c) ** 2).clamp_min(tiny).sqrt()

@@ -1,7 +1,4 @@
-"""Sampled leaves of the attractor: the chaos game's walkers carried down to leaves within a tolerance
-(`sample_attractor`), for attractors whose certified cut (`ifslib.core.geometry.attractor`) has too many
-leaves, and for windows deep inside one.
-"""
+"""Sampled leaves of the attractor (`sample_attractor`), for attractors whose certified cut has too many leaves."""
 from __future__ import annotations
 
 import math
@@ -22,10 +19,8 @@ MAX_WORD_LENGTH = 512
 
 
 def _uniforms(seed: int, n: int, cols: int) -> torch.Tensor:
-    """``(n, cols)`` float64 uniforms, the same for the same ``(seed, n)`` whatever was asked before.
-
-    Cached (a fit asks every step) and drawn column by column, so a cache grown for longer words keeps its
-    columns: a fit's sampled leaves do not depend on the fits run before it in the process."""
+    """``(n, cols)`` float64 uniforms, cached and drawn column by column, so the same ``(seed, n)`` gives the same
+    ones whatever was asked before (a fit's sampled leaves do not depend on earlier fits)."""
     cached = _UNIFORMS.get((seed, n))
     if cached is None or cached.shape[1] < cols:
         generator = torch.Generator().manual_seed(seed)
@@ -44,14 +39,9 @@ def _compose_rows(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
 
 def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0, rules=None,
                      window=None) -> AttractorLeaves:
-    """``n`` leaves of the cut of `attractor_leaves`, drawn at random: a chaos game on the word tree.
-
-    Each walker descends from the root, choosing maps with `chaos_probabilities` from uniforms fixed by
-    ``seed`` (so leaves move smoothly with the maps from step to step), and stops at the first word with
-    ``||L_w|| R <= tolerance``: a leaf of the certified cut, whose word it keeps, so the gradient is exact.
-    The count is ``n`` however much the copies overlap (as Tu et al., AAAI 2023, and Djeacoumar et al., CGF
-    2025, fit attractors). A ``window`` starts the walkers at the copies about half its size that may hold
-    its points' nearest points (`_walker_starts`), so a deep zoom gets as many leaves as the frame."""
+    """``n`` leaves of the cut of `attractor_leaves` drawn at random: walkers descend the word tree with the chaos
+    game's probabilities (fixed uniforms, so leaves move smoothly with the maps) to the first word within
+    ``tolerance``, keeping their words, so the gradient is exact; a ``window`` starts them near it."""
     tolerance = check_positive(tolerance, "tolerance", " (plane units)")
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")

@@ -1,7 +1,4 @@
-"""The chains of the chaos game: one generator that every chaos game of the library walks.
-
-The callers differ only in where the chains start, their burn-in and what they do with each step's points.
-"""
+"""The chains of the chaos game: one generator that every chaos game of the library walks."""
 from __future__ import annotations
 
 from typing import Iterator, NamedTuple
@@ -39,11 +36,8 @@ def pick_maps(uniform: np.ndarray, cuts: np.ndarray) -> np.ndarray:
 
 def walk(maps: np.ndarray, probabilities: np.ndarray, starts: np.ndarray, burn: int, steps: int,
          rng: np.random.Generator) -> Iterator[Step]:
-    """Walk chains of the chaos game from ``starts`` ``(chains, 2)``: ``burn`` steps unrecorded, then yield each of
-    ``steps`` steps (fresh arrays).
-
-    The uniforms are drawn in blocks from the stream of one ``rng.random(chains)`` a step, so the same seed
-    walks the same chains however they are read."""
+    """Walk chains of the chaos game from ``starts``: ``burn`` steps unrecorded, then yield each of ``steps`` steps;
+    the same seed walks the same chains however they are read."""
     check_int(burn, "burn-in steps", 0)
     check_int(steps, "steps", 0)
     starts = np.asarray(starts, np.float64)

@@ -1,8 +1,5 @@
-"""The chaos game: points of an IFS's attractor by random iteration, in float64 (Barnsley).
-
-Chains start at a map's fixed point and burn in until their start weighs less than float64's rounding, so
-every recorded point is a draw of the invariant measure; the tests' independent reference.
-"""
+"""The chaos game: points of an IFS's attractor by random iteration, in float64, burnt in until every recorded
+point is a draw of the invariant measure."""
 from __future__ import annotations
 
 import math
@@ -50,11 +47,8 @@ def _check_memory(n_points: int, n_pixels: int = 0) -> None:
 
 
 def burn_in_steps(maps: torch.Tensor, rules=None, dtype=np.float64) -> int:
-    """Steps after which a chain of the chaos game has forgotten its start to the precision of ``dtype``.
-
-    Two chains that apply the same ``k`` maps end at most ``s_max ** k`` times their starts' distance
-    apart, so after the least ``k`` with ``s_max ** k * diameter`` below ``dtype``'s resolution at the
-    attractor its points are draws of the invariant measure. `IFSError` for a map that does not contract."""
+    """Steps after which a chain has forgotten its start to ``dtype``'s precision: the least ``k`` with
+    ``s_max ** k * diameter`` below its resolution at the attractor."""
     with torch.no_grad():
         maps = maps.detach().double()
         largest = float(check_contractive_maps(maps, rules).max())
@@ -69,12 +63,8 @@ def burn_in_steps(maps: torch.Tensor, rules=None, dtype=np.float64) -> int:
 
 
 def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
-    """``n`` points of the attractor by the chaos game, in float64: ``(n, 2)`` draws of the invariant measure.
-
-    ``min(n, CHAINS)`` chains start at the first map's fixed point and take `burn_in_steps` steps, then
-    record; row ``i`` is chain ``i % chains``'s point ``i // chains``. The same ``seed`` gives the same
-    points at any thread count. Warns when the burn-in is cut at `MAX_BURN_IN` (the points still lie on
-    the attractor, but lean towards the start)."""
+    """``n`` points of the attractor by the chaos game, float64 ``(n, 2)``: draws of the invariant measure, the same
+    for a seed at any thread count (a warning when the burn-in is cut at `MAX_BURN_IN`)."""
     return _points(ifs, n, seed, warn=True)
 
 
@@ -111,11 +101,8 @@ def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
 
 
 def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
-    """The copies ``T_w(A)`` of the attractor that may meet ``window``, each at most `COPY_SHARE` of its size:
-    ``(K, 2, 3)`` composed maps and ``(K,)`` their words' probabilities (K may be 0).
-
-    The words kept form a cut of every branch that meets the window, so the measure restricted to the window
-    is the mixture of ``T_w`` applied to chaos-game points."""
+    """The copies ``T_w(A)`` of the attractor that may meet ``window``, each at most `COPY_SHARE` of it: their maps and
+    their words' probabilities (a cut of every branch that meets the window)."""
     window = check_window(window)
     with torch.no_grad():
         maps = ifs.to(torch.float64).maps()
@@ -166,10 +153,7 @@ def _grown(window, share: float) -> tuple[float, float, float, float]:
 
 
 def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, window=None) -> torch.Tensor:
-    """Distance from every pixel centre to the nearest of ``n`` chaos-game points: ``(size, size)`` float64.
-
-    Never below the distance to the attractor. A ``window`` draws the points of the window grown by
-    `WINDOW_MARGIN` (`chaos_window`), so a deep zoom gets as many as the frame."""
+    """Distance from every pixel centre to the nearest of ``n`` chaos-game points (of the grown ``window`` when given)."""
     check_int(n, "the number of chaos-game points", 1)
     _check_memory(n, check_int(size, "size", 1) ** 2)
     found = np.empty((0, 2)) if window is None else chaos_window(ifs, n, _grown(window, WINDOW_MARGIN), seed)
@@ -180,11 +164,8 @@ def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, win
 
 def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
                 seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """Every (pixel, chaos-game point) pair closer than ``radius``: the flat pixel index and the float64 distance.
-
-    A pixel's least distance is `chaos_field`'s value wherever that is at most ``radius``. Each point is tested
-    only against the pixel centres in the box of ``radius`` around it, faster than the KD-tree at the fractal
-    search's sizes (`ifslib.figure_mask` with ``method="chaos"``)."""
+    """Every (pixel, chaos-game point) pair closer than ``radius``, without a KD-tree: each pixel's least distance is
+    `chaos_field`'s wherever that is at most ``radius``."""
     check_int(n, "the number of chaos-game points", 1)
     check_int(size, "size", 1)
     if not (isinstance(radius, (int, float)) and 0 <= radius < math.inf):

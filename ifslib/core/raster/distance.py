@@ -1,9 +1,4 @@
-"""`distance_field`: the signed distance from every pixel centre to the depth-K leaves.
-
-``"fast"`` finds each pixel's nearest leaf with no autograd, then differentiates the distance to that one
-leaf (the (sub)gradient of a minimum is its winner's); ``"brute"`` is the paper's algorithm, every leaf at
-every pixel, kept as the reference; ``depth="attractor"`` measures to the attractor's certified cut.
-"""
+"""`distance_field`: the signed distance from every pixel centre to the depth-K leaves, or to the attractor."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -89,9 +84,8 @@ def attractor_leaves_for(ifs: IFS, size: int, window=None, tolerance: float = DE
                          device: str | torch.device = "cpu", dtype: torch.dtype | None = None,
                          gradient: str = "exact", max_leaves: int | None = None,
                          sampled: bool = False, samples: int | None = None) -> AttractorLeaves:
-    """The attractor's leaves for a ``size x size`` picture of ``window``, within ``tolerance`` pixels of it.
-
-    ``sampled``: ``samples`` random leaves of the cut (two per pixel, between 16,384 and `DEFAULT_SAMPLES`, when None)."""
+    """The attractor's leaves for a ``size x size`` picture of ``window``, within ``tolerance`` pixels (or
+    ``samples`` random leaves of the cut)."""
     size = check_size(size)
     given = window
     window = FRAME if window is None else check_window(window)
@@ -126,29 +120,18 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
                    device: str | torch.device = "auto", dtype: torch.dtype | None = None,
                    gradient: str = "exact", tolerance: float = DEFAULT_TOLERANCE, window=None,
                    budget: Budget | None = None) -> torch.Tensor:
-    """Signed distance from every pixel centre to the union of the depth-K leaf shapes, or to the attractor.
-
-    Returns ``(size, size)`` distances in plane units (unsigned for the attractor), differentiable in
-    ``ifs.points``; pixel centres follow docs/guide/conventions.md.
+    """Signed distance ``(size, size)`` from every pixel centre to the depth-K leaf shapes, or to the attractor.
 
     Parameters
     ----------
     depth : int or "attractor", optional
-        ``K`` (``ifs.depth`` when None), or the distance to the attractor itself within ``tolerance``
-        pixels. A ``window`` implies ``"attractor"``.
+        ``K`` (``ifs.depth`` when None), or the attractor within ``tolerance`` pixels (a ``window`` implies it).
     method : {"fast", "brute", "sampled"}
-        Exact nearest-leaf search then autograd through the winner; every leaf at every pixel (the
-        paper's algorithm, the reference); or (attractor only) random leaves of the certified cut, for
-        attractors of many overlapping maps.
-    device, dtype
-        ``"auto"`` uses CUDA when present; float32 or float64 (that of ``ifs.points`` when None).
+        Exact nearest-leaf search; every leaf at every pixel (the paper's algorithm); random leaves of the cut.
     gradient : {"exact", "paper"}
         ``"paper"`` cuts the gradient through segment rules' rotations, as the paper's code did.
     window : (x0, y0, x1, y1), optional
-        For the attractor: the box of the plane the picture covers, its leaves refined for its own
-        pixels (pixels below `FLOAT32_PIXEL` are computed in float64).
-    budget : Budget, optional
-        What it may spend."""
+        For the attractor: the box of the plane the picture covers, its leaves refined for its pixels."""
     if method not in METHODS:
         raise IFSError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}")
     check_size(size)
@@ -182,9 +165,7 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
 
 def distance_fields(ifs: IFS, points: torch.Tensor, size: int, depth: int | None = None, *,
                     gradient: str = "exact") -> torch.Tensor:
-    """`distance_field` (``"fast"``) of ``(B, n, 2)`` point sets of one pattern in one computation: ``(B, size, size)``.
-
-    Every item must make non-degenerate, contractive rules (see `expand_batch`)."""
+    """`distance_field` of ``(B, n, 2)`` point sets of one pattern in one computation (each item's rules contractive)."""
     check_size(size)
     leaves = expand_batch(ifs, points, depth, gradient=gradient)
     x, y = pixel_centres(size, points.device, points.dtype)

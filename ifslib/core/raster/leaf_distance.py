@@ -1,6 +1,4 @@
-"""The distance from points to leaves: one leaf's signed distance, and the lookups the nearest-leaf search
-and the dense field make of many pairs (point, leaf) of a `ifslib.core.geometry.leaves.Leaves`.
-"""
+"""The distance from points to leaves: one leaf's, and the lookups of many (point, leaf) pairs."""
 from __future__ import annotations
 
 import torch
@@ -69,9 +67,8 @@ _GEOMETRY = 7 + PARAM_WIDTH
 
 
 def leaf_table(leaves: Leaves) -> torch.Tensor | None:
-    """Every leaf's inverse map, scale and packed primitive in one row per quantity, ``(12, L)`` (``(18, L)`` with
-    affine words' forward maps), for fast no-grad lookups; None for mixed kinds. One row per quantity makes a
-    gather's quantities contiguous: about twice as fast on CPU as columns."""
+    """Every leaf's inverse map, scale and primitive, one row per quantity (a gather's quantities contiguous: twice as
+    fast on CPU), for no-grad lookups; None for mixed kinds."""
     if len(set(leaves.kinds)) != 1:
         return None
     leaf = torch.arange(len(leaves), device=leaves.inverse.device)

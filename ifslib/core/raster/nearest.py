@@ -1,8 +1,5 @@
-"""The no-grad search for each pixel's nearest leaf: exact, and O(pixels + leaves) in memory.
-
-A quadtree over the pixel grid, walked top down, prunes each block's candidate leaves by the leaves' 1-Lipschitz
-bound and, where a kind gives its gradient, its tangent plane (the argument: docs/guide/design.md).
-"""
+"""The no-grad search for each pixel's nearest leaf: exact, and O(pixels + leaves) in memory, by a quadtree
+pruned with the leaves' Lipschitz bound and tangent planes (docs/guide/design.md)."""
 from __future__ import annotations
 
 import math
@@ -49,9 +46,7 @@ def pixel_centres(size: int, device: torch.device | str = "cpu", dtype: torch.dt
 
 
 def nearest_point(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """The nearest of ``points`` ``(L, 2)`` to each query ``(x, y)``, exactly, by a KD-tree: its index (on the points'
-    device) and its distance (in the queries' dtype, no gradient). Point leaves are many and tiny, what a
-    KD-tree is made for."""
+    """The nearest of ``points`` to each query ``(x, y)`` by a KD-tree (point leaves are many and tiny): index and distance."""
     from scipy.spatial import cKDTree
 
     tree = cKDTree(points.detach().cpu().double().numpy(), balanced_tree=False, compact_nodes=False)
@@ -63,11 +58,8 @@ def nearest_point(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tup
 
 @torch.no_grad()
 def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> NearestResult:
-    """Find the nearest leaf of every pixel centre, exactly, in the leaves' dtype and on their device.
-
-    For batched leaves (`expand_batch`) each item's pixels search only that item's leaves. A slack in the
-    pruning test absorbs float32 rounding; a level with more than ``max_pairs`` (block, leaf) pairs is split
-    into chunks. `IFSError` when a pixel ends with no leaf (a distance that is not finite)."""
+    """Find the nearest leaf of every pixel centre, exactly (each batch item's pixels among its own leaves); a level
+    over ``max_pairs`` pairs is split; `IFSError` when a pixel ends with no leaf."""
     tree = _quadtree(leaves.detach(), size)
     n_pixels = tree.n_items * size * size
     best_leaf = torch.full((n_pixels,), -1, dtype=torch.long, device=tree.device)
@@ -178,9 +170,8 @@ def _first_task(tree: _Quadtree) -> _Task:
 
 
 def _block_minimum(tree: _Quadtree, task: _Task):
-    """The distances at the blocks' centres: each pair's ``(pairs,)``; above the pixels, where the table gives
-    them, their gradients and reaches ``[gx, gy, reach]`` (`sdf_table_slope`; else None); and each block's
-    least one and the smallest leaf id at it ``(blocks,)``."""
+    """Each pair's distance at its block's centre (with gradients and reaches where the table gives them), and each
+    block's least one and the smallest leaf id at it."""
     n_blocks, device, dtype = task.rows.numel(), tree.device, tree.dtype
     bx, by = _centres(tree, task.rows, task.cols, tree.side >> task.level)
     x, y = bx.index_select(0, task.pair_block), by.index_select(0, task.pair_block)

@@ -31,12 +31,8 @@ def _sigma(ifs: IFS, size: int, sigma: float | None, window=None) -> float:
 
 def render(ifs: IFS, size: int, depth: int | str | None = None, sigma: float | None = None, *,
            method: str = "fast", window=None, points: int = DEFAULT_POINTS, seed: int = 0, **kwargs) -> torch.Tensor:
-    """Render an IFS to a ``(size, size)`` image in ``[0, 1]``, 1 on the figure, differentiable in ``ifs.points``.
-
-    ``depth``, ``window`` and ``**kwargs`` (``device``, ``dtype``, ``gradient``, ``tolerance``, ...) are
-    `ifslib.distance_field`'s; ``sigma`` is ``ifs.sigma`` when set, else one pixel. ``method="chaos"``
-    draws the attractor from ``points`` chaos-game points seeded by ``seed``: the classic picture, float64,
-    with no gradient."""
+    """Render an IFS to a ``(size, size)`` image in ``[0, 1]``, differentiable (``**kwargs``: `distance_field`'s);
+    ``method="chaos"`` draws the attractor from chaos-game points, without gradient."""
     if window is not None:
         window = check_window(window)
     sigma = _sigma(ifs, size, sigma, window)

@@ -1,8 +1,5 @@
-"""Losses between a rendered IFS and a target: pixel or distance, fine or multiscale.
-
-Each name of `ifslib.names.LOSSES` is an entry of `LOSS_KINDS`, which carries what the code branches on; a new
-loss is a line in `ifslib.names.LOSSES` and an entry here.
-"""
+"""Losses between a rendered IFS and a target: pixel or distance, fine or multiscale; each name of
+`ifslib.names.LOSSES` an entry of `LOSS_KINDS`."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -106,10 +103,8 @@ def multiscale_mse(a: torch.Tensor, b: torch.Tensor, levels: int = 5, mode: str 
 
 def loss(distance: torch.Tensor, target: Target, kind: str | Callable = DEFAULT_LOSS,
          sigma: float | None = None, levels: int = 5) -> torch.Tensor:
-    """The loss of a ``(size, size)`` distance field (or a ``(B, size, size)`` batch: ``(B,)``) against a target.
-
-    ``kind``: a name of `LOSSES` (`ifslib.names.DEFAULT_LOSS` by default) or ``f(distance, target) -> scalar``;
-    ``sigma``: the pixel losses' rendering width (one pixel); ``levels``: the multiscale losses' pooled copies."""
+    """The loss of a distance field (or a batch of them: one each) against a target: a name of `LOSSES` or
+    ``f(distance, target)``; ``sigma`` for the pixel losses, ``levels`` for the multiscale ones."""
     if callable(kind):
         if distance.ndim == 3:
             return torch.stack([kind(d, target) for d in distance])

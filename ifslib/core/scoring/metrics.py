@@ -1,6 +1,4 @@
-"""How good a fit is: IoU and F1 of the masks, symmetric Chamfer distance, control-point error, and a
-curve's self-crossings; of the drawing at depth K and of the attractor (docs/guide/conventions.md, "Judging a fit").
-"""
+"""How good a fit is: IoU, F1, Chamfer distance, control-point error and self-crossings (docs/guide/conventions.md)."""
 from __future__ import annotations
 
 import numpy as np
@@ -71,10 +69,7 @@ def evaluate(ifs: IFS, target: Target, depth: int | str | None = None, sigma: fl
 
 
 def caption(ifs: IFS, target: Target) -> str:
-    """The one number that judges a fit: Chamfer (pixels) for a curve, IoU for a figure with area.
-
-    IoU is harsh on a thin curve: a one-pixel line drawn one pixel off shares no pixel with it, so a Koch fit
-    right to 0.7 px can score IoU 0.2 (docs/guide/conventions.md, "Judging a fit")."""
+    """The one number that judges a fit: Chamfer (pixels) for a curve, on which IoU is harsh, IoU for a figure."""
     m = evaluate(ifs, target, attractor=False)
     return f"Chamfer {m['chamfer']:.2f} px" if is_curve(ifs) else f"IoU {m['iou']:.2f}"
 

@@ -58,10 +58,8 @@ def _percent(share: float) -> str:
 
 
 def border_polarity(gray: np.ndarray, threshold: float | None = None) -> tuple[bool, str]:
-    """Which part of an image is the figure, read from its border: the background is what touches it.
-
-    Returns ``invert`` (True when more than ``0.5 + SPLIT`` of the border band is light at ``threshold``; a
-    split border gives False, the paper's convention) and the polarity in words, for `Target.polarity`."""
+    """Which part of an image is the figure, read from its border (the background touches it): ``invert`` and why,
+    in words; a split border gives the paper's convention."""
     light = float((_scaled(gray)[border_band(np.shape(gray))] >= check_threshold(threshold)).mean())
     if light > 0.5 + SPLIT:
         return True, f"a dark figure on a light background (its border is light: {_percent(light)} of it)"

@@ -32,11 +32,8 @@ def check_jitter(jitter: float, seed: int | None) -> None:
 
 
 def initialize(pattern: IFS, target: Target, jitter: float = 0.0, seed: int | None = None) -> IFS:
-    """A start for fitting ``target``: the pattern's points placed on it (paper, "Initial Conditions").
-
-    A curve (`is_curve`) gets its points evenly spaced along the target's best-fit line, the paper's advice;
-    any other pattern is stretched onto the target's bounding box. Each free coordinate is then jittered by
-    ``U(-jitter, jitter)`` plane units (from 0 to 1), seeded by ``seed``."""
+    """A start for fitting ``target`` (paper, "Initial Conditions"): a curve's points evenly spaced along the target's
+    best-fit line, any other pattern stretched onto its bounding box, then jittered by ``jitter`` (seeded)."""
     if isinstance(pattern, str):
         hint = ("a start read from the image is ifslib.discover(target) (import ifslib.automatic)"
                 if pattern == "auto" else "patterns by name: ifslib.patterns.by_name")

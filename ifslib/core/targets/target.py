@@ -1,7 +1,4 @@
-"""Targets: images, arrays or IFSs turned into a binary mask on the pixel grid, with its distances.
-
-Reading a file (which part is the figure) is `ifslib.core.targets.image`.
-"""
+"""Targets: images, arrays or IFSs turned into a binary mask on the pixel grid, with its distances."""
 from __future__ import annotations
 
 import os
@@ -30,12 +27,8 @@ _TARGET_BYTES_PER_PIXEL = 64
 
 @dataclass
 class Target:
-    """A fitting target on the ``size x size`` pixel grid.
-
-    ``mask`` is True on the figure; ``distance`` (float32, plane units) the distance from each pixel centre to
-    the nearest figure pixel centre; ``image`` the mask as float32 pixels; ``gray`` the source's own gray levels
-    at this size, figure bright (None for a mask or an IFS); ``polarity`` says in words which part of the
-    source is the figure, and why (docs/guide/conventions.md); ``inverted`` whether it is the dark part."""
+    """A fitting target on the ``size x size`` grid: its ``mask``, the distance to it (plane units), the mask as an
+    ``image``, the source's ``gray`` levels, and which part of the source is the figure (``polarity``), and why."""
 
     mask: np.ndarray
     distance: torch.Tensor
@@ -97,13 +90,8 @@ def _from_gray(gray: np.ndarray, size: int, invert: bool, threshold: float | Non
 
 def load_target(source, size: int, invert: bool | None = None, threshold: float | None = None,
                 depth: int | None = None) -> Target:
-    """Make a fitting target of ``size`` pixels a side from an image file, an array or an IFS.
-
-    ``source``: an image file, a name of one of the paper's images (``"koch"``, ``"sierpinski"``, ``"apple"``,
-    ``"flower"``; `ifslib.data`), a 2-D array (figure high) or an IFS (its drawing at ``depth``). ``invert``
-    None finds an image file's figure from its border or alpha channel (docs/guide/conventions.md); True takes
-    the dark (transparent, low) part, False the light part. ``threshold``: the gray level in ``[0, 1]`` of the
-    image's range above which a pixel is figure (0.5). `Target.polarity` says which part was taken, and why."""
+    """A fitting target of ``size`` pixels from an image file, one of the paper's images by name, an array (figure high)
+    or an IFS; ``invert`` None reads the figure from the border (docs/guide/conventions.md)."""
     size = check_size(size)
     invert = _check_invert(invert)
     check_threshold(threshold)

@@ -1,7 +1,5 @@
 """What the notebooks' exercise tests may import: the harness that runs a student's function with the library's
-own switched off (`run_answer`, which raises ``AssertionError`` with a hint), and the targets (pictures shipped
-with the package). The answers and the truths behind the targets live in the instructor's notebooks and
-``course/targets.py``."""
+own switched off (`run_answer`), and the targets (the truths behind them live in ``course/``)."""
 import importlib
 
 from .library import ALLOWED, BANS  # plain tables: nbgrader's own process reads them without torch

@@ -1,6 +1,5 @@
-"""The exercises' harness: run a student's function with the library's own one switched off
-(`run_answer`, `library_off`), and read an answer as a matrix or a number. Each raises
-``AssertionError`` with a hint, as an nbgrader test cell expects."""
+"""The exercises' harness: run a student's function with the library's own switched off (`run_answer`), and read
+an answer as a matrix or a number; each raises ``AssertionError`` with a hint."""
 from __future__ import annotations
 
 import contextlib
@@ -149,10 +148,8 @@ def _switched_off(name: str) -> Callable:
 
 
 def _originals(exercise: str, imported: bool = False) -> list[tuple[object, str, object, str]]:
-    """(owner, attribute, what it keeps, dotted name) for each of ``exercise``'s library functions.
-
-    With ``imported``, only those of modules already imported (nothing else can be held yet).
-    """
+    """(owner, attribute, what it keeps, dotted name) for each of ``exercise``'s library functions (``imported``: of
+    modules already imported)."""
     if exercise not in LIBRARY:
         raise KeyError(f"no exercise {exercise!r}; one of {sorted(LIBRARY)}")
     out = []
@@ -171,12 +168,8 @@ def _originals(exercise: str, imported: bool = False) -> list[tuple[object, str,
 
 @contextlib.contextmanager
 def library_off(exercise: str, answer: Callable | None = None) -> Iterator[None]:
-    """Within the block, the library's functions for ``exercise`` (a key of `LIBRARY`) raise `WriteItYourself`.
-
-    A plain Python function's ``__code__`` is swapped for code that raises, so every reference to it raises
-    wherever it is held and whoever calls it; anything else (a builtin) is replaced where the library keeps
-    it and in ``answer``'s globals. All is restored when the block ends; the lock keeps two blocks' swaps
-    apart (nested, or from two threads)."""
+    """Within the block, the library's functions for ``exercise`` raise `WriteItYourself`, wherever they are held: a
+    function's ``__code__`` is swapped, a builtin replaced; restored when the block ends (the lock: nested blocks)."""
     keys: list[tuple] = []
     with _LOCK:
         try:
@@ -254,11 +247,8 @@ def _filled(cell) -> bool:
 
 
 class _Watch:
-    """While a student's function runs, every call into ifslib outside ``allowed`` is refused.
-
-    A profile hook sees each Python call with the module it runs in, so the library's code is refused by
-    module however it was reached; a refusal is recorded before it is raised, so an answer that catches it
-    (or removes the hook) still fails."""
+    """While a student's function runs, a profile hook refuses every call into ifslib outside ``allowed``, by module
+    however it was reached; a refusal is recorded, so catching it (or removing the hook) still fails."""
 
     def __init__(self, allowed: frozenset[str]):
         self.allowed = allowed
@@ -298,11 +288,8 @@ _PROFILE_SETTERS = (sys.setprofile, sys.settrace, threading.setprofile, threadin
 
 
 def run_answer(answer, exercise: str, *args):
-    """The student's ``answer(*args)`` while `LIBRARY`'s functions for ``exercise`` are off and every call into a module
-    of ifslib other than `ALLOWED`'s is refused (`_Watch`); the result as `plain` values.
-
-    Raises ``AssertionError`` with a hint when ``answer`` is not a function, is (or wraps) the library's own,
-    calls it, or raises."""
+    """The student's ``answer(*args)`` with the library's own off and the rest of ifslib refused (`_Watch`), as `plain`
+    values; ``AssertionError`` with a hint otherwise."""
     assert answer is not None and answer is not Ellipsis, f"write your {exercise} first (the cell above)."
     assert callable(answer), (f"give your function itself (its name, without brackets), "
                               f"got {type(answer).__name__}.")
@@ -341,9 +328,8 @@ _SCANNED: dict = {}
 
 
 def _kernel_check() -> None:
-    """Say at once what the grader will not trust: the cells run so far in this IPython kernel, read with
-    `integrity.scan` (the grader reads the submission the same way, outside the kernel, and gives the
-    tests after such a cell no points). Each cell's source is read once; outside IPython nothing is read."""
+    """Say at once what the grader will not trust in the cells run so far in this IPython kernel (`integrity.scan`,
+    each cell read once)."""
     try:
         from IPython import get_ipython
     except ImportError:
@@ -367,9 +353,8 @@ def _kernel_check() -> None:
 
 
 def plain(value, name: str = "your answer"):
-    """``value`` as plain data a test can compare without trusting it (numbers, strings, containers, float or bool
-    arrays, tensors with their graph; an `ifslib.IFS` or None as it is); ``AssertionError`` for anything else,
-    a subclass included (it can answer ``==`` with anything)."""
+    """``value`` as plain data a test can compare without trusting it; ``AssertionError`` for anything else, a subclass
+    included (it can answer ``==`` with anything)."""
     from ...core.geometry.ifs import IFS
 
     _kernel_check()

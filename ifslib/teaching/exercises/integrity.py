@@ -1,6 +1,4 @@
-"""Read a student's cells, without running them, for what changes the checks instead of answering them (`scan`):
-code that rebinds what a test reads (the checker, numpy, the library, a builtin, a lesson's variable) or an
-answer whose ``==`` always holds. An honest answer computes its value and never trips them."""
+"""Read a student's cells, without running them, for what changes the checks instead of answering them (`scan`)."""
 from __future__ import annotations
 
 import ast
@@ -157,11 +155,8 @@ def _global_bindings(tree: ast.Module) -> list[tuple[str, int]]:
 
 def scan(cells: Iterable[tuple[str, str]], modules: Iterable[str] = (), protected: Iterable[str] = (),
          own: dict[str, set[str]] | None = None, bans: dict[str, Iterable[str]] | None = None) -> list[Finding]:
-    """What in ``cells`` (``(label, source)``, the cells a student can change) changes the checks instead of answering them.
-
-    ``modules``: names the notebook binds to modules (an answer may not set their attributes or rebind them);
-    ``protected``: the lesson's names a test reads; ``own``: label -> the names that cell's exercise asks for;
-    ``bans``: label -> names that answer may not mention (`BANS`), in its cell or the cells it reads from."""
+    """What in ``cells`` (``(label, source)``) changes the checks: rebinding ``modules`` or the lesson's ``protected``
+    names, beyond what each cell's exercise asks for (``own``), or mentioning its ``bans``."""
     cells = [(str(label), source) for label, source in cells]
     modules, protected, own = set(modules), set(protected), own or {}
     findings: list[Finding] = []
@@ -302,9 +297,7 @@ def is_students(cell) -> bool:
 
 
 def scan_notebook(book, stubs: dict[str, str], bans: dict[str, Iterable[str]]) -> list[tuple[int, Finding]]:
-    """(cell index, finding) for each construct of ``book``'s student cells that changes its checks, with each answer's
-    released stub (``stubs``: the names it binds) and ``bans`` by grade_id; the locked lesson cells give the
-    modules and names the tests read."""
+    """(cell index, finding) for each construct of ``book``'s student cells that changes its checks."""
     code = [(k, c) for k, c in enumerate(book.cells) if c.cell_type == "code"]
     mine = [(k, c) for k, c in code if is_students(c)]
     lesson = [c for _, c in code if not is_students(c)]

@@ -1,6 +1,5 @@
-"""Which library functions each exercise switches off while a student's function runs (`LIBRARY`), by
-module and attribute: the function asked for, and the library's other routes to the same answer. No
-answer or reference value lives here."""
+"""Which library functions each exercise switches off while a student's function runs (`LIBRARY`), and what
+it may call (`ALLOWED`) or name (`BANS`)."""
 from __future__ import annotations
 
 import types

@@ -1,8 +1,5 @@
-"""`Shape`: what the code needs of a primitive's kind, and the distances the kinds share.
-
-Every distance is exact and therefore 1-Lipschitz (the nearest-leaf search relies on that); square
-roots go through `safe_norm`, whose gradient is 0 (not NaN) where the distance is 0.
-"""
+"""`Shape`: what the code needs of a primitive's kind, and the distances the kinds share (exact, so 1-Lipschitz,
+as the nearest-leaf search needs)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -16,16 +13,9 @@ PARAM_WIDTH = 5
 
 @dataclass(frozen=True)
 class Shape:
-    """One kind of primitive, as the table `ifslib.core.geometry.shapes.SHAPES` holds it.
-
-    ``kind``: its name in the file; ``points``: its control points; ``radius``: "optional", "required" or
-    "unused". ``pack(corners, radius)``: its geometry ``(..., PARAM_WIDTH)``, differentiable. ``local(qx, qy,
-    params)``: the signed distance in its own frame. ``affine(x, y, qx, qy, forward, smallest, params)``: the
-    distance to its image under an affine map, which the similarity law ``s d(T^-1 x)`` cannot give under a
-    shear (segments and boxes measured exactly in the plane from the forward map; a disk's ellipse by the
-    1-Lipschitz bound ``smallest * d(q)``). ``slope`` and ``affine_slope``, optional: the same distance bit for
-    bit, its gradient and the reach of that gradient's direction (good to ``ulps / reach``), for the
-    nearest-leaf search's tangent planes."""
+    """One kind of primitive: its name, control points, radius rule, packing into `PARAM_WIDTH` numbers, its signed
+    distance in its own frame (``local``) and to its image under an affine map (``affine``: the similarity law
+    fails under a shear), and optionally the same with gradients (``slope``, ``affine_slope``) for the search."""
 
     kind: str
     points: int
