@@ -14,8 +14,23 @@ from ...errors import IFSError, LeafBudgetError, check_int
 
 
 def converged(losses: list[float], tol: float, patience: int) -> bool:
-    """Whether the best of ``losses`` improved by at most a fraction ``tol`` over the last ``patience`` steps
-    (False while fewer than ``patience + 1`` are known)."""
+    """Whether a descent has converged: its best loss improved by at most a fraction ``tol`` over the last
+    ``patience`` steps.
+
+    Parameters
+    ----------
+    losses : list of float
+        The loss at every step so far (``history.loss``).
+    tol : float
+        Relative improvement of the best loss that still counts as progress.
+    patience : int
+        Window, in steps.
+
+    Returns
+    -------
+    bool
+        False while fewer than ``patience + 1`` losses are known.
+    """
     if len(losses) <= patience:
         return False
     before = min(losses[:-patience])
@@ -24,8 +39,34 @@ def converged(losses: list[float], tol: float, patience: int) -> bool:
 
 @dataclass(frozen=True)
 class StepPolicy:
-    """What a `Descent` does around each Adam step: roll back a step that is not finite or breaks a map (at half the
-    rate), keep the best, stop early (`converged`), edit the gradients, schedule the rates, restore contraction."""
+    """What a `Descent` does around each Adam step.
+
+    Attributes
+    ----------
+    rollback : bool
+        A step whose loss or gradient is not finite, or whose loss raises `IFSError` (a rule became
+        degenerate or non-contractive), is undone: the parameters and Adam's state go back to before
+        the step that led there, at half the learning rate. False: a loss that is not finite raises
+        `IFSError` with ``advice``.
+    max_rollbacks : int
+        With ``rollback``: this many consecutive rolled-back steps stop the descent.
+    keep_best : bool
+        Keep the parameters of the least loss so far (`Descent.best`).
+    tol, patience : float and int, optional
+        Stop early once the best loss improved by at most a fraction ``tol`` over the last
+        ``patience`` steps (`converged`); ``tol`` None never stops early.
+    gradient : callable, optional
+        ``gradient()`` edits the gradients in place before Adam's step (holds fixed points).
+    schedule : callable, optional
+        ``schedule(index)``: the share of each group's learning rate at step ``index`` (a decay).
+    contract : callable, optional
+        ``contract(before)``, without gradients, after Adam's step: moves the parameters back into
+        the contractive maps, given their values ``before`` the step (`clamp_scales`, `halve_step`).
+    advice : str
+        Without rollback: what the error raised by a loss that is not finite tells the caller.
+    name : str
+        The descent's name in its warning when rolled-back steps stop it.
+    """
 
     rollback: bool = False
     max_rollbacks: int = 10
@@ -44,8 +85,29 @@ class StepPolicy:
 
 
 class Descent:
-    """Adam on parameter groups and a loss closure, one step at a time under a `StepPolicy` (``index``: the steps
-    taken; ``losses``: each not rolled back; ``rates``: halved by each rollback)."""
+    """Adam on parameter groups and a loss, one step at a time under a `StepPolicy`.
+
+    Parameters
+    ----------
+    groups : sequence of dict
+        torch's parameter groups, each ``{"params": [tensors], "lr": rate}``.
+    loss : callable
+        ``loss()``: the loss at the current parameters, a scalar tensor (may be replaced between runs:
+        the splat fit's levels).
+    policy : StepPolicy
+
+    Attributes
+    ----------
+    index : int
+        The steps taken, rolled-back ones included (the index of the next step).
+    losses, rates : list of float
+        The loss of every step not rolled back; each group's learning rate (halved by each rollback).
+    best, best_loss, best_step
+        With ``policy.keep_best``: the parameters of the least loss, that loss and its step.
+    previous, reason
+        With ``policy.rollback``: a `snapshot` from before the last step not rolled back; why the last step
+        was rolled back (None when it was not).
+    """
 
     def __init__(self, groups: Sequence[dict], loss: Callable[[], torch.Tensor], policy: StepPolicy = StepPolicy()):
         if not isinstance(policy, StepPolicy):
@@ -138,8 +200,12 @@ class Descent:
         return current
 
     def run(self, steps: int, after: Callable[[int, float | None], None] | None = None, bar=None) -> str:
-        """Take steps until ``steps`` have been taken in all; ``after(index, loss)`` follows each (``loss`` None when
-        rolled back) and ``bar`` (tqdm) advances. Returns why it stopped: ``"steps"``, ``"converged"`` or ``"rollbacks"``."""
+        """Take steps until ``steps`` have been taken in all (those of earlier runs count); ``after(index, loss)``
+        follows each (``loss`` None when it was rolled back), and ``bar`` (tqdm) is advanced by one a step.
+
+        Returns why it stopped: ``"steps"``, ``"converged"`` (``policy.tol``) or ``"rollbacks"``
+        (``policy.max_rollbacks`` consecutive rolled-back steps, with a warning).
+        """
         policy = self.policy
         for index in range(self.index, steps):
             current = self.step()

@@ -43,23 +43,44 @@ def fit(ifs: IFS | Start, target: Target, *, steps: int = DEFAULT_STEPS, strateg
     Parameters
     ----------
     ifs : IFS or Plan
-        The start (not modified), or a plan read from the image (``ifslib.discover(target)``).
+        The starting point (not modified), or a plan read from the image
+        (``ifslib.discover(target)``), which is fitted by comparing its candidates.
+    target : Target
+        From `ifslib.load_target`; its size sets the render size.
     steps : int
-        The budget of each run (the paper: 1500 in one run); the default strategy's stages spend at most 500.
+        The step budget of each run (the paper used 1500 steps in one run). With the default
+        strategy each stage of each start spends at most ``min(steps, 500)`` and most stop
+        long before.
     strategy : str or a strategy's options, optional
-        A name of `ifslib.names.STRATEGIES` or its options (``ifslib.strategies.Pyramid(n_starts=2)``); None:
-        ``"pyramid"``, ``"auto"`` for a plan, ``"plain"`` (the paper's single run) with a checkpoint.
+        How the steps are spent: a name of `ifslib.names.STRATEGIES` (with its defaults) or the strategy's
+        options object, ``strategy=ifslib.strategies.Pyramid(n_starts=2)``. None (the default) is
+        ``"pyramid"``: coarse to fine in pixels with early stopping, starts tried until one recovers the
+        target; a plan is fitted with ``"auto"``, and a fit with a checkpoint is a single run, ``"plain"``
+        (the paper's procedure). The others are in `ifslib.core.fitting.strategies`.
     seed : int
-        Seeds torch and the strategies' jitter; a seeded fit on CPU is reproducible.
-    lr, loss, depth, options
-        How each Adam run moves the points (`RunOptions`); the named ones over ``options``.
+        Seeds torch and the strategies' jitter, from 0 to ``ifslib.errors.MAX_SEED``; a seeded fit
+        on CPU is reproducible.
+    lr, loss, depth : optional
+        The learning rate, the loss and the render depth of every run (`RunOptions`), over ``options``.
+    options : RunOptions, optional
+        How each Adam run moves the points (early stop, rendering method, device, ...); the defaults where
+        not given.
+    progress : bool
+        Show progress bars naming the stage (start k of n, size) and the current loss.
+    callback : callable, optional
+        ``callback(step, loss, ifs)`` after every step of every run.
     checkpoint : Checkpoint or path, optional
-        A resumable single run (a path: written every 100 steps).
+        A resumable single run (`ifslib.core.fitting.options.Checkpoint`; a path is where to write it,
+        every 100 steps).
 
     Returns
     -------
     FitResult
-        ``history.stopped`` says why the returned run ended, ``history.cost`` counts every step of every run."""
+        ``history.stopped`` says why the returned run ended; the default strategy adds
+        ``history.stages`` (each stage's start, size, steps and why it stopped),
+        ``history.starts_tried`` and ``history.recovered``; ``history.cost`` counts every step
+        of every run.
+    """
     saved = _checkpoint(checkpoint)
     run_options = _run_options(options, lr=lr, loss=loss, depth=depth)
     _check(ifs, target, steps, seed, run_options)

@@ -59,7 +59,10 @@ def check_window(window) -> tuple[float, float, float, float]:
 
 def check_contractive_maps(maps: torch.Tensor, rules=None) -> torch.Tensor:
     """Raise `IFSError` unless every map's largest singular value is below 1; return those values ``(m,)``.
-    (The attractor needs no inverse map, so a nearly singular map is fine here.)"""
+
+    Unlike a drawing at depth K, the attractor needs no inverse map, so a map with a singular
+    value near 0 (it flattens the figure onto a line) is fine here.
+    """
     largest = singular_values(maps.detach())[1]
     for i, s in enumerate(largest.tolist()):
         if not s < 1:
@@ -91,8 +94,24 @@ def prepare_maps(maps: torch.Tensor, rules=None) -> tuple[torch.Tensor, torch.Te
 
 
 def attractor_ball(maps: torch.Tensor) -> tuple[torch.Tensor, float]:
-    """A centre ``c``, differentiable in ``maps``, and a radius ``R`` with the attractor inside ``B(c, R)`` (steps 1-2 of
-    the proof); ``c`` centres the box of ``T_w(f)`` for short words, which keeps ``R`` near the attractor's."""
+    """A centre ``c`` and a radius ``R`` with the attractor inside ``B(c, R)`` (steps 1-2 of the proof, docs/results/attractor.md).
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(m, 3, 3)`` contracting maps (not checked here: see `check_contractive_maps`).
+
+    Returns
+    -------
+    centre : torch.Tensor
+        ``(2,)`` in the maps' dtype, differentiable in them: the centre of the box around the
+        points ``T_w(f)`` of short words ``w`` (``f`` the first map's fixed point), so that ``R`` is
+        near the attractor's own radius. Any point would do for the bound; this one keeps ``R``
+        small, and its gradient keeps the field's gradient that of the field (finite differences
+        agree), although its share, through ``L_w`` of norm at most ``ε / R``, is small.
+    radius : float
+        Computed in float64 from the centre's value.
+    """
     m = maps.shape[0]
     k = max(1, int(math.log(BALL_WORDS) / math.log(max(m, 2))))
     fixed = torch.linalg.solve(torch.eye(2, dtype=maps.dtype, device=maps.device) - maps[0, :2, :2], maps[0, :2, 2])
@@ -111,8 +130,25 @@ def attractor_ball(maps: torch.Tensor) -> tuple[torch.Tensor, float]:
 
 @dataclass
 class AttractorLeaves:
-    """Point leaves within ``tolerance`` of an IFS's attractor: ``points`` (no gradient), each one's ``error``
-    ``||L_w|| R``, their words (``tree``), and ``maps`` and ``centre`` with autograd for `leaf_points`."""
+    """Point leaves standing for an IFS's attractor within ``tolerance`` (see the module docstring).
+
+    Attributes
+    ----------
+    points : torch.Tensor
+        ``(L, 2)`` leaf points ``T_w(c)``, no gradient (for the nearest-leaf search).
+    error : torch.Tensor
+        ``(L,)`` each leaf's bound ``e_w = ||L_w|| R``: ``T_w(A)`` lies within ``e_w`` of its point.
+    tree : DenseWords or WordTree
+        Each leaf's word (`words` spells them all out; `leaf_points` only those it needs).
+    maps : torch.Tensor
+        ``(m, 3, 3)`` the rules' maps, with autograd (what `leaf_points` differentiates).
+    centre : torch.Tensor
+        ``(2,)`` the point ``c``, with autograd (see `attractor_ball`).
+    radius : float
+        ``R``: the attractor lies in ``B(c, R)``.
+    tolerance : float
+        ``ε`` in plane units: every ``e_w <= ε``.
+    """
 
     points: torch.Tensor
     error: torch.Tensor
@@ -147,8 +183,27 @@ def _budget_error(tolerance: float, budget: int, level: int, open_nodes: int, m:
 
 def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, float, float, float] | None = None,
                      max_leaves: int | None = None, rules=None) -> AttractorLeaves:
-    """Cut the word tree of ``maps`` per branch where ``||L_w|| R <= tolerance`` (steps 3-4 of the proof), within
-    ``window``; `LeafBudgetError` before the level that would exceed ``max_leaves`` is allocated."""
+    """Cut the word tree of ``maps`` per branch where ``||L_w|| R <= tolerance`` (steps 3-4 of the proof, docs/results/attractor.md).
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(m, 3, 3)`` contracting maps (checked: `check_contractive_maps`), with or without autograd.
+    tolerance : float
+        ``ε`` in plane units.
+    window : (x0, y0, x1, y1), optional
+        Only points of this box matter: branches that cannot hold the nearest point of the
+        attractor to any point of it are dropped. None keeps every branch.
+    max_leaves : int, optional
+        The leaf budget (`DEFAULT_MAX_LEAVES` when None): the expansion stops with an `IFSError`
+        as soon as it knows it would exceed it, before allocating the next level.
+    rules : sequence of Rule, optional
+        The rules the maps come from, named in the message of a map that does not contract.
+
+    Returns
+    -------
+    AttractorLeaves
+    """
     tolerance = check_positive(tolerance, "tolerance", " (plane units)")
     budget = DEFAULT_MAX_LEAVES if max_leaves is None else int(max_leaves)
     if budget < 1:
@@ -216,7 +271,14 @@ def word_maps(maps: torch.Tensor, words: torch.Tensor) -> torch.Tensor:
 
 
 def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
-    """The points ``T_w(c)`` ``(N, 2)`` of the leaves ``index``, recomputed with autograd through the maps."""
+    """The points ``T_w(c)`` of the leaves ``index`` (``(N,)`` ids), recomputed with autograd through the maps.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(N, 2)``: the same values as ``leaves.points[index]`` (up to rounding), differentiable
+        in the control points the maps were built from.
+    """
     digits = leaves.tree.select(index)
     if digits.shape[1] == 0:
         return leaves.centre.expand(index.numel(), 2)

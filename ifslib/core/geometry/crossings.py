@@ -26,7 +26,21 @@ def check_curve(ifs: IFS, what: str) -> None:
 
 
 def leaf_segments(ifs: IFS, depth: int | None = None) -> torch.Tensor:
-    """The depth-K copies ``(W * p, 2, 2)`` of a curve's segment primitives, differentiable in ``ifs.points``."""
+    """The depth-K copies of a curve's segment primitives, differentiable in ``ifs.points``.
+
+    Parameters
+    ----------
+    ifs : IFS
+        Every primitive must be a segment (its radius is ignored).
+    depth : int, optional
+        ``ifs.depth`` when None.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(W * p, 2, 2)``: start and end point of each leaf segment, words in lexicographic order
+        and the primitive fastest, in the dtype of ``ifs.points``.
+    """
     check_curve(ifs, "a self-crossing count or penalty")
     depth = ifs.depth if depth is None else check_depth(depth)
     points = ifs.points
@@ -43,8 +57,24 @@ def _cross(p: torch.Tensor, q: torch.Tensor, r: torch.Tensor) -> torch.Tensor:
 
 def crossing_pairs(segments: torch.Tensor, tol: float = 1e-9
                    ) -> tuple[torch.Tensor, torch.Tensor, tuple[torch.Tensor, ...]]:
-    """The pairs ``i < j`` of ``(S, 2, 2)`` segments that properly cross, and the four ``(S, S)`` cross products;
-    touching or collinear segments (within ``tol``) never cross."""
+    """The pairs of segments that properly cross: each one's endpoints strictly on opposite sides of the other's line.
+
+    Parameters
+    ----------
+    segments : torch.Tensor
+        ``(S, 2, 2)`` start and end points.
+    tol : float
+        Cross products within this (times the squared extent) count as collinear, so segments that
+        only touch, as consecutive pieces of a curve do, or overlap on one line never count as crossing.
+
+    Returns
+    -------
+    i, j : torch.Tensor
+        ``(k,)`` the crossing pairs ``i < j``, in row-major order.
+    sides : tuple of torch.Tensor
+        ``(S, S)`` each: the cross products ``AB x AC``, ``AB x AD``, ``CD x CA``, ``CD x CB`` of segment
+        ``AB`` (row) and ``CD`` (column).
+    """
     a, b = segments[:, None, 0], segments[:, None, 1]        # (S, 1, 2)
     c, d = segments[None, :, 0], segments[None, :, 1]        # (1, S, 2)
     tol = tol * max(1.0, float(segments.detach().abs().max())) ** 2
@@ -57,7 +87,20 @@ def crossing_pairs(segments: torch.Tensor, tol: float = 1e-9
 
 
 def crossing_depths(segments: torch.Tensor, tol: float = 1e-9) -> torch.Tensor:
-    """Depth ``(k,)`` of every proper crossing (`crossing_pairs`), plane units, differentiable."""
+    """Depth of every proper crossing between the segments (`crossing_pairs`; see the module docstring).
+
+    Parameters
+    ----------
+    segments : torch.Tensor
+        ``(S, 2, 2)`` start and end points.
+    tol : float
+        As `crossing_pairs`'s.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(k,)`` one depth per crossing pair ``i < j`` (plane units), differentiable.
+    """
     i, j, (abc, abd, cda, cdb) = crossing_pairs(segments, tol)
     ab = (segments[i, 1] - segments[i, 0]).norm(dim=-1)
     cd = (segments[j, 1] - segments[j, 0]).norm(dim=-1)
@@ -67,7 +110,20 @@ def crossing_depths(segments: torch.Tensor, tol: float = 1e-9) -> torch.Tensor:
 
 
 def crossing_penalty(ifs: IFS, depth: int | None = None) -> torch.Tensor:
-    """Sum of the crossing depths of a curve's depth-K segments: 0 when it does not cross itself."""
+    """Sum of the crossing depths of a curve's depth-K segments: 0 when it does not cross itself.
+
+    Parameters
+    ----------
+    ifs : IFS
+        A curve (every primitive a segment).
+    depth : int, optional
+        ``ifs.depth`` when None.
+
+    Returns
+    -------
+    torch.Tensor
+        A scalar in plane units, differentiable in ``ifs.points``.
+    """
     return crossing_depths(leaf_segments(ifs, depth)).sum()
 
 

@@ -27,8 +27,39 @@ def _as_primitive(prim: Primitive | dict) -> Primitive:
 
 
 class IFS:
-    """An iterated function system on control points: the paper's ``(P, L, D)`` and the depth ``K``, with the points
-    ``fixed`` in a fit, a rendering ``sigma``, free ``meta`` and the chaos game's ``probabilities``."""
+    """An iterated function system defined on control points.
+
+    Parameters
+    ----------
+    points : array-like
+        Control points, ``(n, 2)``, in plane units (the image plane is ``[-0.5, 0.5]^2``).
+    rules : sequence of Rule (or dicts with ``kind``, ``from``, ``to``)
+        The ``m`` symmetry rules; each makes one map.
+    primitives : sequence of Primitive (or dicts with ``kind``, ``points``, ``radius``)
+        The shapes drawn at the leaves.
+    depth : int
+        Number of Hutchinson steps ``K`` (0 draws the primitives as they are).
+    name : str
+        A label, saved in the JSON file.
+    fixed : iterable of int
+        Indices of control points that fitting must not move.
+    sigma : float, optional
+        Rendering width in plane units; `ifslib.render` uses it when given no ``sigma``.
+    meta : dict, optional
+        Free-form metadata (a fit's history, say), saved in the JSON file.
+    dtype : torch.dtype
+        Floating type of ``points`` (float32 by default; float64 on request).
+    probabilities : sequence of float, optional
+        One probability per rule, each > 0, summing to 1: how often the chaos game picks each map,
+        and so the invariant measure (the gray levels) of the attractor. None (the default) means
+        in proportion to ``|det L_i|`` with a floor for nearly singular maps
+        (`ifslib.core.geometry.rules.chaos_probabilities`); `measure_probabilities` says which.
+
+    Raises
+    ------
+    IFSError
+        On a bad shape, a NaN point, an out-of-range index, a negative depth or bad probabilities.
+    """
 
     def __init__(self, points: Any, rules: Sequence[Rule | dict], primitives: Sequence[Primitive | dict],
                  depth: int = 3, name: str = "", fixed: Iterable[int] = (), sigma: float | None = None,
@@ -81,8 +112,12 @@ class IFS:
                            "give one per rule (or none for the default)")
 
     def check_contractive(self, depth: int | None = None, maps: torch.Tensor | None = None) -> None:
-        """Raise `IFSError` if, while ``depth`` > 0, a rule's map does not contract (largest singular value >= 1)
-        or is degenerate (smallest below `MIN_SINGULAR`: no usable inverse)."""
+        """Raise `IFSError` if, while ``depth`` > 0, a rule's map does not contract or is degenerate.
+
+        A map contracts when its largest singular value is below 1 (for a similarity: its scale);
+        it is degenerate when its smallest singular value is below `ifslib.core.geometry.rules.MIN_SINGULAR`
+        (it flattens the figure onto a line and has no usable inverse).
+        """
         depth = self.depth if depth is None else depth
         if depth == 0:
             return
@@ -106,12 +141,24 @@ class IFS:
 
     # -- maps ----------------------------------------------------------------------------------
     def maps(self, gradient: str = "exact") -> torch.Tensor:
-        """The rules' maps as ``(m, 3, 3)`` homogeneous matrices, differentiable in ``points``."""
+        """The rules' maps as ``(m, 3, 3)`` homogeneous matrices, differentiable in ``points``.
+
+        Parameters
+        ----------
+        gradient : {"exact", "paper"}
+            ``"paper"`` cuts the gradient through segment rules' rotations, as the paper's code did.
+        """
         self.validate()
         return rule_maps(self.points, self.rules, gradient)
 
     def measure_probabilities(self, maps: torch.Tensor | None = None) -> torch.Tensor:
-        """Each map's probability, ``(m,)`` float64: the given ``probabilities``, or `chaos_probabilities` of ``maps``."""
+        """Each map's probability, ``(m,)`` float64 (no gradient): the given ``probabilities``, or the default.
+
+        The default is in proportion to ``|det L_i|`` with a floor of
+        `ifslib.core.geometry.rules.CHAOS_FLOOR` times the largest, so a flattening map (a fern's
+        stem) is still chosen: `ifslib.core.geometry.rules.chaos_probabilities` of ``maps`` (these
+        rules' maps when None).
+        """
         if self.probabilities is not None:
             return torch.tensor(self.probabilities, dtype=torch.float64)
         return chaos_probabilities(self.maps().detach() if maps is None else maps)
@@ -170,7 +217,10 @@ PROBABILITY_SUM_TOLERANCE = 1e-6
 
 
 def check_probabilities(probabilities: Any, m: int) -> tuple[float, ...]:
-    """``m`` probabilities as floats, each finite and > 0 (a map never chosen should be removed), summing to 1."""
+    """Return ``m`` probabilities as a tuple of floats if each is finite and > 0 and they sum to 1, else raise `IFSError`.
+
+    A probability of 0 is refused: that map would never be drawn, so its rule should be removed.
+    """
     try:
         values = tuple(float(p) for p in (probabilities.tolist() if hasattr(probabilities, "tolist") else probabilities))
     except (TypeError, ValueError):

@@ -22,8 +22,27 @@ _BYTES_PER_PIXEL = {"fast": 600, "brute": 120}
 
 @dataclass
 class Leaves:
-    """All leaves of an IFS at one depth (``leaf = word * n_prims + p``): each word's inverse map and scale (the
-    forward maps of affine words), the packed primitives; for a batch, ``words_per_item`` words per item."""
+    """All leaves of an IFS at one depth.
+
+    Attributes
+    ----------
+    inverse : torch.Tensor
+        ``(W, 2, 3)`` inverse affine map of each word (``W = m**K``).
+    scale : torch.Tensor
+        ``(W,)`` scale of each word's map (its smallest singular value when ``forward`` is given).
+    params : torch.Tensor
+        ``(p, PARAM_WIDTH)`` packed primitive geometry (see `ifslib.primitives.primitive_params`).
+    kinds : tuple of str
+        ``(p,)`` kind of each primitive.
+    words_per_item : int
+        0 for the leaves of one IFS. For a batch of ``B`` point sets of one pattern (see
+        `expand_batch`), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
+        ``(B * p, PARAM_WIDTH)``, and leaf ids run over the whole batch, item ``b`` owning the ids
+        ``b * m**K * p`` to ``(b + 1) * m**K * p - 1``.
+    forward : torch.Tensor or None
+        ``(W, 6)`` each word's forward map ``(a, b, tx, c, d, ty)``, for an IFS with ``affine``
+        rules; None when every word is a similarity.
+    """
 
     inverse: torch.Tensor
     scale: torch.Tensor
@@ -56,7 +75,21 @@ class Leaves:
 
 
 def word_geometry(words: torch.Tensor, similarity: bool) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor | None]:
-    """What a leaf's distance needs of each ``(..., W, 3, 3)`` word: its inverse, its scale and, for affine words, ``(a, b, tx, c, d, ty)``."""
+    """What a leaf's distance needs of each word map: its inverse, its scale and, for affine words, the map itself.
+
+    Parameters
+    ----------
+    words : torch.Tensor
+        ``(..., W, 3, 3)`` composed maps.
+    similarity : bool
+        Whether every map is a similarity (then ``scale = sqrt|det|`` and no matrix is kept).
+
+    Returns
+    -------
+    inverse : ``(..., W, 2, 3)``
+    scale : ``(..., W)``: the similarity's scale, or the affine map's smallest singular value
+    forward : ``(..., W, 6)`` or None: ``(a, b, tx, c, d, ty)``
+    """
     inverse, scale = invert_similarities(words)
     if similarity:
         return inverse, scale, None
@@ -64,7 +97,16 @@ def word_geometry(words: torch.Tensor, similarity: bool) -> tuple[torch.Tensor, 
 
 
 def estimate_bytes(n_leaves_words: int, n_pixels: int, method: str = "fast") -> int:
-    """Rough peak memory in bytes of one distance field of ``m**K`` words on ``n_pixels``, with its backward pass."""
+    """Rough peak memory in bytes of one distance field with its backward pass.
+
+    Parameters
+    ----------
+    n_leaves_words : int
+        Number of words ``m**K``.
+    n_pixels : int
+        ``size**2``.
+    method : {"fast", "brute"}
+    """
     return n_leaves_words * _BYTES_PER_WORD + n_pixels * _BYTES_PER_PIXEL[method]
 
 
@@ -92,7 +134,20 @@ def check_budget(ifs: IFS, depth: int, n_pixels: int, method: str, memory_budget
 
 
 def compose_words(maps: torch.Tensor, depth: int) -> torch.Tensor:
-    """All compositions ``T_{w_1} o ... o T_{w_K}`` of ``(m, 3, 3)`` (or ``(B, m, 3, 3)``) maps, ``w_1`` slowest."""
+    """All compositions ``T_{w_1} o ... o T_{w_K}`` of the maps.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(m, 3, 3)`` rule maps, or ``(B, m, 3, 3)`` for a batch.
+    depth : int
+        ``K``.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(m**K, 3, 3)`` (``(B, m**K, 3, 3)``), words in lexicographic order (``w_1`` slowest).
+    """
     batch = maps.shape[:-3]
     words = torch.eye(3, dtype=maps.dtype, device=maps.device).expand(*batch, 1, 3, 3)
     for _ in range(depth):
@@ -101,7 +156,20 @@ def compose_words(maps: torch.Tensor, depth: int) -> torch.Tensor:
 
 
 def invert_similarities(words: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """Closed-form inverses ``(W, 2, 3)`` of affine maps, and their scales ``sqrt(|det A|)``."""
+    """Closed-form inverses of affine maps, and their scales ``sqrt(|det A|)`` (a similarity's scale).
+
+    Parameters
+    ----------
+    words : torch.Tensor
+        ``(W, 3, 3)`` maps (any leading shape).
+
+    Returns
+    -------
+    inverse : torch.Tensor
+        ``(W, 2, 3)``.
+    scale : torch.Tensor
+        ``(W,)``, ``sqrt(|det A|)``.
+    """
     a, b, c, d = words[..., 0, 0], words[..., 0, 1], words[..., 1, 0], words[..., 1, 1]
     tx, ty = words[..., 0, 2], words[..., 1, 2]
     det = a * d - b * c
@@ -112,7 +180,22 @@ def invert_similarities(words: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor
 
 def expand(ifs: IFS, depth: int | None = None, *, device: torch.device | str = "cpu",
            dtype: torch.dtype | None = None, gradient: str = "exact") -> Leaves:
-    """Expand an IFS to its depth-K leaves (``ifs.depth`` when None), differentiable in ``ifs.points``."""
+    """Expand an IFS to its depth-K leaves, differentiable in ``ifs.points``.
+
+    Parameters
+    ----------
+    ifs : IFS
+    depth : int, optional
+        ``K``; ``ifs.depth`` when None.
+    device, dtype
+        Where and in what precision to build (``dtype`` None: that of ``ifs.points``).
+    gradient : {"exact", "paper"}
+        Gradient mode of the rules (see `ifslib.rules`).
+
+    Returns
+    -------
+    Leaves
+    """
     depth = ifs.depth if depth is None else check_depth(depth)
     ifs.validate()
     points = ifs.points.to(device=device, dtype=dtype or ifs.points.dtype)
@@ -124,7 +207,26 @@ def expand(ifs: IFS, depth: int | None = None, *, device: torch.device | str = "
 
 
 def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gradient: str = "exact") -> Leaves:
-    """Expand ``(B, n, 2)`` point sets of one pattern in one computation; the caller checks every item's rules."""
+    """Expand a batch of point sets of one pattern to their leaves, in one computation.
+
+    Parameters
+    ----------
+    ifs : IFS
+        The pattern: rules and primitives (its own points are not used).
+    points : torch.Tensor
+        ``(B, n, 2)`` point sets, on the device and in the dtype to build with. They are not
+        checked here: the caller makes sure every item's rules are non-degenerate and contractive
+        (`ifslib.rules.rule_lengths`, `ifslib.rules.map_scales`).
+    depth : int, optional
+        ``K``; ``ifs.depth`` when None.
+    gradient : {"exact", "paper"}
+
+    Returns
+    -------
+    Leaves
+        ``B * m**K`` words with ``words_per_item = m**K``; item ``b``'s leaves are those of
+        ``expand(ifs.clone(points[b]))``.
+    """
     depth = ifs.depth if depth is None else check_depth(depth)
     if points.ndim != 3 or points.shape[1:] != ifs.points.shape:
         raise IFSError(f"points must have shape (B, {ifs.n_points}, 2), got {tuple(points.shape)}")

@@ -62,8 +62,21 @@ def _tables(window: tuple[float, float, float, float], dtype: torch.dtype, devic
 
 
 class WindowReach:
-    """Per-block upper bounds of ``d(x, A)`` over a window, and the pruning test they give; ``margin`` is twice the
-    tolerance."""
+    """Per-block upper bounds ``U_b`` of ``d(x, A)`` over a window, and the pruning test they give.
+
+    Also keeps the coarser bound of the whole window, ``U = min_w (|m - p_w| + e_w) + h`` (``m`` its
+    centre, ``h`` its half-diagonal; `ifslib.core.geometry.attractor`, step 4).
+
+    Parameters
+    ----------
+    window : (x0, y0, x1, y1)
+        Checked by the caller.
+    margin : float
+        How far outside its node's ball a leaf of the node can lie, plus how much farther than the
+        nearest point of the attractor a pixel's nearest leaf can be: twice the tolerance.
+    dtype, device
+        Those of the nodes' points.
+    """
 
     def __init__(self, window: tuple[float, float, float, float], margin: float, dtype: torch.dtype,
                  device: torch.device) -> None:

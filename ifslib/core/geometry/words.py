@@ -31,8 +31,20 @@ class DenseWords:
 
 @dataclass
 class WordTree:
-    """Words as parent links: per level from 1, each node's parent among the level before's nodes (level 0 is the
-    root) and its last digit; each leaf a node ``(level, node)``; words padded with ``pad`` to ``longest``."""
+    """Words as parent links: level ``k`` holds ``(N_k,)`` parents (ids among level ``k - 1``'s nodes; level 0 is
+    the root, the empty word) and digits; each leaf is a node ``(level, id)``.
+
+    Attributes
+    ----------
+    parents, digits : list of torch.Tensor
+        Per level from 1: ``(N_k,)`` long and ``(N_k,)`` digits (uint8, or int16 above 255 maps).
+    level, node : torch.Tensor
+        ``(L,)`` long: each leaf's level (its word's length) and its id in that level.
+    pad : int
+        The padding digit ``m``.
+    longest : int
+        The words' padded length ``K`` (at least the longest leaf's).
+    """
 
     pad: int
     dtype: torch.dtype

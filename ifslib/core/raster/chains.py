@@ -24,8 +24,11 @@ class Step(NamedTuple):
 
 
 def pick_maps(uniform: np.ndarray, cuts: np.ndarray) -> np.ndarray:
-    """The map each uniform chooses (how many of the cumulative probabilities ``cuts`` it reaches), as
-    `numpy.random.Generator.choice` draws it."""
+    """The map each uniform chooses: how many of the cumulative probabilities ``cuts`` it reaches.
+
+    The inverse of the cumulative distribution, as `numpy.random.Generator.choice` draws it, so that a
+    chain fed the same uniforms picks the same maps.
+    """
     if len(cuts) > _SEARCH_ABOVE:
         return np.searchsorted(cuts, uniform, side="right")
     pick = np.zeros(uniform.shape, np.uint8)  # searchsorted's count, a pass per map: five times faster for four maps
@@ -36,8 +39,27 @@ def pick_maps(uniform: np.ndarray, cuts: np.ndarray) -> np.ndarray:
 
 def walk(maps: np.ndarray, probabilities: np.ndarray, starts: np.ndarray, burn: int, steps: int,
          rng: np.random.Generator) -> Iterator[Step]:
-    """Walk chains of the chaos game from ``starts``: ``burn`` steps unrecorded, then yield each of ``steps`` steps;
-    the same seed walks the same chains however they are read."""
+    """Walk chains of the chaos game: ``burn`` steps unrecorded, then yield each of ``steps`` steps.
+
+    Parameters
+    ----------
+    maps : numpy.ndarray
+        ``(m, 3, 3)`` or ``(m, 2, 3)`` float64 maps.
+    probabilities : numpy.ndarray
+        ``(m,)`` each map's chance at every step, summing to 1.
+    starts : numpy.ndarray
+        ``(chains, 2)`` where the chains start.
+    burn, steps : int
+        Steps taken before the points count, and steps recorded.
+    rng : numpy.random.Generator
+        Draws ``chains`` uniforms a step, in blocks: the stream is that of one
+        ``rng.random(chains)`` a step, so the same seed walks the same chains however they are read.
+
+    Yields
+    ------
+    Step
+        The chains' points after each recorded step (fresh arrays: a caller may keep them).
+    """
     check_int(burn, "burn-in steps", 0)
     check_int(steps, "steps", 0)
     starts = np.asarray(starts, np.float64)

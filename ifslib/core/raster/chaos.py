@@ -47,8 +47,33 @@ def _check_memory(n_points: int, n_pixels: int = 0) -> None:
 
 
 def burn_in_steps(maps: torch.Tensor, rules=None, dtype=np.float64) -> int:
-    """Steps after which a chain has forgotten its start to ``dtype``'s precision: the least ``k`` with
-    ``s_max ** k * diameter`` below its resolution at the attractor."""
+    """Steps after which a chain of the chaos game has forgotten its start to the precision of ``dtype``.
+
+    Two chains that apply the same ``k`` maps end at most ``s_max ** k`` times their starts' distance
+    apart (``s_max`` the largest scale, each map's largest singular value). A chain started on the
+    attractor is within its diameter of any other point of it, so after the least ``k`` with
+    ``s_max ** k * diameter`` below ``dtype``'s resolution at the attractor (its epsilon times the
+    largest coordinate) its points are draws of the invariant measure, whatever the start.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(m, 3, 3)`` (or ``(m, 2, 3)``) maps in plane units.
+    rules : sequence, optional
+        The IFS's rules, to name the one that does not contract.
+    dtype : numpy dtype
+        The chains' float type.
+
+    Returns
+    -------
+    int
+        ``k >= 0`` (0 when the attractor is one point); `chaos_game` takes at most `MAX_BURN_IN` of them.
+
+    Raises
+    ------
+    IFSError
+        For a map that does not contract.
+    """
     with torch.no_grad():
         maps = maps.detach().double()
         largest = float(check_contractive_maps(maps, rules).max())
@@ -63,15 +88,49 @@ def burn_in_steps(maps: torch.Tensor, rules=None, dtype=np.float64) -> int:
 
 
 def chaos_game(ifs: IFS, n: int, seed: int = 0) -> np.ndarray:
-    """``n`` points of the attractor by the chaos game, float64 ``(n, 2)``: draws of the invariant measure, the same
-    for a seed at any thread count (a warning when the burn-in is cut at `MAX_BURN_IN`)."""
+    """``n`` points of the attractor by the chaos game, in float64: ``n`` draws of the invariant measure.
+
+    ``min(n, CHAINS)`` chains start at the first map's fixed point and take `burn_in_steps` steps, so
+    that they have forgotten it; then each records its next ``ceil(n / chains)`` points. The maps are
+    drawn with `IFS.measure_probabilities`.
+
+    Parameters
+    ----------
+    ifs : IFS
+        Its rules must contract (largest singular value < 1); primitives and depth play no part.
+    n : int
+        Number of points, >= 1.
+    seed : int
+        Seeds `numpy.random.default_rng`: the same seed gives the same points (at any thread count).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, 2)`` float64 points on the attractor (plane units), step by step: row ``i`` is chain
+        ``i % chains``'s point ``i // chains``, so the first ``min(n, CHAINS)`` rows are independent draws.
+
+    Raises
+    ------
+    IFSError
+        For ``n < 1``, more points than the memory budget holds, or a map that does not contract.
+
+    Warns
+    -----
+    UserWarning
+        When the maps contract so slowly that a chain would need more than `MAX_BURN_IN` steps to forget
+        its start: the points still lie on the attractor, but lean towards the first map's fixed point.
+    """
     return _points(ifs, n, seed, warn=True)
 
 
 def chaos_chains(maps: torch.Tensor, probabilities: np.ndarray, chains: int, steps: int, seed: int,
                  rules=None, warn: bool = False) -> Iterator[Step]:
-    """The chaos game's chains: ``chains`` from the first map's fixed point, `burn_in_steps` unrecorded
-    (at most `MAX_BURN_IN`), then ``steps`` recorded; ``warn`` when the burn-in is cut (for callers that sample the measure)."""
+    """The chaos game's chains as every caller walks them: ``chains`` chains from the first map's fixed point,
+    `burn_in_steps` unrecorded (at most `MAX_BURN_IN`), then ``steps`` recorded steps, seeded by ``seed``.
+
+    ``maps`` are ``(m, 3, 3)`` float64; ``rules`` the IFS's, for the burn-in's contraction. ``warn``: say when
+    the burn-in is cut, for callers that sample the measure (a picture of the set lies on it whatever the cut).
+    """
     burn = burn_in_steps(maps, rules)
     if burn > MAX_BURN_IN:
         if warn:
@@ -101,8 +160,23 @@ def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
 
 
 def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
-    """The copies ``T_w(A)`` of the attractor that may meet ``window``, each at most `COPY_SHARE` of it: their maps and
-    their words' probabilities (a cut of every branch that meets the window)."""
+    """The copies ``T_w(A)`` of the attractor that may meet ``window``, each a small share of its size.
+
+    The words are expanded from the root while their ball ``B(T_w(c), ||L_w|| R)`` (which holds
+    ``T_w(A)``; `ifslib.core.geometry.attractor.attractor_ball`) meets the window and is wider than
+    `COPY_SHARE` of the window's half-diagonal (small copies waste fewer points outside the window):
+    a branch whose ball misses the window holds no point of it. The words kept form
+    a cut of every branch that meets the window, so the invariant measure restricted to the window
+    is that of the mixture of ``T_w`` applied to chaos-game points, ``T_w`` chosen with the word's
+    probability.
+
+    Returns
+    -------
+    maps : numpy.ndarray
+        ``(K, 2, 3)`` float64 composed maps ``T_w`` (K may be 0: the window misses the attractor).
+    weight : numpy.ndarray
+        ``(K,)`` each word's probability under `ifslib.IFS.measure_probabilities`.
+    """
     window = check_window(window)
     with torch.no_grad():
         maps = ifs.to(torch.float64).maps()
@@ -124,8 +198,18 @@ def window_copies(ifs: IFS, window) -> tuple[np.ndarray, np.ndarray]:
 
 
 def chaos_window(ifs: IFS, n: int, window, seed: int = 0) -> np.ndarray:
-    """Up to ``n`` points of the attractor inside ``window``: chaos-game points mapped by `window_copies`,
-    those inside kept, for at most `MAX_ROUNDS` rounds."""
+    """Up to ``n`` points of the attractor inside ``window``, by the chaos game mapped into the copies that meet it.
+
+    Each round maps chaos-game points (`chaos_game`) by copies ``T_w`` of `window_copies`, chosen
+    with their words' probabilities, and keeps those inside the window: points of the attractor
+    (up to float64 rounding), spread as the chaos game's own points are, however small the window.
+    Stops at ``n`` points or after `MAX_ROUNDS` rounds (a window that barely meets the attractor).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(k, 2)`` float64 points, ``k <= n`` (0 when the window misses the attractor).
+    """
     check_int(n, "the number of chaos-game points", 1)
     _check_memory(n)
     window = check_window(window)
@@ -153,7 +237,22 @@ def _grown(window, share: float) -> tuple[float, float, float, float]:
 
 
 def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, window=None) -> torch.Tensor:
-    """Distance from every pixel centre to the nearest of ``n`` chaos-game points (of the grown ``window`` when given)."""
+    """Distance from every pixel centre to the nearest of ``n`` chaos-game points: ``(size, size)`` float64.
+
+    Every chaos-game point lies on the attractor, so this is never below the distance to the
+    attractor; it exceeds it only where the points have not yet come near (rarely visited parts).
+
+    Parameters
+    ----------
+    ifs : IFS
+    size : int
+    n, seed
+        As in `chaos_game`.
+    window : (x0, y0, x1, y1), optional
+        The box of the plane the picture covers (the frame when None). Its ``n`` points are those
+        of the window grown by `WINDOW_MARGIN` (`chaos_window`), so that a deep zoom gets as many
+        as the frame; where the window misses the attractor, the whole attractor's.
+    """
     check_int(n, "the number of chaos-game points", 1)
     _check_memory(n, check_int(size, "size", 1) ** 2)
     found = np.empty((0, 2)) if window is None else chaos_window(ifs, n, _grown(window, WINDOW_MARGIN), seed)

@@ -17,8 +17,10 @@ def _pull_back(inverse: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple
 
 def leaf_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, inverse: torch.Tensor, scale: torch.Tensor,
              params: torch.Tensor, forward: torch.Tensor | None) -> torch.Tensor:
-    """A leaf's signed distance at ``x``: ``scale * d(T_w^-1 x)`` for a similarity word, the distance in the plane
-    (`Shape.affine`) when the word's ``forward`` map is given; every tensor broadcasts against ``x``."""
+    """A leaf's signed distance at ``x``: ``scale * d(T_w^-1 x)`` for a similarity word, and
+    the distance in the plane (`ifslib.core.geometry.shapes.Shape.affine`) when the word's map ``forward``
+    (``(..., 6)``) is given. ``inverse`` is ``(..., 6)``, the word's inverse map; every tensor broadcasts against
+    ``x``."""
     qx, qy = _pull_back(inverse, x, y)
     if forward is None:
         return scale * SHAPES[kind].local(qx, qy, params.unbind(-1))
@@ -42,7 +44,21 @@ def _gather_words(leaves: Leaves, leaf: torch.Tensor):
 
 
 def sdf_pairs(leaves: Leaves, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
-    """Signed distance ``s_w * d_p(T_w^{-1} x)`` from point ``i`` to leaf ``leaf[i]``, differentiable in the leaves' tensors."""
+    """Signed distance from point ``i`` to leaf ``leaf[i]``, for each i.
+
+    Parameters
+    ----------
+    leaves : Leaves
+    x, y : torch.Tensor
+        ``(N,)`` query coordinates (plane units).
+    leaf : torch.Tensor
+        ``(N,)`` leaf ids (``word * n_prims + primitive``).
+
+    Returns
+    -------
+    torch.Tensor
+        ``(N,)`` distances ``s_w * d_p(T_w^{-1} x)``, differentiable in the leaves' tensors.
+    """
     inv, scale, forward, prim, row = _gather_words(leaves, leaf)
     kinds = sorted(set(leaves.kinds))
     if len(kinds) == 1:
@@ -67,8 +83,17 @@ _GEOMETRY = 7 + PARAM_WIDTH
 
 
 def leaf_table(leaves: Leaves) -> torch.Tensor | None:
-    """Every leaf's inverse map, scale and primitive, one row per quantity (a gather's quantities contiguous: twice as
-    fast on CPU), for no-grad lookups; None for mixed kinds."""
+    """Every leaf's inverse map, scale and primitive geometry in one row, for fast no-grad lookups.
+
+    Returns
+    -------
+    torch.Tensor or None
+        ``(12, L)``: the 6 inverse-map entries, the scale and the `PARAM_WIDTH` (5) packed primitive numbers
+        of each leaf id, then (affine leaves only) the 6 entries of the word's forward map: ``(18, L)``;
+        None when the primitives are of several kinds (use `sdf_pairs` then). One row per quantity
+        (not per leaf), so that a gather gives each quantity as a contiguous vector: the distance
+        arithmetic then runs about twice as fast on CPU as on the columns of an ``(N, 12)`` gather.
+    """
     if len(set(leaves.kinds)) != 1:
         return None
     leaf = torch.arange(len(leaves), device=leaves.inverse.device)
@@ -78,7 +103,22 @@ def leaf_table(leaves: Leaves) -> torch.Tensor | None:
 
 
 def sdf_table(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor) -> torch.Tensor:
-    """`sdf_pairs` from a `leaf_table` (one gather per pair): the same values, bit for bit, no gradient."""
+    """`sdf_pairs` from a `leaf_table` (one gather per pair): the same values, bit for bit, no gradient.
+
+    Parameters
+    ----------
+    table : torch.Tensor
+        ``(12, L)`` or ``(18, L)`` from `leaf_table`.
+    kind : str
+        The primitives' one kind.
+    x, y, leaf : torch.Tensor
+        ``(N,)`` query coordinates and leaf ids.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(N,)``.
+    """
     row = table.index_select(1, leaf)  # (12 or 18, N): each quantity contiguous
     forward = row[_GEOMETRY:].T if table.shape[0] > _GEOMETRY else None
     return leaf_sdf(kind, x, y, row[:6].T, row[6], row[7:_GEOMETRY].T, forward)
@@ -95,8 +135,18 @@ def has_slope(table: torch.Tensor | None, kind: str) -> bool:
 
 def sdf_table_slope(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Tensor, leaf: torch.Tensor
                     ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor]:
-    """`sdf_table`'s distances, bit for bit, and their gradients ``gx, gy`` in ``(x, y)`` and the slope's ``reach``
-    (plane units: the gradient's direction is good to about a coordinate's rounding divided by it)."""
+    """`sdf_table`'s distances, bit for bit, and their gradients in ``(x, y)``, for a table `has_slope` accepts.
+
+    A similarity word's leaf measures ``s d(q)`` at ``q = M x + c``, so its gradient is ``s M^T`` times the
+    primitive's own (`ifslib.core.geometry.shapes.Shape.slope`); an affine word's comes from the kind's
+    `Shape.affine_slope`, in the plane.
+
+    Returns
+    -------
+    distance, gx, gy, reach : torch.Tensor
+        ``(N,)`` each, no gradient. ``reach`` is the `Shape.slope` reach in plane units: the gradient's
+        direction is good to about the rounding of a coordinate divided by it.
+    """
     row = table.index_select(1, leaf)
     inverse, scale = row[:6].T, row[6]
     qx, qy = _pull_back(inverse, x, y)
@@ -108,7 +158,19 @@ def sdf_table_slope(table: torch.Tensor, kind: str, x: torch.Tensor, y: torch.Te
 
 
 def sdf_dense(leaves: Leaves, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
-    """Signed distance ``(C, L)`` from every point to every leaf of one IFS (the paper's algorithm)."""
+    """Signed distance from every point to every leaf (the paper's algorithm).
+
+    Parameters
+    ----------
+    leaves : Leaves
+    x, y : torch.Tensor
+        ``(C,)`` query coordinates.
+
+    Returns
+    -------
+    torch.Tensor
+        ``(C, L)`` distances, leaf ids along the second axis.
+    """
     if leaves.words_per_item:
         raise IFSError("sdf_dense takes the leaves of one IFS, not a batch")
     inv = leaves.inverse.reshape(-1, 6)
