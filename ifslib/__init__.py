@@ -1,22 +1,9 @@
-"""ifslib: differentiable iterated function systems.
-
-The paper's core is `ifslib.core` (geometry, raster, targets, scoring, fitting); each extension beyond it is a
-folder that uses the core and registers what it adds (compression, splatting, automatic, measures, studies,
-teaching). Data flows one way: docs/guide/design.md.
-
-Typical use::
-
-    import ifslib
-    ifs = ifslib.patterns.koch(depth=4)
-    image = ifslib.render(ifs, 256)            # (256, 256) tensor in [0, 1], differentiable
-    limit = ifslib.render(ifs, 256, "attractor")  # the attractor itself, within half a pixel
-"""
+"""ifslib: differentiable iterated function systems. The paper's core is `ifslib.core`; each extension is a
+folder that uses it and registers what it adds (docs/guide/design.md)."""
 import importlib
 
-#: Every public name, and where it lives: (module, attribute), or (module, None) for a module. A name is
-#: imported on first use, so ``python -m ifslib fit IMAGE --loss typo`` refuses the name before torch
-#: loads; torch's thread count, and the two variables of the environment torch's libraries read when they load,
-#: are set when the first folder that computes is imported (`ifslib.threads`): ``import ifslib`` writes nothing.
+#: Every public name, and where it lives: (module, attribute), or (module, None) for a module, imported on
+#: first use, so the command line refuses a misspelt name before torch loads (`ifslib.threads`).
 _PUBLIC = {
     "IFSError": ("errors", "IFSError"),
     "configure_threads": ("threads", "configure_threads"),

@@ -1,9 +1,5 @@
-"""The paper's target images, resolved by name at run time (never committed to this repository).
-
-`path` looks in the folder named by the ``IFSLIB_DATA`` environment variable first; otherwise it
-uses a cache folder (``IFSLIB_CACHE``, default ``~/.cache/ifslib``), downloading the file on first
-use from the paper's public repository (github.com/cory-b-scott/diff_ifs, ``main`` branch).
-"""
+"""The paper's target images, resolved by name at run time (never committed): from ``IFSLIB_DATA``, else a cache
+(``IFSLIB_CACHE``, default ``~/.cache/ifslib``) filled on first use from the paper's repository."""
 from __future__ import annotations
 
 import os
@@ -18,28 +14,9 @@ NAMES = ("koch", "sierpinski", "apple", "flower")
 BASE_URL = "https://raw.githubusercontent.com/cory-b-scott/diff_ifs/main/"
 
 
-def cache_dir() -> Path:
-    """The download cache: ``$IFSLIB_CACHE`` or ``~/.cache/ifslib``."""
-    return Path(os.environ.get("IFSLIB_CACHE", Path.home() / ".cache" / "ifslib"))
-
-
 def path(name: str, base_url: str | None = None, timeout: float = 30.0) -> Path:
-    """Local path of one of the paper's images (``koch``, ``sierpinski``, ``apple``, ``flower``).
-
-    Parameters
-    ----------
-    name : str
-        Image name, with or without ``.png``.
-    base_url : str, optional
-        Where to download from (``$IFSLIB_DATA_URL`` or the paper's repository by default).
-    timeout : float
-        Seconds to wait for the download.
-
-    Raises
-    ------
-    IFSError
-        Unknown name, or the file is neither in ``IFSLIB_DATA`` nor downloadable.
-    """
+    """Local path of one of the paper's images (`NAMES`, with or without ``.png``), downloaded from ``base_url``
+    (``$IFSLIB_DATA_URL`` or the paper's repository) when neither ``IFSLIB_DATA`` nor the cache holds it."""
     stem = name[:-4] if name.endswith(".png") else name
     if stem not in NAMES:
         raise IFSError(f"unknown image {name!r}; the paper's images are: {', '.join(NAMES)}")
@@ -47,7 +24,7 @@ def path(name: str, base_url: str | None = None, timeout: float = 30.0) -> Path:
     folder = os.environ.get("IFSLIB_DATA")
     if folder and (Path(folder) / filename).is_file():
         return Path(folder) / filename
-    cached = cache_dir() / filename
+    cached = Path(os.environ.get("IFSLIB_CACHE", Path.home() / ".cache" / "ifslib")) / filename
     if cached.is_file():
         return cached
     url = (base_url or os.environ.get("IFSLIB_DATA_URL") or BASE_URL).rstrip("/") + "/" + filename
@@ -67,10 +44,7 @@ def path(name: str, base_url: str | None = None, timeout: float = 30.0) -> Path:
 
 
 def missing_images(timeout: float = 10.0) -> list[str]:
-    """The paper's images that can be neither found (``IFSLIB_DATA``, the cache) nor downloaded now.
-
-    Downloads those it can into the cache, so that a later run finds them offline.
-    """
+    """The paper's images that can be neither found nor downloaded now (those it can are downloaded into the cache)."""
     missing = []
     for name in NAMES:
         try:

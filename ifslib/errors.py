@@ -1,8 +1,4 @@
-"""The one exception type that ifslib raises for bad input.
-
-`IFSError` subclasses `ValueError`, so ``except ValueError`` keeps working; every message names the
-field, index or value at fault.
-"""
+"""The one exception type that ifslib raises for bad input (a `ValueError`), its message naming what is at fault."""
 
 
 class IFSError(ValueError):
@@ -23,10 +19,7 @@ def check_int(value, name: str, minimum: int, hint: str = "", maximum: int | Non
 
 
 def check_positive(value, name: str, unit: str = "") -> float:
-    """Return ``value`` as a float if it is a finite real number > 0 (not a bool), else raise `IFSError`.
-
-    The message reads ``{name} must be a finite number{unit} > 0, got {value!r}``.
-    """
+    """Return ``value`` as a float if it is a finite real number > 0 (not a bool), else raise `IFSError`."""
     try:
         number = float(value)
     except (TypeError, ValueError):

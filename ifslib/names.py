@@ -1,9 +1,5 @@
-"""The names a user gives the library: losses and strategies, with their defaults.
-
-They live apart from the code they name, in a module that imports nothing, so that the command line
-refuses a misspelt name (``ifslib fit IMAGE --loss typo``) before torch is loaded; `ifslib.core.scoring.losses`
-and `ifslib.core.fitting.strategies` take their lists from here and implement each name.
-"""
+"""The names a user gives the library, with their defaults, in a module that imports nothing: the command line
+refuses a misspelt name before torch is loaded."""
 
 #: A fit's step budget and learning rate when none is given: the paper's run (1500 Adam steps at 0.003),
 #: for the library, the command line and the sweep alike.
@@ -13,9 +9,8 @@ DEFAULT_LR = 0.003
 #: The losses `ifslib.core.scoring.losses.loss` computes, by name.
 LOSSES = ("pixel", "multiscale_pixel", "distance", "multiscale_distance")
 
-#: The loss of a fit when none is named, for the library, the command line and the sweep alike: the
-#: distance loss pulls a copy towards the figure from anywhere in the frame (a pixel loss is flat away
-#: from the drawn strokes), and the multiscale sum is the paper's; the lessons name it too.
+#: The loss of a fit when none is named: the distance loss pulls a copy towards the figure from anywhere in
+#: the frame (a pixel loss is flat away from the strokes); the multiscale sum is the paper's.
 DEFAULT_LOSS = "multiscale_distance"
 
 #: The strategies `ifslib.fit` runs, by name.

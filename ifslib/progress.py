@@ -1,11 +1,5 @@
-"""Progress output: a live bar where someone watches it, one line per stage where a log records it.
-
-A tqdm bar redraws itself with carriage returns; on a terminal that is one line that moves, in a
-file it is hundreds of updates. So a bar is drawn only when standard error is a terminal, or in a
-Jupyter kernel (where tqdm draws a widget); otherwise a run stays silent while it works and `note`
-writes one line when it ends. Notes go to standard error, beside the bars, so that standard output
-holds only a command's result.
-"""
+"""Progress output: a live bar where someone watches it (a terminal, Jupyter), one line per stage where a log
+records it (a bar's redraws would pile up in a file); notes go to standard error."""
 from __future__ import annotations
 
 import sys
@@ -27,18 +21,7 @@ def _in_jupyter() -> bool:
 
 
 def draw_bars(stream: TextIO | None = None) -> bool:
-    """Whether a live progress bar helps: ``stream`` (standard error by default) is a terminal, or Jupyter.
-
-    Parameters
-    ----------
-    stream : file object, optional
-        Where the bar would be drawn; ``sys.stderr`` when None.
-
-    Returns
-    -------
-    bool
-        False for a file, a pipe or a closed stream: there a bar's redraws would pile up.
-    """
+    """Whether a live progress bar helps: ``stream`` (standard error by default) is a terminal, or Jupyter."""
     if _in_jupyter():
         return True
     stream = sys.stderr if stream is None else stream

@@ -1,7 +1,5 @@
-"""How many CPU threads torch uses: the cores that are free, or a number set once with ``IFSLIB_THREADS``
-(why: docs/results/threads.md). Importing it sets ``MKL_CBWR`` and ``OMP_WAIT_POLICY`` unless the user did:
-the one place ifslib writes to the process's environment.
-"""
+"""How many CPU threads torch uses: the free cores, or ``IFSLIB_THREADS`` (docs/results/threads.md). Importing it
+sets ``MKL_CBWR`` and ``OMP_WAIT_POLICY`` unless the user did, the one write to the environment."""
 from __future__ import annotations
 
 import os
@@ -26,8 +24,7 @@ ENV = "IFSLIB_THREADS"
 #: How long `busy_cores` watches the machine, in seconds.
 SAMPLE_SECONDS = 0.05
 
-#: `refresh` looks at the machine again only after this many seconds (a strategy's short runs
-#: would otherwise each wait `SAMPLE_SECONDS`; at most a tenth of the time goes to looking).
+#: `refresh` looks at the machine again only after this many seconds (at most a tenth of the time goes to looking).
 REFRESH_SECONDS = 0.5
 
 _state = {"auto": False, "sampled": -float("inf")}
@@ -51,18 +48,8 @@ def _busy_jiffies() -> tuple[int, int]:
 
 
 def busy_cores(seconds: float = SAMPLE_SECONDS) -> float | None:
-    """How many cores other processes keep busy, sampled over ``seconds``; None where ``/proc`` is missing.
-
-    Parameters
-    ----------
-    seconds : float
-        Length of the sample.
-
-    Returns
-    -------
-    float or None
-        Busy time of the machine minus this process's, per second of wall time.
-    """
+    """How many cores other processes keep busy (the machine's busy time minus this process's, per second), sampled
+    over ``seconds``; None where ``/proc`` is missing."""
     try:
         total0, own0 = _busy_jiffies()
         t0 = time.perf_counter()
@@ -75,11 +62,8 @@ def busy_cores(seconds: float = SAMPLE_SECONDS) -> float | None:
 
 
 def free_threads() -> int:
-    """`cores` minus the cores other processes keep busy (rounded), at least 1.
-
-    ``/proc/stat`` counts every CPU of the machine; where this process may use only some of them
-    (a container's CPU set), the busy share of the machine is taken as that of its own cores.
-    """
+    """`cores` minus the cores other processes keep busy (rounded), at least 1; in a container's CPU set the busy
+    share of the machine is taken as that of its own cores."""
     busy = busy_cores()
     _state["sampled"] = time.monotonic()
     n = cores()
@@ -90,25 +74,8 @@ def free_threads() -> int:
 
 
 def configure_threads(threads: int | str | None = None) -> int:
-    """Set torch's CPU thread count from ``threads`` or, when None, from ``$IFSLIB_THREADS``.
-
-    Parameters
-    ----------
-    threads : int or str, optional
-        A positive number of threads, or ``"auto"``: the cores that other processes leave free
-        (`free_threads`), picked now and again at the start of each run (`refresh`). None reads
-        ``IFSLIB_THREADS``; unset or empty means ``"auto"``.
-
-    Returns
-    -------
-    int
-        The thread count now in force (``torch.get_num_threads()``).
-
-    Raises
-    ------
-    IFSError
-        If the value is neither ``"auto"`` nor a positive integer.
-    """
+    """Set torch's thread count from ``threads`` or ``$IFSLIB_THREADS``: a positive integer, or ``"auto"`` (the
+    default), the cores other processes leave free, picked again at each run (`refresh`)."""
     source = f"{ENV}={os.environ.get(ENV)!r}" if threads is None else f"threads={threads!r}"
     value = os.environ.get(ENV, "") if threads is None else threads
     if isinstance(value, str):
@@ -130,17 +97,8 @@ def configure_threads(threads: int | str | None = None) -> int:
 
 
 def refresh() -> int:
-    """In ``auto`` mode, pick the thread count again from the cores free now; else keep it.
-
-    Called at the start of every single run (`ifslib.core.fitting.run.run`, each stage of a strategy)
-    and of `ifslib.studies.batch.fit_many`, so a long fit follows the machine's load. It looks again only when
-    `REFRESH_SECONDS` have passed since the last look.
-
-    Returns
-    -------
-    int
-        The thread count now in force.
-    """
+    """In ``auto`` mode, pick the thread count again from the cores free now (at most every `REFRESH_SECONDS`);
+    called at the start of every single run and of `fit_many`, so a long fit follows the machine's load."""
     if _state["auto"] and time.monotonic() - _state["sampled"] >= REFRESH_SECONDS:
         torch.set_num_threads(free_threads())
     return torch.get_num_threads()
@@ -153,10 +111,8 @@ def is_auto() -> bool:
 
 @contextmanager
 def fixed_threads(threads: int) -> Iterator[int]:
-    """Run a block with exactly ``threads`` torch threads (no `refresh`), then restore the previous setting.
-
-    The Dask sweep's workers use it: one thread per worker, so workers x threads never exceeds the cores.
-    """
+    """Run a block with exactly ``threads`` torch threads (no `refresh`), then restore the previous setting (the
+    sweep's workers: one thread each)."""
     saved = (_state["auto"], torch.get_num_threads())
     try:
         yield configure_threads(threads)

@@ -1,22 +1,6 @@
-"""Convergence sweeps: many seeded Koch fits per cell (strategy x gradient x start x loss), in parallel.
-
-A *cell* fixes how a fit is made; a sweep runs every cell for a list of seeds and judges each fit
-on the image: recovered when the symmetric Chamfer distance between its figure and the target mask
-is at most ``success_chamfer`` pixels at the target's size. Each task is a batch of seeds of one
-cell, run in a worker with one torch thread, so a run is reproducible and the serial result equals
-the parallel one, whichever scheduler runs it.
-
-``scheduler``: ``"serial"`` runs in this process; ``"local"`` runs a process pool of the standard
-library (`concurrent.futures`), so a student's environment (``requirements-student.txt``, no Dask)
-runs it too; any other string is the address of a running Dask scheduler, for a sweep larger than
-one machine. Dask is an optional extra (``pip install -e '.[sweep]'``, which ``make setup`` installs).
-A Dask ``LocalCluster`` is not used for ``"local"``: it gives the same rows as the pool, and on a
-loaded machine its nannies log "Worker process still alive ... killing" as they close, which a
-notebook shows as a warning (notebook 06's stored run under ``make test-stored``).
-
-The local pool starts its workers with ``spawn``: a script that runs a ``"local"`` sweep
-calls it under ``if __name__ == "__main__":``, or each worker would run the script again.
-"""
+"""Convergence sweeps: many seeded Koch fits per cell (strategy x gradient x start x loss), in parallel, one torch
+thread a task so the serial result equals the parallel one: ``"serial"``, ``"local"`` (a process pool, spawned:
+run it under ``if __name__ == "__main__":``) or a Dask scheduler's address."""
 from __future__ import annotations
 
 import csv
@@ -53,19 +37,8 @@ INITS = ("paper", "line")
 
 @dataclass(frozen=True)
 class Cell:
-    """How the fits of one table row are made.
-
-    Attributes
-    ----------
-    strategy : str
-        A name from `ifslib.strategies.STRATEGIES`.
-    gradient : {"exact", "paper"}
-    init : {"paper", "line"}
-        ``paper``: `ifslib.patterns.koch_paper` (the paper's own start); ``line``: the best-fit line
-        of the target with jitter U(-0.05, 0.05).
-    loss : str
-        One of `ifslib.LOSSES`.
-    """
+    """How the fits of one table row are made: a ``strategy``, a ``gradient`` mode, an ``init`` (``"paper"``: the paper's
+    own start, `ifslib.patterns.koch_paper`; ``"line"``: the target's best-fit line jittered by 0.05) and a ``loss``."""
 
     strategy: str = "plain"
     gradient: str = "exact"
@@ -75,13 +48,8 @@ class Cell:
 
 @dataclass(frozen=True)
 class Setup:
-    """What every fit of a sweep shares: the target and the fit's size, depth, steps, lr and early stop.
-
-    ``target`` is one of the paper's images by name (``"koch"``: its ``koch.png``) or ``"rendered"``:
-    the library's own Koch curve drawn at ``size``, which needs no data files. ``tol`` and
-    ``patience`` are `ifslib.fit`'s early stop for the strategies that have none of their own
-    (``plain`` and the other single-run ones; None runs every step); ``pyramid`` keeps its own.
-    """
+    """What every fit of a sweep shares: the target (a paper image by name, or ``"rendered"``: the library's Koch curve,
+    no data files), the size, depth, steps, lr, success threshold, and the early stop of the single-run strategies."""
 
     target: str = "koch"
     size: int = 128
@@ -106,41 +74,31 @@ def load_setup_target(setup: Setup):
 
 
 def run_batch(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
-    """Fit one cell for each seed; one row per fit (the task a worker runs)."""
+    """Fit one cell for each seed, with one torch thread; one row per fit (the task a worker runs)."""
     with fixed_threads(1):
-        return _fit_cell(cell, seeds, setup)
-
-
-def _fit_cell(cell: Cell, seeds: list[int], setup: Setup) -> list[dict]:
-    target = load_setup_target(setup)
-    stop = {} if cell.strategy == "pyramid" else dict(tol=setup.tol, patience=setup.patience)
-    # the study judges the drawing at depth K, as the paper: the pyramid does not end on the attractor
-    chosen = Pyramid(end_on_attractor=False) if cell.strategy == "pyramid" else cell.strategy
-    rows = []
-    for seed in seeds:
-        start = start_for(cell, seed, setup, target)
-        t0 = time.perf_counter()
-        result = fit(start, target, steps=setup.steps, lr=setup.lr, loss=cell.loss, seed=seed, progress=False,
-                     strategy=chosen, options=RunOptions(gradient=cell.gradient, **stop))
-        seconds = time.perf_counter() - t0
-        m = evaluate(result.best, target, attractor=False)  # the study judges the depth-K drawing, as the paper
-        tried, kept = starts_used(result.history)
-        rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
-                     "chamfer": m["chamfer"], "iou": m["iou"], "crossings": self_crossings(result.best),
-                     "point_error": point_error(result.best, patterns.koch()),
-                     "steps": result.history.cost, "seconds": seconds, "starts_tried": tried, "start": kept,
-                     "points": result.best.points.detach().tolist()})
-    return rows
+        target = load_setup_target(setup)
+        stop = {} if cell.strategy == "pyramid" else dict(tol=setup.tol, patience=setup.patience)
+        # the study judges the drawing at depth K, as the paper: the pyramid does not end on the attractor
+        chosen = Pyramid(end_on_attractor=False) if cell.strategy == "pyramid" else cell.strategy
+        rows = []
+        for seed in seeds:
+            start = start_for(cell, seed, setup, target)
+            t0 = time.perf_counter()
+            result = fit(start, target, steps=setup.steps, lr=setup.lr, loss=cell.loss, seed=seed, progress=False,
+                         strategy=chosen, options=RunOptions(gradient=cell.gradient, **stop))
+            seconds = time.perf_counter() - t0
+            m = evaluate(result.best, target, attractor=False)  # the study judges the depth-K drawing, as the paper
+            tried, kept = starts_used(result.history)
+            rows.append({**asdict(cell), "seed": seed, "recovered": m["chamfer"] <= setup.success_chamfer,
+                         "chamfer": m["chamfer"], "iou": m["iou"], "crossings": self_crossings(result.best),
+                         "point_error": point_error(result.best, patterns.koch()),
+                         "steps": result.history.cost, "seconds": seconds, "starts_tried": tried, "start": kept,
+                         "points": result.best.points.detach().tolist()})
+        return rows
 
 
 def starts_used(history) -> tuple[int, int]:
-    """(starts tried, the one whose fit is kept, counted from 1) of a fit's history; (1, 1) for a single run.
-
-    A seed's rate is only a trial of its own start when ``start`` is 1: ``pyramid`` goes on to further
-    starts (`ifslib.strategies.starts`), and its second, the target's best-fit line without jitter, is
-    the same for every seed, so the seeds it recovers are one fit repeated. The kept start is the one
-    whose last stage has the lowest Chamfer distance, the first of equals, as ``pyramid`` keeps it.
-    """
+    """(starts tried, the one kept, from 1) of a fit's history; (1, 1) for a single run (a seed's own start only when 1)."""
     judged = [stage for stage in (history.stages or []) if stage.start is not None and stage.chamfer is not None]
     if not judged:
         return 1, 1
@@ -161,35 +119,8 @@ def _check(cells: list[Cell], seeds: list[int]) -> None:
 
 def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch: int = 2,
           scheduler: str = "local", workers: int = 2, on_rows: Callable[[list[dict]], None] | None = None) -> list[dict]:
-    """Run every cell for every seed.
-
-    Parameters
-    ----------
-    cells : list of Cell
-    seeds : list of int
-    setup : Setup
-    batch : int
-        Seeds per task.
-    scheduler : str
-        ``"serial"``; ``"local"``: a `concurrent.futures` process pool of ``workers`` processes of
-        one thread each; or a Dask scheduler's address such as ``"tcp://10.0.0.5:8786"``.
-    workers : int
-        Worker processes of a ``"local"`` sweep, at most the cores this process may use (more are
-        cut to that, with a warning: workers x threads never exceeds the cores).
-    on_rows : callable, optional
-        Called with each task's rows as soon as that task ends (in completion order), so that a long
-        sweep can save its results as it goes.
-
-    Returns
-    -------
-    list of dict
-        One row per fit, in cell order then seed order.
-
-    Raises
-    ------
-    IFSError
-        For a cell or a seed list that cannot run, or a scheduler address without ``dask.distributed``.
-    """
+    """Run every cell for every seed: one row per fit, in cell order then seed order; ``on_rows`` gets each task's rows
+    as it ends."""
     _check(cells, seeds)
     check_int(batch, "batch", 1)
     tasks = [(cell, seeds[i:i + batch]) for cell in cells for i in range(0, len(seeds), batch)]
@@ -239,9 +170,7 @@ def _show_progress() -> bool:
 def _run_pool(tasks: list[tuple[Cell, list[int]]], setup: Setup, workers: int,
               on_rows: Callable[[list[dict]], None] | None) -> list[list[dict]]:
     """Each task on a `ProcessPoolExecutor` of ``workers`` processes; the parts in task order."""
-    # spawn: a forked child would copy this process's threads (torch's
-    # OpenMP pool, a notebook kernel's) in whatever state they hold, which Python warns against
-    # since 3.12; a fresh interpreter gives every platform the same workers (macOS and Windows spawn)
+    # spawn: a forked child would copy this process's threads (torch's OpenMP pool) in whatever state they hold
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
     try:
         futures = [pool.submit(run_batch, cell, chunk, setup) for cell, chunk in tasks]
@@ -274,11 +203,8 @@ def _run_dask(distributed, tasks: list[tuple[Cell, list[int]]], setup: Setup, sc
 
 
 def summarize(rows: list[dict]) -> list[dict]:
-    """One row per cell: recovered / fits, median Chamfer and point error, median steps spent and seconds per fit.
-
-    The point error (`ifslib.metrics.point_error`) compares the fitted control points with the Koch
-    curve's, up to similarity and reflection, so it needs no knowledge of the target's pose.
-    """
+    """One row per cell: recovered / fits, median Chamfer and point error (up to similarity, so no pose is needed),
+    the crossings, median steps and seconds per fit."""
     keys = ("strategy", "gradient", "init", "loss")
     cells: dict[tuple, list[dict]] = {}
     for row in rows:

@@ -1,5 +1,3 @@
-"""Teaching: what the notebooks show and ask. Figures, the explorer widget, animations, the
-exercises' harness and targets (no answer key: those live in the instructor's notebooks), and loss
-landscapes. Imports from everything below it."""
+"""Teaching: what the notebooks show and ask (figures, the explorer, animations, the exercises, landscapes)."""
 # No import here: each module that computes imports ifslib.threads before torch itself, so that the grader's
 # scan of a submission (exercises.integrity) loads without torch.

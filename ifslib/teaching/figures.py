@@ -1,9 +1,5 @@
-"""What the notebooks show: image panels, copy outlines, galleries and quiver plots, and saving them.
-
-Every function draws with matplotlib on axes in plane coordinates (``[-0.5, 0.5]^2``, y up) and
-returns the figure, so a notebook shows it inline and a test can compare it with a reference.
-`save_figure` writes byte-stable PNGs (no software or time stamp in the metadata).
-"""
+"""What the notebooks show: image panels, copy outlines, galleries and quiver plots, on axes in plane
+coordinates, and byte-stable PNGs of them (`save_figure`)."""
 from __future__ import annotations
 
 import os
@@ -13,8 +9,7 @@ from typing import Sequence
 
 import matplotlib
 
-# Headless runs (CI, papermill from a terminal) must never wait on a window: without a display
-# and outside a Jupyter kernel, draw with Agg. Inside a kernel the inline backend is already used.
+# Headless runs must never wait on a window: without a display and outside a Jupyter kernel, draw with Agg.
 if not os.environ.get("MPLBACKEND") and not os.environ.get("DISPLAY") and "ipykernel" not in sys.modules:
     matplotlib.use("Agg")
 
@@ -54,32 +49,14 @@ def show_image(ax: plt.Axes, image, title: str | None = None, cmap: str = "gray"
 
 
 def copy_outlines(ifs: IFS, depth: int, size: int = 256) -> np.ndarray:
-    """Outlines of the copies that make up the depth-``depth`` figure.
-
-    The axis-aligned bounding box of the depth ``depth - 1`` figure, carried by each rule's map:
-    the depth-``depth`` figure is exactly these copies (the Hutchinson operator).
-
-    Parameters
-    ----------
-    ifs : IFS
-    depth : int
-        At least 1.
-    size : int
-        Pixels used to find the bounding box.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(m, 5, 2)``: a closed quadrilateral per rule.
-    """
+    """Outlines ``(m, 5, 2)`` of the copies that make up the depth-``depth`` figure (``depth >= 1``): the bounding box of
+    the depth ``depth - 1`` figure carried by each rule's map (the Hutchinson operator)."""
     return box_outlines(ifs, figure_mask(ifs, size, depth - 1))
 
 
 def box_outlines(ifs: IFS, mask: np.ndarray) -> np.ndarray:
-    """The bounding box of ``mask``'s pixels (a figure, a target) carried by each of ``ifs``'s maps: ``(m, 5, 2)``.
-
-    On a fractal's target these are the outlines of its copies ``T_i(A)``: where each map puts the whole.
-    """
+    """The bounding box of ``mask``'s pixels carried by each of ``ifs``'s maps, ``(m, 5, 2)``: on a fractal's target,
+    where each map puts the whole."""
     size = mask.shape[0]
     x, y = pixel_centres(size, dtype=torch.float64)
     xs, ys = x.numpy()[mask.ravel()], y.numpy()[mask.ravel()]
@@ -119,18 +96,8 @@ def draw_crossings(ax: plt.Axes, ifs: IFS, color: str = "red") -> int:
 
 def gallery(images: Sequence[Sequence], col_titles: Sequence[str] = (), row_titles: Sequence[str] = (),
             captions: Sequence[Sequence[str]] | None = None, cell: float = 2.0) -> plt.Figure:
-    """A grid of images.
-
-    Parameters
-    ----------
-    images : rows of ``(size, size)`` images
-    col_titles, row_titles : str
-        Above the first row, left of each row.
-    captions : rows of str, optional
-        Under each image (e.g. its IoU).
-    cell : float
-        Inches per image.
-    """
+    """A grid of images (rows of ``(size, size)`` images), with column and row titles, captions under each image
+    (e.g. its IoU) and ``cell`` inches per image."""
     rows, cols = len(images), max(len(r) for r in images)
     fig, axes = plt.subplots(rows, cols, figsize=(cell * cols, cell * rows + 0.3), squeeze=False)
     for r, row in enumerate(images):
@@ -151,19 +118,8 @@ def gallery(images: Sequence[Sequence], col_titles: Sequence[str] = (), row_titl
 def quiver_panels(xs: np.ndarray, ys: np.ndarray, fields: Sequence[np.ndarray], titles: Sequence[str],
                   background=None, optimum=None, colors: Sequence[str] = ("tab:orange", "tab:blue", "tab:green"),
                   cell: float = 3.2) -> plt.Figure:
-    """Side-by-side quiver plots of ``(ny, nx, 2)`` vector fields, each arrow scaled to unit length.
-
-    Parameters
-    ----------
-    xs, ys : numpy.ndarray
-        Grid coordinates (plane units).
-    fields : list of ``(ny, nx, 2)`` arrays
-    titles : list of str
-    background : image, optional
-        Drawn faintly under every panel (e.g. the target).
-    optimum : (x, y), optional
-        Marked with a star.
-    """
+    """Side-by-side quiver plots of ``(ny, nx, 2)`` vector fields on the grid ``xs, ys``, each arrow scaled to unit
+    length, over a faint ``background`` (the target) with the ``optimum`` starred."""
     fig, axes = plt.subplots(1, len(fields), figsize=(cell * len(fields), cell), squeeze=False)
     gx, gy = np.meshgrid(xs, ys)
     pad = 0.6 * (xs[1] - xs[0]) if len(xs) > 1 else 0.05
@@ -186,24 +142,8 @@ def quiver_panels(xs: np.ndarray, ys: np.ndarray, fields: Sequence[np.ndarray], 
 
 
 def copies_image(maps, target: Target) -> np.ndarray:
-    """The target in dark gray with each map's copy of it, ``T_i(A)``, tinted in one colour a map.
-
-    Each figure pixel centre of ``target`` is carried by each map and the pixel it lands on is
-    blended half way toward that map's colour (`COPY_COLOURS`; for more than four maps tab10's ten
-    colours, tab20's twenty beyond), so overlapping copies mix; maps past twenty reuse colours.
-
-    Parameters
-    ----------
-    maps : array_like
-        ``(k, 2, 3)`` maps ``[A | t]`` in plane units (or ``(k, 3, 3)``: the last row is ignored).
-    target : Target
-        Its mask is drawn, ``(size, size)``.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(size, size, 3)`` RGB image in ``[0, 1]``, row 0 at the top.
-    """
+    """The target in dark gray with each map's copy of it, ``T_i(A)``, tinted half way to one colour a map
+    (`COPY_COLOURS`, then tab10 and tab20): a ``(size, size, 3)`` RGB image of ``(k, 2, 3)`` maps."""
     maps = np.asarray(maps, dtype=float)[:, :2, :]
     n = target.size
     image = np.zeros((n, n, 3))
@@ -233,11 +173,8 @@ def show_copies(ax: plt.Axes, maps, target: Target, title: str | None = None) ->
 
 def show_attractor(ax: plt.Axes, maps, target: Target, title: str | None = None, points: int = 20_000,
                    seed: int = 0) -> np.ndarray:
-    """The target's picture with the attractor of ``maps`` ``(k, 2, 3)`` over it in orange.
-
-    The attractor is drawn as ``points`` float64 chaos-game points (`ifslib.chaos_game`, every one
-    on the attractor); they are returned, ``(points, 2)`` in plane units.
-    """
+    """The target's picture with ``points`` chaos-game points of the attractor of ``maps`` ``(k, 2, 3)`` over it in
+    orange; the points are returned."""
     maps = np.asarray(maps, dtype=float)[:, :2, :]
     show_image(ax, target.picture, title)
     xy = chaos_game(patterns.affine(maps, depth=1, name="shown"), points, seed=seed)
@@ -248,23 +185,8 @@ def show_attractor(ax: plt.Axes, maps, target: Target, title: str | None = None,
 
 
 def price_bars(ax: plt.Axes, table: Sequence[dict], map_cost: float, chosen: int | None = None) -> np.ndarray:
-    """Stacked bars of what each number of maps costs: the misfit ``1 - IoU`` and the price ``map_cost * k``.
-
-    Parameters
-    ----------
-    ax : matplotlib.axes.Axes
-    table : list of dict
-        One row a number of maps tried, with keys ``"maps"`` (k) and ``"iou"`` (its attractor's IoU).
-    map_cost : float
-        The price of one map.
-    chosen : int, optional
-        The number of maps chosen: its bar is outlined in black.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(len(table),)`` the bars' heights, ``1 - iou + map_cost * k``.
-    """
+    """Stacked bars of what each number of maps costs: the misfit ``1 - IoU`` and the price ``map_cost * k`` of each
+    row (``"maps"``, ``"iou"``) of ``table``, the ``chosen`` one outlined; returns the bars' heights."""
     ks = np.array([row["maps"] for row in table], dtype=int)
     misfit = np.array([1.0 - row["iou"] for row in table])
     price = map_cost * ks
@@ -286,18 +208,13 @@ def rendered(ifs: IFS, size: int, depth: int | str | None = None, **kwargs) -> n
         return render(ifs, size, depth, **kwargs).cpu().numpy()
 
 
-#: When a notebook's ``save_to`` is empty, `save_figure` writes to the folder this environment variable names,
-#: if any: the tests set it so that the figures of nbval's run of the notebooks can be compared with references.
+#: The folder `save_figure` writes to when a notebook's ``save_to`` is empty (the tests compare those figures).
 FIGURES_ENV = "IFSLIB_FIGURES"
 
 
 def save_figure(fig: plt.Figure, name: str, folder: str | os.PathLike | None, dpi: int = 100) -> Path | None:
-    """Write ``fig`` to ``folder/name.png`` byte-stably.
-
-    When ``folder`` is empty or None, the folder named by the ``IFSLIB_FIGURES`` environment
-    variable (`FIGURES_ENV`) is used; when that is unset too, nothing is written and None is
-    returned. The PNG carries no software or time stamp, so the same figure gives the same bytes.
-    """
+    """Write ``fig`` to ``folder/name.png`` byte-stably (no software or time stamp); an empty ``folder`` uses
+    ``$IFSLIB_FIGURES`` (`FIGURES_ENV`), and with neither nothing is written (None)."""
     folder = folder or os.environ.get(FIGURES_ENV)
     if not folder:
         return None

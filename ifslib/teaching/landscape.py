@@ -1,9 +1,5 @@
-"""The loss landscape around an optimum: how the gradient points as one control point moves.
-
-The paper's Figure "vecfield" moves ``p2`` of the Koch construction over a grid while the other
-points stay at the optimum, and compares the descent direction of each loss with the direction to
-the optimum. `gradient_field` computes those descent directions and `alignment` scores them.
-"""
+"""The loss landscape around an optimum (the paper's Figure "vecfield"): the descent direction of each loss as
+one control point moves over a grid (`gradient_field`), scored against the direction to the optimum (`alignment`)."""
 from __future__ import annotations
 
 from typing import Callable
@@ -24,30 +20,8 @@ from ..core.targets.target import Target
 def gradient_field(ifs: IFS, target: Target, index: int, xs: np.ndarray, ys: np.ndarray,
                    loss: str | Callable, *, depth: int | None = None,
                    sigma: float | None = None, levels: int = 5, progress: bool = True) -> np.ndarray:
-    """Descent direction of a loss for control point ``index`` placed at each grid position.
-
-    Parameters
-    ----------
-    ifs : IFS
-        The other points stay where they are here (at the optimum, for the paper's figure).
-    target : Target
-    index : int
-        The control point that moves.
-    xs, ys : numpy.ndarray
-        ``(nx,)`` and ``(ny,)`` grid coordinates in plane units.
-    loss : str or callable
-        As for `ifslib.loss`; named, since the lesson compares the losses.
-    depth, sigma, levels
-        Render depth (``ifs.depth`` when None), pixel-loss width and multiscale levels.
-    progress : bool
-        Show a progress bar over the grid.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(ny, nx, 2)``: minus the gradient of the loss with respect to ``points[index]`` (zero
-        where the gradient vanishes, e.g. far from the figure for a pixel loss).
-    """
+    """Descent direction ``(ny, nx, 2)`` of a loss for control point ``index`` placed at each grid position, the other
+    points as in ``ifs`` (zero where the gradient vanishes)."""
     check_int(index, "index", 0)
     if index >= ifs.n_points:
         raise IFSError(f"index {index} is out of range for an IFS with {ifs.n_points} points")
@@ -75,20 +49,8 @@ def toward(xs: np.ndarray, ys: np.ndarray, optimum) -> np.ndarray:
 
 
 def alignment(vectors: np.ndarray, directions: np.ndarray) -> tuple[float, float]:
-    """How well a vector field points along given directions.
-
-    Parameters
-    ----------
-    vectors, directions : numpy.ndarray
-        ``(..., 2)`` each.
-
-    Returns
-    -------
-    mean_cosine : float
-        Mean cosine of the angle between them, over the positions where both are non-zero.
-    fraction_toward : float
-        Fraction of those positions where the cosine is positive (the vector points toward).
-    """
+    """How well ``(..., 2)`` vectors point along ``directions``: the mean cosine between them and the fraction of
+    positions where it is positive, over the positions where both are non-zero."""
     v = np.asarray(vectors, float).reshape(-1, 2)
     d = np.asarray(directions, float).reshape(-1, 2)
     nv, nd = np.linalg.norm(v, axis=1), np.linalg.norm(d, axis=1)

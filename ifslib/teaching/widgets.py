@@ -1,7 +1,4 @@
-"""The explorer: move an IFS's control points with sliders and watch the fractal, its maps and its fit.
-
-Needs ``ipywidgets`` (``pip install -e '.[dev]'``); what it shows: docs/guide/internals.md.
-"""
+"""The explorer: move an IFS's control points with sliders and watch the fractal, its maps and its fit (ipywidgets)."""
 from __future__ import annotations
 
 import html
@@ -53,21 +50,8 @@ def _maps_table(ifs: IFS) -> str:
 
 
 class Explorer:
-    """Sliders for an IFS's control points, depth and sigma, with a live render.
-
-    Parameters
-    ----------
-    pattern : str
-        One of ``PATTERNS`` (``"JSON file"`` reads ``json_path``).
-    depth : int
-        Initial depth.
-    size : int
-        Render size in pixels.
-    target : str
-        ``"none"`` or a paper image name; the loss (multiscale distance) and IoU are shown against it.
-    json_path : str, optional
-        An ``ifslib/1`` file for the ``"JSON file"`` pattern.
-    """
+    """Sliders for an IFS's control points, depth and sigma, with a live ``size`` render of a ``pattern`` of
+    `PATTERNS` (``"JSON file"`` reads ``json_path``); with a ``target`` (a paper image) its loss and IoU are shown."""
 
     def __init__(self, pattern: str = "koch", depth: int = 3, size: int = 256, target: str = "none",
                  json_path: str = "") -> None:
@@ -178,17 +162,8 @@ class Explorer:
         return buf.getvalue()
 
     def update(self, _change=None) -> dict:
-        """Redraw from the controls; returns what was drawn.
-
-        Returns
-        -------
-        dict
-            ``image`` ((size, size) array), ``scales``, ``seconds``, ``warning`` (None when valid) and,
-            with a target, ``loss``, ``iou`` and, for a curve, ``chamfer`` (pixels), the score shown first:
-            as `ifslib.metrics.caption`, a thin curve is judged by its Chamfer distance, since IoU is
-            harsh on it (a one-pixel-wide line drawn one pixel off scores IoU 0). On an invalid state only
-            ``warning``.
-        """
+        """Redraw from the controls; returns what was drawn (the image, scales, the scores against a target), or only the
+        ``warning`` of an invalid state."""
         if self._quiet:
             return self.last
         started = time.perf_counter()

@@ -1,10 +1,5 @@
-"""The descent: one Adam loop that the library's fits run, each handing it its parameters and its loss.
-
-The paper's fit (`ifslib.core.fitting.run`), the fractal search's collages, the measure fit, its collage
-search, the splat fit and compression's refinement each build a `Descent` (torch's Adam, a loss closure) and a
-`StepPolicy` (what happens around each step). The one other Adam is the batch of fits' (`ifslib.studies.batch`):
-its items each keep their own step count and learning rate, which torch's Adam cannot.
-"""
+"""The descent: the one Adam loop the library's fits run, each handing it its parameters and its loss (the other,
+`ifslib.studies.batch`'s, keeps a step count and learning rate per item, which torch's Adam cannot)."""
 from __future__ import annotations
 
 import math

@@ -1,8 +1,5 @@
-"""`fit`: the public entry to the inverse problem, on top of the fitting layer.
-
-It checks its arguments once (into `RunOptions`, the strategy's options and a `Checkpoint`), picks a
-strategy (`ifslib.core.fitting.strategies`) and hands the work down; nothing below calls back up.
-"""
+"""`fit`: the public entry to the inverse problem. It checks its arguments once, picks a strategy and hands the
+work down; nothing below calls back up."""
 from __future__ import annotations
 
 from pathlib import Path

@@ -1,6 +1,4 @@
-"""A fit's frame: what every run of one strategy shares (the target, the step budget, the seed, the run and
-strategy options, the progress bars and the callback), and the target's pyramid, built once when a strategy climbs it.
-"""
+"""A fit's frame: what every run of one strategy shares, and the target's pyramid, built once when climbed."""
 from __future__ import annotations
 
 from dataclasses import KW_ONLY, dataclass
@@ -16,26 +14,8 @@ from .run import run
 
 @dataclass(frozen=True)
 class Frame:
-    """What every run of one fit shares.
-
-    Attributes
-    ----------
-    target : Target
-        The target at its own size.
-    steps : int
-        The fit's step budget (a strategy decides how much of it each run gets).
-    seed : int
-        Seeds every run.
-    options : RunOptions
-        How every run moves the points, unless a run is given its own.
-    progress : bool
-        Progress bars and lines (`ifslib.core.fitting.run.run`).
-    callback : callable, optional
-        ``callback(step, loss, ifs)`` after every step of every run.
-    settings : object
-        The strategy's options (`Pyramid` and the like): the pyramid's sizes (`levels`) and its stages' budgets
-        for the strategies that climb it.
-    """
+    """What every run of one fit shares: the target, the step budget, the seed, the run ``options`` (unless a run
+    is given its own), progress and callback, and the strategy's own options (``settings``)."""
 
     target: Target
     steps: int
@@ -48,10 +28,7 @@ class Frame:
 
     @cached_property
     def levels(self) -> dict[int, Target]:
-        """The target's pyramid, coarsest first: size -> the target resized (``settings.pyramid_factor`` apart).
-
-        Built on first use only: the strategies that never climb never pay for the resizing.
-        """
+        """The target's pyramid, coarsest first: size -> the target resized; built on first use only."""
         sizes = pyramid_sizes(self.target.size, self.settings.coarsest, self.settings.pyramid_factor)
         return {size: resize_target(self.target, size) for size in sizes}
 
@@ -62,8 +39,7 @@ class Frame:
 
     def run(self, start: IFS, steps: int, options: RunOptions | None = None, *, target: Target | None = None,
             desc: str | None = None, **changes) -> FitResult:
-        """One run of ``start`` (`ifslib.core.fitting.run.run`) for ``steps`` steps with the frame's seed, callback and
-        progress, at ``target`` (a level of the pyramid; the frame's own when None), labelled ``desc``, with
+        """One run of ``start`` with the frame's seed, callback and progress, at ``target`` (the frame's when None), with
         ``options`` (the frame's when None) changed by ``changes``."""
         options = self.options if options is None else options
         options = options.replace(**changes) if changes else options

@@ -1,11 +1,5 @@
-"""The settings of a fit, as frozen dataclasses validated once, where they are built: `RunOptions` (one Adam run),
-each strategy's own options (how it spends its runs) and `Checkpoint` (a resumable run).
-
-`ifslib.fit` takes each as one object (``options=RunOptions(tol=1e-3)``, ``strategy=Pyramid(n_starts=2)``; the
-learning rate, the loss and the depth by name too) and hands them down whole; nothing below it pops or refills
-a setting. A number two strategies share (the starts, the jitter, the success threshold) is written once, in
-`Pyramid`, and the others take it from there.
-"""
+"""The settings of a fit, as frozen dataclasses validated where they are built: `RunOptions` (one Adam run),
+each strategy's own options and `Checkpoint`."""
 from __future__ import annotations
 
 import dataclasses
@@ -40,37 +34,10 @@ def check_stop(tol: float | None, patience: int | None) -> None:
 
 @dataclass(frozen=True)
 class RunOptions:
-    """How one Adam run moves the control points (`ifslib.core.fitting.run.run`).
+    """How one Adam run moves the control points (`ifslib.core.fitting.run.run`): the learning rate (the paper's
+    0.003), the loss, the depth, the renderer's settings, rollbacks, snapshots, the crossings' penalty, early stop."""
 
-    Attributes
-    ----------
-    lr : float
-        Learning rate at the target's size (the paper used 0.003), above 0 and at most `MAX_LR`.
-    stage_lr : float, optional
-        The learning rate of a coarser stage, set by the strategies (``lr`` scaled with the stage's
-        pixel size); None runs at ``lr``. Not a setting a fit takes by name.
-    loss : str or callable
-        One of `ifslib.core.scoring.losses.LOSSES` (`DEFAULT_LOSS` when not given) or ``f(distance, target)``.
-    depth : int or "attractor", optional
-        Render depth (``ifs.depth`` when None); ``"attractor"`` fits the attractor itself.
-    sigma, levels
-        Passed to the loss.
-    method, device, gradient
-        Passed to `ifslib.distance_field` (``gradient="paper"`` reproduces the paper's cut gradient).
-    max_rollbacks : int
-        Stop a run after this many consecutive rolled-back steps.
-    keep_every : int, optional
-        Keep the control points every ``keep_every`` steps in ``history.snapshots``, for `ifslib.animate`.
-    crossing_weight : float
-        For curves: add ``crossing_weight * ifslib.crossings.crossing_penalty(ifs)`` to the loss.
-    tol, patience : optional
-        Early stop once the best loss improved by at most a fraction ``tol`` over the last
-        ``patience`` steps. None keeps the strategy's own setting: off for ``plain``, on for
-        ``pyramid``; ``patience`` None with ``tol`` set is ``DEFAULT_PATIENCE``.
-    """
-
-    #: The window of early stopping (`ifslib.core.fitting.descent.converged`) when ``tol`` is set and
-    #: ``patience`` is not: longer waits out more of a slow stretch, shorter stops a stalled run sooner.
+    #: The window of early stopping when ``tol`` is set and ``patience`` is not.
     DEFAULT_PATIENCE: ClassVar[int] = 50
 
     lr: float = DEFAULT_LR
@@ -154,14 +121,8 @@ class Anneal:
 
 @dataclass(frozen=True)
 class Uncross:
-    """One run with a barrier on self-crossings added to the loss (curves only).
-
-    Attributes
-    ----------
-    weight : float
-        The barrier's weight when the run options set no ``crossing_weight``: larger pushes crossings apart
-        sooner and distorts the curve's fit more.
-    """
+    """One run with a barrier on self-crossings added to the loss (curves only), of ``weight`` when the run options
+    set no ``crossing_weight``."""
 
     weight: float = 0.1
 
@@ -172,38 +133,7 @@ class Uncross:
 @dataclass(frozen=True)
 class Pyramid:
     """The default strategy: coarse to fine in pixels, starts tried until one recovers the target, each ending on
-    its attractor (`ifslib.core.fitting.strategies`).
-
-    Attributes
-    ----------
-    n_starts : int
-        Starts tried at most.
-    jitter : float
-        Half-width of the uniform jitter of a start's points, plane units.
-    success : float
-        Symmetric Chamfer distance (pixels) at which no more starts are tried.
-    coarsest : int
-        The pyramid's coarsest size in pixels: below 64 a Koch curve of depth 3 blurs into its own gaps.
-    pyramid_factor : int
-        Each stage is this many times the size of the one before (4: 64² then 256²; a middle 128² stage
-        costs more time than it saves at 256², docs/results/fits-in-seconds.md).
-    stage_steps : int
-        At most this many steps in one stage (or ``steps``, when smaller): enough for the stages of starts
-        that recover, while a start that crawls on for a thousand steps ends stalled and is better replaced.
-    stage_tol, stage_patience : float, int
-        Each stage's early stop (`ifslib.core.fitting.descent.converged`) where the run options set none.
-    attractor_steps : int
-        At most this many steps in the last stage, which fits the attractor itself at the target's size
-        (what the inverse problem asks for: a drawing at depth K can match the target while its attractor
-        does not).
-    max_leaves : int
-        The attractor stage draws the certified cut (`ifslib.distance_field` with ``depth="attractor"``) when
-        it has at most this many leaves, else sampled leaves of it (``method="sampled"``: overlapping copies
-        of a shape): more is exact on more figures, and slower and larger per step.
-    end_on_attractor : bool
-        End each start with a stage that fits the attractor itself and judge it; False keeps the fit on the
-        drawing at depth K, the paper's question.
-    """
+    its attractor (what the inverse problem asks: docs/guide/design.md)."""
 
     n_starts: int = 8
     jitter: float = 0.05
@@ -228,19 +158,7 @@ class Pyramid:
 
 @dataclass(frozen=True)
 class Multistart:
-    """Short probes from several starts; the best go on to the full budget.
-
-    Attributes
-    ----------
-    n_starts : int
-        Starts probed: the given one, jittered copies of it, and for curves best-fit-line starts.
-    keep : int
-        Probes that go on to the full budget.
-    probe : float
-        A probe's share of ``steps``, above 0 and below 1.
-    jitter : float
-        Half-width of the uniform jitter of a start's points, plane units.
-    """
+    """Short probes from ``n_starts`` starts (``probe`` of the steps each); the best ``keep`` go on to the full budget."""
 
     n_starts: int = Pyramid.n_starts
     keep: int = 2
@@ -255,17 +173,8 @@ class Multistart:
 
 @dataclass(frozen=True)
 class Restart:
-    """Runs in windows; a window that ends stalled and off the target restarts from jittered best points.
-
-    Attributes
-    ----------
-    jitter : float
-        Half-width of a restart's jitter, plane units.
-    success : float
-        Symmetric Chamfer distance (pixels) at which the fit stops.
-    budget : float
-        The most steps, in multiples of ``steps``.
-    """
+    """Runs in windows; a window that ends stalled and off the target (``success``) restarts from jittered best
+    points, for at most ``budget`` times ``steps``."""
 
     jitter: float = Pyramid.jitter
     success: float = Pyramid.success
@@ -277,10 +186,7 @@ class Restart:
 
 @dataclass(frozen=True)
 class Checkpoint:
-    """A resumable run: write the state to ``path`` every ``every`` steps and at the end; continue from ``resume``.
-
-    Either path may be None; a fit with a checkpoint is a single run (strategy ``plain``).
-    """
+    """A resumable single run: write the state to ``path`` every ``every`` steps and at the end; continue from ``resume``."""
 
     path: str | Path | None = None
     every: int = 100

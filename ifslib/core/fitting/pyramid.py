@@ -1,8 +1,5 @@
-"""Coarse to fine in pixels: the one driver the ``pyramid`` and ``auto`` strategies climb with, and
-the attractor stage that ends them.
-
-How it works: docs/guide/internals.md.
-"""
+"""Coarse to fine in pixels: the one driver the ``pyramid`` and ``auto`` strategies climb with, and the attractor
+stage that ends them (docs/guide/internals.md)."""
 from __future__ import annotations
 
 from ...errors import LeafBudgetError
@@ -44,12 +41,8 @@ def attractor_method(ifs: IFS, size: int, max_leaves: int) -> str:
 
 def attractor_stage(frame: Frame, ifs: IFS, options: RunOptions, label: str, *, steps: int | None = None,
                     max_leaves: int | None = None) -> tuple[FitResult, Stage]:
-    """Fit the attractor of ``ifs`` at the target's size: the last stage of ``pyramid`` and ``auto``.
-
-    At most ``min(steps, frame.settings.attractor_steps)`` steps (``steps`` is the frame's budget when None),
-    with the certified cut when it has at most ``max_leaves`` leaves at the start (``frame.settings.max_leaves``
-    when None), else with sampled leaves. Returns the run's result and its stage record.
-    """
+    """Fit the attractor of ``ifs`` at the target's size (the last stage of ``pyramid`` and ``auto``): with the
+    certified cut when it has at most ``max_leaves`` leaves, else (or once it outgrows them) sampled leaves."""
     target = frame.target
     method = attractor_method(ifs, target.size, frame.settings.max_leaves if max_leaves is None else max_leaves)
     budget = min(frame.steps if steps is None else steps, frame.settings.attractor_steps)

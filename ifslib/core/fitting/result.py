@@ -1,9 +1,5 @@
-"""What a fit returns: `FitResult`, its typed `History`, and the `Stage` records of a strategy.
-
-A history is read by attribute (``result.history.cost``); `History.to_dict` writes it into the
-IFS's ``meta["history"]`` for the JSON file (and a checkpoint), and `History.from_dict` reads a
-checkpoint's back.
-"""
+"""What a fit returns: `FitResult`, its typed `History` (written into ``meta["history"]`` by `History.to_dict`,
+a checkpoint's read back by `History.from_dict`), and the `Stage` records of a strategy."""
 from __future__ import annotations
 
 import copy
@@ -24,13 +20,8 @@ class Record(Protocol):
 
 @dataclass
 class Stage:
-    """One run of a strategy: where it ran, how many steps it spent and why it stopped.
-
-    ``start`` (the pyramid's start), ``maps`` (the automatic pattern's number of maps), ``depth``
-    (``"attractor"`` for an attractor stage), ``method``, ``loss``, ``chamfer`` (pixels, of the
-    start's last stage), ``fallback`` and ``kept_start`` (why the stage returned its start) are set where
-    they apply.
-    """
+    """One run of a strategy: where it ran, how many steps it spent and why it stopped; the optional fields are set
+    where they apply (``depth`` ``"attractor"`` for an attractor stage, ``chamfer`` for a start's last stage)."""
 
     size: int
     steps: int
@@ -54,33 +45,8 @@ class Stage:
 
 @dataclass
 class History:
-    """How a fit went.
-
-    Attributes
-    ----------
-    step, loss, seconds : list
-        Per step taken: its index, the loss at the points before it, its time.
-    rollbacks : list of dict
-        ``{"step", "reason", "lr"}`` per rolled-back step.
-    stopped : str
-        Why the returned run ended: ``"steps"`` (the budget was spent), ``"converged"`` or ``"rollbacks"``.
-    cost : int
-        Every step of every run (taken or rolled back): what strategies compare per.
-    strategy : str, optional
-        The strategy's name.
-    stages : list of Stage
-        A strategy's runs in order.
-    starts_tried, chamfer, recovered, judged : optional
-        The pyramid's: starts tried, the best start's Chamfer distance (pixels), whether it is at
-        most ``success``, and what was judged (``"attractor"`` or ``"depth"``).
-    kind : str, optional
-        For a fit of a plan (the ``auto`` strategy): the kind fitted, ``"curve"``, ``"shape"`` or ``"fractal"``.
-    auto : Record, optional
-        For a fit of a plan: what was compared and chosen, typed (`ifslib.automatic.choice.AutoRun`); the file
-        gets ``auto.written()``.
-    snapshots, pattern : dict, optional
-        With ``keep_every``: ``{"step": [...], "points": [...]}`` and the pattern as a dict, for `ifslib.animate`.
-    """
+    """How a fit went: per step its index, loss and time; the rollbacks; why the returned run stopped; ``cost``, every
+    step of every run; the strategy's stages and judgement; snapshots for `ifslib.animate`."""
 
     step: list[int] = field(default_factory=list)
     loss: list[float] = field(default_factory=list)
@@ -126,18 +92,8 @@ class History:
 
 @dataclass
 class FitResult:
-    """What `ifslib.fit` returns.
-
-    Attributes
-    ----------
-    best : IFS
-        The points with the lowest loss seen (its ``meta["history"]`` is ``history.to_dict()``).
-    final : IFS
-        The points after the last step.
-    history : History
-    best_loss : float
-    best_step : int
-    """
+    """What `ifslib.fit` returns: the ``best`` points (lowest loss seen), the ``final`` ones, the history, ``best_loss``
+    and ``best_step``."""
 
     best: IFS
     final: IFS

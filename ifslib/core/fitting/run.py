@@ -1,8 +1,4 @@
-"""One Adam run: the bottom of the fitting layer.
-
-`run` moves an IFS's control points so that its distance field matches a target at one size, by the
-library's descent (`ifslib.core.fitting.descent`); a step that is not finite or breaks a map is rolled back.
-"""
+"""One Adam run: the bottom of the fitting layer (a step that is not finite or breaks a map is rolled back)."""
 from __future__ import annotations
 
 import math
@@ -101,35 +97,8 @@ class _Run:
 def run(ifs: IFS, target: Target, *, steps: int = DEFAULT_STEPS, options: RunOptions = RunOptions(), seed: int = 0,
         callback: Callable | None = None, checkpoint: Checkpoint | None = None, progress: bool = True,
         desc: str | None = None) -> FitResult:
-    """One Adam run on the control points at the target's size.
-
-    Parameters
-    ----------
-    ifs : IFS
-        The starting point (not modified).
-    target : Target
-        Its size sets the render size.
-    steps : int
-        At most this many Adam steps (the paper used 1500).
-    options : RunOptions
-        The loss, learning rate, depth, early stop and the rest (`ifslib.core.fitting.options.RunOptions`).
-    seed : int
-        Seeds torch before the loop; a seeded run on CPU is reproducible.
-    callback : callable, optional
-        ``callback(step, loss, ifs)`` after every step.
-    checkpoint : Checkpoint, optional
-        Write the state every ``checkpoint.every`` steps and at the end; continue from ``checkpoint.resume``.
-    progress : bool
-        A tqdm bar labelled ``desc`` when standard error is a terminal (or in Jupyter), and one
-        line when a run stops early; elsewhere (a log file, a pipe) one line when the run ends.
-    desc : str, optional
-        The progress bar's label (strategies name the stage); ``"fit · <size>²"`` when None.
-
-    Returns
-    -------
-    FitResult
-        ``history.stopped`` says why the run ended: ``"steps"``, ``"converged"`` or ``"rollbacks"``.
-    """
+    """One Adam run on the control points at the target's size, seeded by ``seed``, for at most ``steps`` steps,
+    resumable by ``checkpoint``; ``history.stopped`` says why it ended."""
     check_int(steps, "steps", 0)
     if options.crossing_weight:
         check_curve(ifs, "crossing_weight")

@@ -1,8 +1,5 @@
-"""Strategies: how a fit spends its steps over several single runs (`ifslib.core.fitting.run.run`).
-
-Each name of `ifslib.names.STRATEGIES` is an entry of the table `strategy` reads; an extension registers its own
-with `register_strategy` when its folder is imported. What each strategy does: docs/guide/design.md.
-"""
+"""Strategies: how a fit spends its steps over several single runs, a table `strategy` reads (extensions register
+their own when imported). What each does: docs/guide/design.md."""
 from __future__ import annotations
 
 import dataclasses
@@ -21,7 +18,7 @@ from ...progress import note
 from ..scoring.losses import loss_kind
 from ..scoring.metrics import evaluate, self_crossings
 from ...names import DEFAULT_STRATEGY, STRATEGIES  # the names live apart, for the command line to check without torch
-from ..targets.placement import place
+from ..targets.placement import initialize
 from ..targets.target import Target
 from .options import Anneal, CoarseToFine, Multistart, Plain, Pyramid, Restart, RunOptions, Uncross
 from .frame import Frame
@@ -50,21 +47,8 @@ Runner = Callable[["Frame", object, np.random.Generator], "FitResult"]
 
 @dataclass(frozen=True)
 class Strategy:
-    """A strategy as the table holds it.
-
-    Attributes
-    ----------
-    run : Runner
-        The strategy's work, from a start, in a frame (which carries the run and strategy options), with the seeded
-        generator.
-    options : type
-        The strategy's options: a frozen dataclass whose defaults are the strategy's (`Pyramid`, ...).
-    refusal : str
-        The error given another start: what to do instead.
-
-    Its ``fits`` field is the type it takes as its start: an IFS (given an extension's start, the
-    strategy fits its ``start``), or an extension's start type (the automatic path's plan).
-    """
+    """A strategy as the table holds it: its ``run(frame, start, rng)``, its ``options`` type, the start type it
+    ``fits`` (an IFS, or a plan) and the ``refusal`` given another start."""
 
     run: Runner
     options: type
@@ -122,16 +106,14 @@ def _crosses(ifs: IFS) -> bool:
 
 
 def starts(ifs: IFS, target: Target, n: int, jitter: float, rng: np.random.Generator) -> list[IFS]:
-    """``n`` starting points: ``ifs`` itself, then jittered copies of it and, for curves, every other
-    one a best-fit-line start (`ifslib.core.targets.placement.place`, no discovery): the first exactly
-    on the line, the paper's advice and the start that recovers most often (docs/results/strategies.md),
-    the later ones jittered."""
+    """``n`` starting points: ``ifs``, then jittered copies and, for curves, every other one a best-fit-line start
+    (`initialize`): the first exactly on the line, the start that recovers most often (docs/results/strategies.md)."""
     out = [ifs]
     for k in range(1, n):
         if is_curve(ifs) and k % 2 == 1:
-            line = place(ifs, target, jitter=0.0 if k == 1 else jitter, seed=int(rng.integers(2**31)))
+            line = initialize(ifs, target, jitter=0.0 if k == 1 else jitter, seed=int(rng.integers(2**31)))
             if k == 1 and torch.allclose(line.points, ifs.points):  # the given start is the line itself
-                line = place(ifs, target, jitter=jitter, seed=int(rng.integers(2**31)))
+                line = initialize(ifs, target, jitter=jitter, seed=int(rng.integers(2**31)))
             out.append(line)
         else:
             out.append(ifs.jittered(jitter, rng))
@@ -221,17 +203,8 @@ def _anneal(frame: Frame, ifs: IFS) -> FitResult:
 def run_strategy(name: str, start: IFS | Start, target: Target, *, steps: int, seed: int = 0,
                  options: RunOptions = RunOptions(), settings: object | None = None,
                  progress: bool = True, callback: Callable | None = None) -> FitResult:
-    """Run the strategy ``name`` (one of `STRATEGIES`) from ``start``: the public `ifslib.fit` below its checks.
-
-    ``auto`` takes a `ifslib.automatic.plan.Plan`; the others an IFS (of a plan, its start). ``settings`` is the
-    strategy's options object (its defaults when None).
-
-    Returns
-    -------
-    FitResult
-        The best run's result, with ``history.cost`` the Adam steps spent in all runs and
-        ``history.strategy`` the strategy's name.
-    """
+    """Run the strategy ``name`` from ``start``: the public `ifslib.fit` below its checks. ``settings`` is the strategy's
+    options object (its defaults when None); ``history.cost`` counts the steps of all runs."""
     entry = strategy(name)
     settings = entry.options() if settings is None else settings
     if entry.fits is IFS and not isinstance(start, IFS):

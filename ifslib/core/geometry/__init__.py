@@ -1,4 +1,2 @@
-"""Geometry: the IFS itself (control points, rules, primitives), its leaves to depth K, named
-patterns, the ``ifslib/1`` JSON file, and a curve's self-crossings. Imports nothing else of ifslib
-but the top-level helpers."""
+"""Geometry: the IFS itself, its leaves to depth K and its attractor's, named patterns, the ``ifslib/1`` file."""
 from ... import threads as _threads  # noqa: F401 - torch's thread count is set before this folder computes

@@ -1,10 +1,5 @@
-"""Leaves of the attractor itself: the word tree cut per branch where the branch is finer than ε.
-
-Point leaves ``p_w = T_w(c)`` stand for the attractor ``A`` within ``ε`` whatever the primitives,
-``d(x, A) - ε <= d(x, leaves) <= d(x, A) + ε`` (the proof: docs/results/attractor.md). The expansion runs
-with no autograd; `leaf_points` recomputes the points of the few winning leaves with autograd, so the
-gradient is exact and memory O(pixels + leaves).
-"""
+"""Leaves of the attractor itself: the word tree cut per branch where the branch is finer than ε, point leaves
+within ε of the attractor whatever the primitives (the proof: docs/results/attractor.md)."""
 from __future__ import annotations
 
 import math
@@ -31,7 +26,6 @@ DEFAULT_MAX_LEAVES = int(os.environ.get("IFSLIB_MAX_LEAVES", 4_000_000))
 #: Depth of the words that tighten the invariant ball's radius (step 2 of the proof, docs/results/attractor.md).
 BALL_WORDS = 4096
 
-
 #: Leaves `sample_attractor` draws by default (``method="sampled"``).
 DEFAULT_SAMPLES = 65536
 
@@ -48,16 +42,6 @@ def check_depth_or_attractor(depth) -> int | str:
             raise IFSError(f"depth must be an integer >= 0 or {ATTRACTOR!r}, got {depth!r}")
         return depth
     return check_depth(depth)
-
-
-def check_tolerance(tolerance) -> float:
-    """Return ``tolerance`` (pixels) as a float if it is finite and > 0, else raise `IFSError`."""
-    return check_positive(tolerance, "tolerance", " of pixels")
-
-
-def check_plane_tolerance(tolerance) -> float:
-    """``tolerance`` (plane units) as a float, if it is a finite real number > 0; else `IFSError`."""
-    return check_positive(tolerance, "tolerance", " (plane units)")
 
 
 def check_window(window) -> tuple[float, float, float, float]:
@@ -95,8 +79,7 @@ def _compose(nodes: torch.Tensor, maps: torch.Tensor) -> torch.Tensor:
 
 def apply_maps(maps: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
     """``(N, 2, 3)`` maps applied to one point ``(2,)``: ``(N, 2)``."""
-    # a product and a sum over the last axis, not a matrix-vector product: the point's gradient is
-    # then a reduction to two outputs, each in one thread, where mv's splits the N rows by thread count
+    # not a matrix-vector product: its gradient would split the N rows by thread count
     return (maps[..., :2] * point).sum(-1) + maps[..., 2]
 
 
@@ -221,7 +204,7 @@ def attractor_leaves(maps: torch.Tensor, tolerance: float, window: tuple[float, 
     -------
     AttractorLeaves
     """
-    tolerance = check_plane_tolerance(tolerance)
+    tolerance = check_positive(tolerance, "tolerance", " (plane units)")
     budget = DEFAULT_MAX_LEAVES if max_leaves is None else int(max_leaves)
     if budget < 1:
         raise IFSError(f"max_leaves must be >= 1, got {max_leaves!r}")
@@ -304,4 +287,4 @@ def leaf_points(leaves: AttractorLeaves, index: torch.Tensor) -> torch.Tensor:
 
 __all__ = ["ATTRACTOR", "AttractorLeaves", "DEFAULT_SAMPLES", "DEFAULT_TOLERANCE", "DEFAULT_MAX_LEAVES",
            "attractor_ball", "attractor_leaves", "check_contractive_maps", "check_depth_or_attractor",
-           "check_tolerance", "check_window", "is_attractor", "leaf_points"]
+           "check_window", "is_attractor", "leaf_points"]

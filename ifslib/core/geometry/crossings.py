@@ -1,7 +1,4 @@
-"""Self-crossings of a curve: its depth-K segments, and a differentiable penalty on their crossings.
-
-How it works: docs/guide/internals.md.
-"""
+"""Self-crossings of a curve: its depth-K segments, and a differentiable penalty on their crossings."""
 from __future__ import annotations
 
 import torch
@@ -12,11 +9,8 @@ from .leaves import compose_words
 
 
 def is_curve(ifs: IFS) -> bool:
-    """Whether the rules replace one segment by a chain of segments, as the Koch curve's do.
-
-    True when every rule is a ``segment`` rule with the same source ``(a, b)`` and the rules' targets,
-    in order, form a chain from ``a`` to ``b``.
-    """
+    """Whether the rules replace one segment by a chain of segments, as the Koch curve's do: every rule a
+    ``segment`` rule of one source ``(a, b)``, their targets in order a chain from ``a`` to ``b``."""
     rules = ifs.rules
     if not rules or any(r.kind != "segment" or r.source != rules[0].source for r in rules):
         return False

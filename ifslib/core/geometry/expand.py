@@ -1,6 +1,4 @@
-"""An IFS's attractor as point leaves: the certified cut of its word tree (`ifslib.core.geometry.attractor`)
-or sampled leaves of it (`ifslib.core.geometry.sampled`), the one entry point for both.
-"""
+"""An IFS's attractor as point leaves: the certified cut or sampled leaves of it, the one entry point for both."""
 from __future__ import annotations
 
 import torch

@@ -1,8 +1,5 @@
-"""The IFS object: control points, symmetry rules, primitives and a depth, validated.
-
-An `IFS` is what the paper calls ``(P, L, D)`` plus the recursion depth ``K``. Its ``points`` are a
-leaf tensor that requires grad: fitting moves them. `IFS.maps` builds the rules' matrices from them.
-"""
+"""The IFS object: control points (a leaf tensor that requires grad: fitting moves them), symmetry rules,
+primitives and a depth, validated."""
 from __future__ import annotations
 
 import copy
@@ -164,7 +161,6 @@ class IFS:
         """
         if self.probabilities is not None:
             return torch.tensor(self.probabilities, dtype=torch.float64)
-
         return chaos_probabilities(self.maps().detach() if maps is None else maps)
 
     def scales(self) -> torch.Tensor:

@@ -1,8 +1,4 @@
-"""The ``ifslib/1`` JSON file: read, validate, write (the format: docs/guide/conventions.md).
-
-Its JSON Schema ships beside this module (`schema`); what a schema cannot say (an index below the number of
-points, finite numbers) the reader checks too; whether a map contracts is checked when the maps are built.
-"""
+"""The ``ifslib/1`` JSON file: read, validate, write (the format: docs/guide/conventions.md)."""
 from __future__ import annotations
 
 import functools
@@ -31,20 +27,8 @@ def _schema_text() -> str:
 
 
 def schema() -> dict:
-    """The JSON Schema (draft 2020-12) of the ``ifslib/1`` file, as a fresh dict.
-
-    Every file `save_ifs` writes is valid under it, and it refuses what `load_ifs` refuses where a
-    schema can say so: an unknown format, a missing field, an unknown rule or primitive kind, the
-    wrong number of point indices, a negative depth. The reader alone checks that every index is
-    below the number of points, that every number is finite and that a whole number has no
-    fraction (JSON Schema counts ``3.0`` as an integer). Validate with any draft 2020-12 validator, e.g.
-    ``jsonschema.Draft202012Validator(ifslib.core.geometry.io.schema()).validate(doc)``.
-
-    Returns
-    -------
-    dict
-        A new copy on each call (changing it changes nothing here).
-    """
+    """The JSON Schema (draft 2020-12) of the ``ifslib/1`` file, a fresh dict; the reader also checks what a schema
+    cannot say (indices in range, finite numbers)."""
     return json.loads(_schema_text())
 
 
@@ -61,13 +45,7 @@ def _indices(value: Any, where: str) -> list[int]:
 
 
 def ifs_from_dict(doc: dict) -> IFS:
-    """Build and validate an IFS from a parsed ``ifslib/1`` document.
-
-    Raises
-    ------
-    IFSError
-        Unknown format, missing field, wrong type, index out of range, NaN point, bad depth.
-    """
+    """Build and validate an IFS from a parsed ``ifslib/1`` document; `IFSError` names the field at fault."""
     if not isinstance(doc, dict):
         raise IFSError(f"an IFS document must be a JSON object, got {type(doc).__name__}")
     fmt = _require(doc, "format", "the IFS document")
@@ -142,22 +120,7 @@ def ifs_to_dict(ifs: IFS) -> dict:
 
 
 def load_ifs(source: str | os.PathLike | dict) -> IFS:
-    """Read an IFS from a JSON file path, a JSON string, or an already parsed dict.
-
-    Parameters
-    ----------
-    source : str, path or dict
-        A path to an ``ifslib/1`` file, a JSON text starting with ``{``, or a dict.
-
-    Returns
-    -------
-    IFS
-
-    Raises
-    ------
-    IFSError
-        A missing file, invalid JSON, or an invalid document (the message says which field).
-    """
+    """Read an IFS from an ``ifslib/1`` file path, a JSON text starting with ``{``, or a parsed dict."""
     if isinstance(source, dict):
         return ifs_from_dict(source)
     text = str(source)
@@ -177,13 +140,7 @@ def load_ifs(source: str | os.PathLike | dict) -> IFS:
 
 
 def save_ifs(ifs: IFS, path: str | os.PathLike) -> Path:
-    """Write an IFS as an ``ifslib/1`` JSON file, atomically (a crash leaves the old file intact).
-
-    Returns
-    -------
-    pathlib.Path
-        The path written.
-    """
+    """Write an IFS as an ``ifslib/1`` JSON file, atomically (a crash leaves the old file intact); returns the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     text = json.dumps(ifs_to_dict(ifs), indent=2)

@@ -1,9 +1,4 @@
-"""Expansion to depth K: every composed leaf map, with its inverse and scale, and a memory estimate.
-
-Leaves are numbered ``leaf = word * n_prims + p`` with words in lexicographic order. A similarity word needs
-only its inverse and scale (``d_T(S)(x) = s d_S(T^-1 x)``); an affine word also keeps its forward matrix, and
-``scale`` is then its smallest singular value.
-"""
+"""Expansion to depth K: every composed leaf map, with its inverse and scale, and a memory estimate."""
 from __future__ import annotations
 
 import math
@@ -20,9 +15,7 @@ from .rules import map_scales, rule_maps, singular_values
 #: Default memory budget in bytes for one distance field (override with ``IFSLIB_MEMORY_BUDGET_GB``).
 DEFAULT_MEMORY_BUDGET = int(float(os.environ.get("IFSLIB_MEMORY_BUDGET_GB", "4")) * 2**30)
 
-# Rough bytes per word (maps of every level, inverse, scale, autograd's saved tensors) and per
-# pixel (coordinates, search pairs, the winner's gathered map and its gradient), measured loosely
-# on CPU and rounded up.
+# Rough bytes per word and per pixel, measured loosely on CPU and rounded up.
 _BYTES_PER_WORD = 400
 _BYTES_PER_PIXEL = {"fast": 600, "brute": 120}
 

@@ -1,8 +1,4 @@
-"""Named IFSs for the paper's cases: the Koch curve, the Sierpinski carpet and n x n grids, and
-general affine systems built from their maps (`affine`).
-
-Each function returns a fresh `IFS` centred in the image plane ``[-0.5, 0.5]^2``.
-"""
+"""Named IFSs for the paper's cases, each a fresh `IFS` centred in the image plane ``[-0.5, 0.5]^2``."""
 from __future__ import annotations
 
 import math
@@ -16,28 +12,15 @@ from .ifs import IFS
 
 
 def koch(depth: int = 3, width: float = 0.8, radius: float = 0.0) -> IFS:
-    """The Koch curve from five control points, as the paper builds it.
-
-    Points ``p0 .. p4`` lie on the base segment from ``(-width/2, 0)`` to ``(width/2, 0)`` with the
-    peak ``p2`` at height ``width * sqrt(3) / 6``; the map ``T_i`` (``i = 1 .. 4``, ``rules[i - 1]``)
-    maps the segment ``p0 -> p4`` onto ``p_(i-1) -> p_i``. The primitive is the segment ``p0 -> p4``
-    (a capsule when ``radius`` > 0).
-
-    With ``width = 1`` and the curve shifted to start at the origin these maps are the paper's
-    Eq. (1), except that its printed ``T3`` translation ``(1/3, 0)`` must be ``(1/2, sqrt(3)/6)``.
-    """
+    """The Koch curve from five control points, as the paper builds it (its Eq. (1) with ``width = 1``, except that the
+    printed ``T3`` translation ``(1/3, 0)`` must be ``(1/2, sqrt(3)/6)``)."""
     w = float(width)
     points = [[-w / 2, 0.0], [-w / 6, 0.0], [0.0, w * math.sqrt(3) / 6], [w / 6, 0.0], [w / 2, 0.0]]
     return koch_like(points, depth=depth, radius=radius, name="koch")
 
 
 def koch_unit(depth: int = 3) -> IFS:
-    """The Koch curve in the frame of the paper's Eq. (1): base segment from ``(0, 0)`` to ``(1, 0)``.
-
-    Its maps are Eq. (1)'s ``T1 .. T4`` (with ``T3``'s translation corrected to ``(1/2, sqrt(3)/6)``).
-    Points in float64. The curve does not fit the image plane ``[-0.5, 0.5]^2``; use it for the
-    maps, not for drawing.
-    """
+    """The Koch curve in the frame of the paper's Eq. (1), from ``(0, 0)`` to ``(1, 0)``, float64: for its maps, not for drawing."""
     ifs = koch(depth=depth, width=1.0).to(torch.float64)
     ifs = ifs.clone(ifs.points.detach() + torch.tensor([0.5, 0.0], dtype=torch.float64))
     ifs.name = "koch_unit"
@@ -45,13 +28,8 @@ def koch_unit(depth: int = 3) -> IFS:
 
 
 def grid(n: int, depth: int = 3, extent: float = 0.8, skip: tuple[tuple[int, int], ...] = ()) -> IFS:
-    """The square split into ``n x n`` sub-squares, each a scaled copy of the whole.
-
-    Control points are the ``(n + 1)^2`` grid corners (row-major from the lower left); rule
-    ``(i, j)`` maps the outer square's diagonal onto sub-square ``(i, j)``'s. The primitive is the
-    outer box. ``skip`` lists ``(i, j)`` sub-squares (column i, row j from the lower left) without
-    a rule. This is what the paper's repository used for the apple.
-    """
+    """The square split into ``n x n`` sub-squares, each a scaled copy of the whole; ``skip`` lists ``(i, j)``
+    sub-squares without a rule. This is what the paper's repository used for the apple."""
     if isinstance(n, bool) or not isinstance(n, int) or n < 2:
         raise IFSError(f"grid(n) needs an integer n >= 2, got {n!r}")
     ticks = np.linspace(-extent / 2, extent / 2, n + 1)
@@ -74,13 +52,8 @@ def sierpinski_carpet(depth: int = 3, extent: float = 0.8) -> IFS:
 
 
 def koch_paper(seed: int = 0, depth: int = 3, jitter: float = 0.1) -> IFS:
-    """The paper's own Koch start (its repository's ``koch_setup.py``), in our conventions.
-
-    Five control points evenly spaced on the vertical line ``x = 0.05`` from ``y = 0.4`` down to
-    ``y = -0.4``, each coordinate jittered by ``U(-jitter, jitter)`` from ``numpy``'s generator seeded
-    with ``seed``; the four Koch segment rules; as primitives the four segments ``p_(i-1) -> p_i`` (``i = 1 .. 4``)
-    with radius 0.005 (each leaf's radius scales with its map).
-    """
+    """The paper's own Koch start (its repository's ``koch_setup.py``): five jittered points on ``x = 0.05``,
+    the four Koch rules, and the four segments as primitives (radius 0.005)."""
     rng = np.random.default_rng(seed)
     points = np.stack([np.full(5, 0.05), np.linspace(0.4, -0.4, 5)], 1) + rng.uniform(-jitter, jitter, (5, 2))
     rules = [{"kind": "segment", "from": [0, 4], "to": [i, i + 1]} for i in range(4)]
@@ -89,15 +62,8 @@ def koch_paper(seed: int = 0, depth: int = 3, jitter: float = 0.1) -> IFS:
 
 
 def rosette(n: int = 6, depth: int = 3, radius: float = 0.4, inner: float = 0.05, width: float = 0.03) -> IFS:
-    """An ``n``-fold rosette: ``n`` rotated, scaled copies of the whole, one per petal.
-
-    Control points: ``p0`` the centre, ``p1`` the tip of the base petal (pointing right), then a pair
-    ``(a_i, b_i)`` per petal ``i``, ``a_i`` at distance ``inner`` and ``b_i`` at ``radius`` from the
-    centre along the petal's direction. Rule ``i`` maps the base segment ``p0 -> p1`` onto
-    ``a_i -> b_i``, so each petal is the whole rosette shrunk by ``(radius - inner) / radius`` and
-    turned to point outwards. The primitive is the base petal, the segment ``p0 -> p1`` as a capsule
-    of radius ``width``. With ``n = 6`` this has the six-fold symmetry of the MPEG-7 flower.
-    """
+    """An ``n``-fold rosette: ``n`` rotated, scaled copies of the whole, one per petal (the base segment
+    ``p0 -> p1`` mapped onto ``a_i -> b_i``); with ``n = 6`` the MPEG-7 flower's symmetry."""
     check_int(n, "n", 2)
     points = [[0.0, 0.0], [radius, 0.0]]
     for i in range(n):
@@ -109,36 +75,8 @@ def rosette(n: int = 6, depth: int = 3, radius: float = 0.4, inner: float = 0.05
 
 
 def koch_like(points, depth: int = 3, radius: float = 0.0, name: str = "koch_like") -> IFS:
-    """A self-similar curve from any polyline, with the Koch curve's rules.
-
-    The map ``T_i`` (``i = 1 .. n - 1``, ``rules[i - 1]``) maps the base segment ``p0 -> p_(n-1)`` onto
-    the polyline's segment ``p_(i-1) -> p_i`` (the similarity of the ``segment`` rule: no reflection);
-    the primitive is the base segment. With
-    the five points of `koch` this is the Koch curve; other polylines give its relatives (sharper or
-    flatter peaks, asymmetric peaks, zig-zags). ``n`` points make ``n - 1`` rules.
-
-    Parameters
-    ----------
-    points : array-like
-        The polyline ``p0 .. p_{n-1}``, ``(n, 2)`` with ``n >= 3``, in plane units.
-    depth : int
-        Hutchinson depth.
-    radius : float
-        Capsule radius of the primitive (0: a plain segment).
-    name : str
-        The IFS's name.
-
-    Returns
-    -------
-    IFS
-
-    Raises
-    ------
-    IFSError
-        (a `ValueError`) if the points are not ``(n, 2)`` finite numbers with ``n >= 3``, the first and
-        last coincide, or a segment's length is not strictly between 0 and the base length
-        ``|p_{n-1} - p0|``: its rule would not be a contraction, or would collapse to a point.
-    """
+    """A self-similar curve from any polyline ``(n, 2)`` with the Koch curve's rules; every segment must be shorter
+    than the base ``p0 -> p_(n-1)`` (else its rule would not contract)."""
     pts = np.asarray(points.detach().cpu() if isinstance(points, torch.Tensor) else points, dtype=np.float64)
     if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 3:
         raise IFSError(f"koch_like needs an (n, 2) polyline with n >= 3 points, got shape {pts.shape}")
@@ -162,36 +100,8 @@ AFFINE_FRAME = ((-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5))
 
 def affine(maps, depth: int = 3, primitive: str = "box", name: str = "affine", extent: float = 1.0,
            dtype: torch.dtype = torch.float32) -> IFS:
-    """An IFS of general affine maps, each an ``affine`` rule on control points.
-
-    The source triangle of every rule is three corners of the square of side ``extent`` centred
-    on the origin (fixed points 0, 1, 2: lower left, lower right, upper left); point 3 is its upper
-    right corner. Each map then owns three control points, the images of the source triangle's
-    corners (points ``4 + 3 i .. 6 + 3 i``), so its six parameters train like any control points.
-
-    Parameters
-    ----------
-    maps : array-like
-        ``(m, 2, 3)`` or ``(m, 3, 3)``: each map's ``[A | t]`` (``x -> A x + t``, plane units).
-    depth : int
-    primitive : {"box", "segment"}
-        What the leaves draw: the whole square (a filled figure) or its bottom side (a curve).
-    name : str
-    extent : float
-        Side of the source square (1: the image plane).
-    dtype : torch.dtype
-        Of the control points.
-
-    Returns
-    -------
-    IFS
-        Points 0-3 are fixed.
-
-    Raises
-    ------
-    IFSError
-        On a wrong shape or an unknown primitive (contraction is checked when the IFS is drawn).
-    """
+    """An IFS of general affine maps ``(m, 2, 3)``, each an ``affine`` rule: the images of the fixed source square's
+    corners are control points, so its six parameters train like any."""
     m = torch.as_tensor(maps, dtype=torch.float64)
     if m.ndim != 3 or m.shape[1] not in (2, 3) or m.shape[2] != 3 or m.shape[0] == 0:
         raise IFSError(f"maps must have shape (m, 2, 3) or (m, 3, 3) with m >= 1, got {tuple(m.shape)}")
@@ -206,8 +116,7 @@ def affine(maps, depth: int = 3, primitive: str = "box", name: str = "affine", e
 
 
 #: Barnsley's fern in its classic coordinates (x in [-2.2, 2.7], y in [0, 10]): ``[A | t]`` per map.
-#: The stem's first column is 0.001 instead of the classic 0, so that the fern can also be drawn at
-#: a depth K (which needs every map's inverse); its attractor is the same to the eye.
+#: The stem's first column is 0.001, not 0, so that a drawing at depth K (which inverts every map) works.
 FERN_MAPS = (((0.001, 0.0, 0.0), (0.0, 0.16, 0.0)),
              ((0.85, 0.04, 0.0), (-0.04, 0.85, 1.6)),
              ((0.2, -0.26, 0.0), (0.23, 0.22, 1.6)),
@@ -215,13 +124,8 @@ FERN_MAPS = (((0.001, 0.0, 0.0), (0.0, 0.16, 0.0)),
 
 
 def fern(depth: int = 3, maps=FERN_MAPS, name: str = "fern") -> IFS:
-    """Barnsley's fern, scaled into the frame: four affine maps, one of them (the stem) nearly singular.
-
-    Its attractor is the fern; a drawing at a finite depth is not (draw it with
-    ``depth="attractor"``). Each map ``x -> A x + t`` of ``maps`` (classic coordinates) becomes
-    ``S T S^-1`` with ``S`` the similarity that puts the fern's box ``[-2.2, 2.7] x [0, 10]`` in the
-    frame ``[-0.45, 0.45]^2``: the matrices stay as they are and the shifts move.
-    """
+    """Barnsley's fern scaled into the frame ``[-0.45, 0.45]^2``: four affine maps, the stem nearly singular.
+    A drawing at a finite depth is not the fern: draw it with ``depth="attractor"``."""
     k = 0.09
     b = -k * torch.tensor([0.25, 5.0], dtype=torch.float64)
     m = torch.as_tensor(maps, dtype=torch.float64)
@@ -231,10 +135,7 @@ def fern(depth: int = 3, maps=FERN_MAPS, name: str = "fern") -> IFS:
 
 
 def sierpinski_triangle(depth: int = 3, extent: float = 0.8, name: str = "sierpinski_triangle") -> IFS:
-    """The Sierpinski triangle: three maps of scale 1/2 towards the corners of a triangle of side ``extent``.
-
-    Built with `affine` rules (each map is a similarity, but its six numbers train freely).
-    """
+    """The Sierpinski triangle: three `affine` maps of scale 1/2 towards the corners of a triangle of side ``extent``."""
     h = extent * math.sqrt(3) / 2
     corners = [(-extent / 2, -h / 2), (extent / 2, -h / 2), (0.0, h / 2)]
     maps = [[[0.5, 0.0, cx / 2], [0.0, 0.5, cy / 2]] for cx, cy in corners]
@@ -256,36 +157,8 @@ MAX_RANDOM_SCALE = 0.9
 
 
 def random_ifs(maps: int, seed: int = 0, depth: int = 3, extent: float = 0.8) -> IFS:
-    """A random contractive affine IFS whose attractor is neither dust nor a blob, fitted into the frame.
-
-    The sampler of FractalDB's successors (C. Anderson and R. Farrell, "Improving Fractal
-    Pre-training", WACV 2022, arXiv:2110.03091): each map is ``U diag(s1, s2) V`` with random
-    rotations and reflections ``U``, ``V`` and a translation uniform in ``[-1, 1]^2``, and the
-    singular values of all maps together satisfy ``sum_i (s1_i + 2 s2_i) = sigma``, the
-    *sigma-factor*, drawn uniformly from ``[(5 + maps) / 2, (6 + maps) / 2]``: smaller sums give
-    dust, larger ones a blob. (Written here from the paper's description; every singular value is
-    also kept below `MAX_RANDOM_SCALE`.) The attractor is then moved and scaled, by conjugating every
-    map with one similarity, so that its bounding box (from the chaos game) is centred in the frame
-    with its longer side ``extent`` (the box of the attractor's certified leaves,
-    `ifslib.core.geometry.attractor`, within 1/200 to 1/25 of its radius: the finest cut under two
-    million leaves).
-
-    Parameters
-    ----------
-    maps : int
-        Number of maps, 1 to 64.
-    seed : int
-        Seeds `numpy.random.default_rng`: the same seed gives the same IFS.
-    depth : int
-        The IFS's depth (its attractor is what the sampler controls).
-    extent : float
-        Longer side of the attractor's bounding box, in plane units.
-
-    Returns
-    -------
-    IFS
-        ``maps`` affine rules (`affine`), named ``random<maps>_<seed>``.
-    """
+    """A random contractive affine IFS whose attractor is neither dust nor a blob (the sampler of Anderson and Farrell,
+    WACV 2022), conjugated so that the attractor's box fills ``extent`` of the frame."""
     check_int(maps, "number of maps", 1)
     if maps > 64:
         raise IFSError(f"random_ifs draws at most 64 maps, got {maps}")
@@ -324,9 +197,7 @@ PATTERNS = {"koch": koch, "sierpinski_triangle": sierpinski_triangle, "triangle"
 
 
 def by_name(name: str, depth: int = 3) -> IFS:
-    """A pattern by name: ``koch``, ``koch_paper`` (seed 0), ``carpet`` / ``sierpinski_carpet``, ``fern``,
-    ``triangle`` / ``sierpinski_triangle``,
-    ``gridN`` (e.g. ``grid3``) or ``rosetteN`` (e.g. ``rosette6``)."""
+    """A pattern by name: a key of `PATTERNS`, ``gridN`` or ``rosetteN``."""
     if name in PATTERNS:
         return PATTERNS[name](depth=depth)
     for prefix, build in (("grid", grid), ("rosette", rosette)):

@@ -1,9 +1,5 @@
-"""Primitives: the shapes a fractal is drawn with, defined on control points so that they move with them.
-
-A primitive's kind is an entry of the table `ifslib.core.geometry.shapes.SHAPES` (one module a kind: ``segment``,
-a capsule of optional thickness; ``box``, axis-aligned by two diagonal corners; ``disk``, a centre and a radius),
-which carries its number of points, its radius, its packing into `PARAM_WIDTH` numbers and its distances.
-"""
+"""Primitives: the shapes a fractal is drawn with, defined on control points so that they move with them; each
+kind an entry of the table `ifslib.core.geometry.shapes.SHAPES`."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -18,17 +14,8 @@ PRIMITIVE_KINDS = tuple(SHAPES)
 
 @dataclass(frozen=True)
 class Primitive:
-    """A shape on control points.
-
-    Parameters
-    ----------
-    kind : str
-        One of `PRIMITIVE_KINDS` (``"segment"``, ``"box"``, ``"disk"``).
-    points : tuple of int
-        Two indices (segment endpoints, box diagonal corners) or one (disk centre).
-    radius : float
-        Capsule thickness for a segment (>= 0), radius for a disk (> 0); unused for a box.
-    """
+    """A shape on control points: a ``kind`` of `PRIMITIVE_KINDS`, its ``points`` (two indices for a segment or a
+    box's diagonal, one for a disk's centre) and its ``radius`` (a segment's thickness, a disk's radius)."""
 
     kind: str
     points: tuple[int, ...]
@@ -51,20 +38,7 @@ class Primitive:
 
 
 def primitive_params(points: torch.Tensor, primitives: list[Primitive]) -> torch.Tensor:
-    """Pack each primitive's geometry into `PARAM_WIDTH` numbers (5), differentiable in ``points``.
-
-    Parameters
-    ----------
-    points : torch.Tensor
-        Control points, ``(n, 2)``, or a batch ``(B, n, 2)``.
-    primitives : list of Primitive
-        The ``p`` primitives.
-
-    Returns
-    -------
-    torch.Tensor
-        ``(p, PARAM_WIDTH)`` (``(B, p, PARAM_WIDTH)`` for a batch): segment ``(ax, ay, bx, by, radius)``; box ``(lo_x, lo_y, hi_x, hi_y, 0)``;
-        disk ``(cx, cy, radius, 0, 0)``.
-    """
+    """Each primitive's geometry packed into `PARAM_WIDTH` numbers, ``(p, PARAM_WIDTH)`` (``(B, p, ...)`` for a batch
+    of points), differentiable in ``points``."""
     rows = [SHAPES[prim.kind].pack([points[..., i, :] for i in prim.points], prim.radius) for prim in primitives]
     return torch.stack(rows, -2)

@@ -1,6 +1,5 @@
 """How far a window's pixels can be from the attractor: per-block upper bounds that prune the word tree
-(the argument: docs/results/attractor.md, step 4).
-"""
+(docs/results/attractor.md, step 4)."""
 from __future__ import annotations
 
 import functools
@@ -17,7 +16,6 @@ FEW = 1 << 12
 
 #: At most this many nodes of a level tighten the bounds (every ``N // SAMPLES``-th).
 SAMPLES = 1 << 14
-
 
 
 def to_window(points: torch.Tensor, window: tuple[float, float, float, float]) -> torch.Tensor:
@@ -48,9 +46,8 @@ def _boxes(window: tuple[float, float, float, float], n: int, shift: int, dtype:
 
 @functools.lru_cache(maxsize=8)
 def _tables(window: tuple[float, float, float, float], dtype: torch.dtype, device: torch.device):
-    """A window's blocks and the gaps between them, the same for every `WindowReach` of that window:
-    a fit asks for one a step, and the gaps (a million box pairs) cost more than the step's pruning.
-    Nothing here is changed in place."""
+    """A window's blocks and the gaps between them, cached: a fit asks for one a step, and the gaps (a million box
+    pairs) cost more than the step's pruning. Nothing here is changed in place."""
     lo, hi = _boxes(window, GRID, 0, dtype, device)
     x0, y0, x1, y1 = window
     k = torch.arange(GRID, dtype=dtype, device=device)

@@ -1,6 +1,4 @@
-"""Symmetry rules: each rule kind (``segment``, ``square``, ``affine``) builds one differentiable map
-from the control points, a 3 x 3 homogeneous matrix (the kinds and gradient modes: docs/guide/conventions.md).
-"""
+"""Symmetry rules: each kind builds one differentiable 3 x 3 map from the control points (docs/guide/conventions.md)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -17,23 +15,14 @@ GRADIENT_MODES = ("exact", "paper")
 #: Below this length a rule's source segment or diagonal (or the square root of twice an affine
 #: rule's source triangle's area) counts as zero (plane units).
 MIN_LENGTH = 1e-9
-#: A map whose smallest singular value is below this is degenerate: it flattens the figure onto a
-#: line, and its inverse (which every leaf's distance uses) blows up.
+#: A map whose smallest singular value is below this is degenerate: its inverse (every leaf's distance) blows up.
 MIN_SINGULAR = 1e-6
 
 
 @dataclass(frozen=True)
 class Rule:
-    """One symmetry rule: map the control points ``source`` onto ``target``.
-
-    Parameters
-    ----------
-    kind : {"segment", "square", "affine"}
-        How the point tuples define the map (docs/guide/conventions.md, "Rules").
-    source, target : tuple of int
-        Two control-point indices each (segment endpoints, or diagonal corners of a square), or
-        three for an ``affine`` rule (triangle vertices).
-    """
+    """One symmetry rule: map the control points ``source`` onto ``target`` (docs/guide/conventions.md, "Rules"):
+    two indices each for a ``segment`` (endpoints) or a ``square`` (diagonal corners), three for an ``affine`` rule."""
 
     kind: str
     source: tuple[int, ...]
@@ -110,11 +99,8 @@ def _affine_coefficients(points: torch.Tensor, rules: list[Rule]) -> tuple[torch
 
 
 def rule_lengths(points: torch.Tensor, rules: list[Rule]) -> torch.Tensor:
-    """How far each rule's source is from degenerate, ``(..., m)`` for points ``(..., n, 2)`` (no gradient).
-
-    The length of a segment rule's source segment or a square rule's diagonal; for an affine rule,
-    ``sqrt(|det [p_b - p_a, p_c - p_a]|)`` (the side of a square of twice its triangle's area).
-    """
+    """How far each rule's source is from degenerate, ``(..., m)`` (no gradient): a segment's or diagonal's length,
+    for an affine rule ``sqrt(|det [p_b - p_a, p_c - p_a]|)``."""
     pts = points.detach()
     out = []
     for rule in rules:
@@ -139,28 +125,8 @@ def check_rule_lengths(points: torch.Tensor, rules: list[Rule]) -> None:
 
 
 def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") -> torch.Tensor:
-    """Build the map matrices of the rules from the control points.
-
-    Parameters
-    ----------
-    points : torch.Tensor
-        Control points, ``(n, 2)``, or a batch of point sets ``(B, n, 2)`` (any leading shape).
-    rules : list of Rule
-        The ``m`` symmetry rules.
-    gradient : {"exact", "paper"}
-        Gradient mode (docs/guide/conventions.md, "Rules").
-
-    Returns
-    -------
-    torch.Tensor
-        ``(m, 3, 3)`` homogeneous matrices (``(B, m, 3, 3)`` for a batch), differentiable in ``points``.
-
-    Raises
-    ------
-    IFSError
-        For one point set, when a rule's source has zero length. A batch is not checked here: its
-        caller checks each item with `rule_lengths`.
-    """
+    """The rules' ``(m, 3, 3)`` maps from control points ``(n, 2)`` (any leading batch shape), differentiable; a
+    batch is not checked here (its caller checks each item with `rule_lengths`)."""
     check_gradient_mode(gradient)
     if points.ndim == 2:
         check_rule_lengths(points, rules)
@@ -189,36 +155,15 @@ def rule_maps(points: torch.Tensor, rules: list[Rule], gradient: str = "exact") 
 
 
 def map_scales(maps: torch.Tensor) -> torch.Tensor:
-    """Scale of each similarity map: ``sqrt(|det A|)``, shape ``(..., )`` for ``(..., 3, 3)``.
-
-    For a general affine map this is the geometric mean of its singular values, neither its
-    contraction nor its distance scale: use `singular_values` there.
-    """
+    """Scale of each similarity map, ``sqrt(|det A|)`` (for a general affine map use `singular_values`)."""
     a = maps[..., :2, :2]
     det = a[..., 0, 0] * a[..., 1, 1] - a[..., 0, 1] * a[..., 1, 0]
     return det.abs().sqrt()
 
 
 def singular_values(maps: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """Smallest and largest singular values of each map's 2 x 2 matrix, in closed form.
-
-    Parameters
-    ----------
-    maps : torch.Tensor
-        ``(..., 3, 3)`` (or ``(..., 2, 3)``) affine maps.
-
-    Returns
-    -------
-    smallest, largest : torch.Tensor
-        ``(...,)`` each.
-
-    Notes
-    -----
-    For ``A = [[a, b], [c, d]]``, ``sigma_max + sigma_min = |(a + d, b - c)|`` and
-    ``|sigma_max - sigma_min| = |(a - d, b + c)|`` (the rotation-like and reflection-like parts of
-    ``A``). Both norms go through a clamp, so the gradient stays finite where they vanish: the
-    second is exactly 0 for every similarity without reflection.
-    """
+    """Smallest and largest singular values of each map's 2 x 2 matrix in closed form, from the norms of
+    ``(a + d, b - c)`` and ``(a - d, b + c)``, clamped so the gradient stays finite where they vanish."""
     a, b, c, d = maps[..., 0, 0], maps[..., 0, 1], maps[..., 1, 0], maps[..., 1, 1]
     tiny = torch.finfo(maps.dtype).tiny
     n1 = ((a + d) ** 2 + (b - c) ** 2).clamp_min(tiny).sqrt()
@@ -232,12 +177,8 @@ CHAOS_FLOOR = 0.02
 
 
 def chaos_probabilities(maps: torch.Tensor) -> torch.Tensor:
-    """The chaos game's choice of maps: ``(..., m)`` float64 probabilities for ``(..., m, 3, 3)`` (or ``(..., m, 2, 3)``) maps.
-
-    In proportion to the area each map keeps, ``|det L_i|``, with a floor of `CHAOS_FLOOR` times the
-    largest, so that a map that flattens the figure (a fern's stem) is still chosen. Leading
-    dimensions are a batch of IFSs, each normalised on its own.
-    """
+    """The chaos game's choice of maps, ``(..., m)`` float64: in proportion to ``|det L_i|`` with a floor of
+    `CHAOS_FLOOR` times the largest, so a flattening map (a fern's stem) is still chosen."""
     lin = maps.detach()[..., :2, :2]
     det = (lin[..., 0, 0] * lin[..., 1, 1] - lin[..., 0, 1] * lin[..., 1, 0]).abs().double()
     weight = torch.maximum(det, CHAOS_FLOOR * det.amax(-1, keepdim=True).clamp_min(1e-300))

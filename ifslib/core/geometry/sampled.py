@@ -1,15 +1,12 @@
-"""Sampled leaves of the attractor: the chaos game's walkers carried down to leaves within a tolerance
-(`sample_attractor`), for attractors whose certified cut (`ifslib.core.geometry.attractor`) has too many
-leaves, and for windows deep inside one.
-"""
+"""Sampled leaves of the attractor (`sample_attractor`), for attractors whose certified cut has too many leaves."""
 from __future__ import annotations
 
 import math
 
 import torch
 
-from ...errors import IFSError
-from .attractor import (AttractorLeaves, apply_maps, check_plane_tolerance, prepare_maps, word_maps, attractor_leaves,
+from ...errors import IFSError, check_positive
+from .attractor import (AttractorLeaves, apply_maps, prepare_maps, word_maps, attractor_leaves,
                         check_window)
 from .rules import chaos_probabilities, singular_values
 from .words import DenseWords
@@ -22,12 +19,8 @@ MAX_WORD_LENGTH = 512
 
 
 def _uniforms(seed: int, n: int, cols: int) -> torch.Tensor:
-    """``(n, cols)`` float64 uniforms, the same for the same ``(seed, n)`` whatever was asked before.
-
-    Cached (a fit asks every step), and drawn column by column (walker ``i``'s uniform for letter ``j`` is the
-    generator's number ``j * n + i``), so a cache grown for longer words keeps the columns it had: drawn row by row,
-    growing it changed every uniform, and a fit's sampled leaves depended on the fits run before it in the process.
-    """
+    """``(n, cols)`` float64 uniforms, cached and drawn column by column, so the same ``(seed, n)`` gives the same
+    ones whatever was asked before (a fit's sampled leaves do not depend on earlier fits)."""
     cached = _UNIFORMS.get((seed, n))
     if cached is None or cached.shape[1] < cols:
         generator = torch.Generator().manual_seed(seed)
@@ -82,7 +75,7 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
     -------
     AttractorLeaves
     """
-    tolerance = check_plane_tolerance(tolerance)
+    tolerance = check_positive(tolerance, "tolerance", " (plane units)")
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise IFSError(f"the number of sampled leaves must be an integer >= 1, got {n!r}")
     if window is not None:
@@ -122,12 +115,8 @@ def sample_attractor(maps: torch.Tensor, tolerance: float, n: int, seed: int = 0
 
 
 def _walker_starts(work: torch.Tensor, radius: float, n: int, window, tolerance: float, uniform: torch.Tensor, rules):
-    """Where `sample_attractor`'s ``n`` walkers start: their maps ``(n, 2, 3)``, errors ``(n,)`` and words ``(n, K0)``.
-
-    Without a window, all at the root. With one, each at a copy ``T_w(A)`` about half the window's size
-    that may hold a window pixel's nearest point (`attractor_leaves` at that tolerance), drawn with the
-    word's probability from ``uniform`` ``(n,)``: the chaos game's measure, restricted to those copies.
-    """
+    """Where `sample_attractor`'s ``n`` walkers start: their maps ``(n, 2, 3)``, errors ``(n,)`` and words ``(n, K0)``:
+    the root, or for a window copies drawn with their words' probabilities from ``uniform``."""
     m, dtype, device = work.shape[0], work.dtype, work.device
     word_dtype = torch.uint8 if m < 255 else torch.int16
     if window is None:

@@ -1,9 +1,5 @@
-"""The words of a cut of the word tree: stored whole (`DenseWords`) or as links to each node's parent (`WordTree`).
-
-A cut of millions of leaves has words of 50 maps and more; copying every open node's word at each
-level costs O(nodes x length). `WordTree` keeps, per level, each node's parent and last digit, and
-spells out only the words asked for (the few leaves that win a pixel, `ifslib.core.geometry.attractor.leaf_points`).
-"""
+"""The words of a cut of the word tree: stored whole (`DenseWords`) or as links to each node's parent (`WordTree`,
+which spells out only the words asked for: copying every open node's word at each level costs O(nodes x length))."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field

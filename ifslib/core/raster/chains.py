@@ -1,7 +1,4 @@
-"""The chains of the chaos game: one generator that every chaos game of the library walks.
-
-The callers differ only in where the chains start, their burn-in and what they do with each step's points.
-"""
+"""The chains of the chaos game: one generator that every chaos game of the library walks."""
 from __future__ import annotations
 
 from typing import Iterator, NamedTuple

@@ -1,8 +1,5 @@
-"""The chaos game: points of an IFS's attractor by random iteration, in float64 (Barnsley).
-
-Chains start at a map's fixed point and burn in until their start weighs less than float64's rounding, so
-every recorded point is a draw of the invariant measure; the tests' independent reference.
-"""
+"""The chaos game: points of an IFS's attractor by random iteration, in float64, burnt in until every recorded
+point is a draw of the invariant measure."""
 from __future__ import annotations
 
 import math
@@ -21,35 +18,25 @@ from ..geometry.leaves import check_bytes
 from .chains import Step, fixed_points, walk
 from .nearest import nearest_point, pixel_centres
 
-#: Chains of `chaos_game` run side by side, at most (one per point below it). Each pays the burn-in
-#: (`burn_in_steps`: 227 steps for the fern), so more chains make more of the first points independent but
-#: cost more for few points: 50,000 points of the fern take 10 ms with 1024 chains, 16 ms with 2048 and
-#: 19 ms with 4096 on one thread; 10^6 points take 0.04 to 0.07 s with any of them.
+#: Chains of `chaos_game` run side by side, at most: each pays the burn-in, so more cost more for few points.
 CHAINS = 2048
 
-#: The most steps a chain of `chaos_game` takes to forget its start (a largest scale up to about 0.993 needs no
-#: more): its points are on the attractor whatever the burn-in, but maps that contract more slowly (a stalled
-#: fit's) leave the sample leaning towards the start, and `chaos_game` warns. More steps, a fairer sample of such
-#: maps; each 1,000 steps cost about 0.1 s of one thread for 2048 chains.
+#: The most steps a chain of `chaos_game` takes to forget its start (enough for a largest scale up to about 0.993).
 MAX_BURN_IN = 5_000
 
 #: Points of the chaos game a picture uses by default.
 DEFAULT_POINTS = 1_000_000
 
-#: A window's chaos game keeps the points of the window grown by this share of its size on each side,
-#: so that a pixel near its edge still finds the points just outside.
+#: A window's chaos game keeps the points of the window grown by this share of its size on each side.
 WINDOW_MARGIN = 0.25
 
-#: A window's chaos game maps its points into copies whose balls are this share of the window's
-#: half-diagonal: smaller copies waste fewer points outside the window (1,000,000 points of a 1000x window
-#: of the fern in 0.5 s of CPU, against 0.9 s with copies of the whole half-diagonal).
+#: A window's chaos game maps its points into copies whose balls are this share of the window's half-diagonal.
 COPY_SHARE = 0.25
 
 #: A window's chaos game draws at most this many rounds of points before it returns what it has.
 MAX_ROUNDS = 64
 
-# Rough bytes per point (the float64 points, their copy for the KD-tree, the tree) and per pixel
-# (its centre, its nearest point's index and distance), rounded up.
+# Rough bytes per point (points, their KD-tree copy, the tree) and per pixel, rounded up.
 _BYTES_PER_POINT = 64
 _BYTES_PER_PIXEL = 64
 
@@ -157,9 +144,7 @@ def chaos_chains(maps: torch.Tensor, probabilities: np.ndarray, chains: int, ste
 
 
 def _points(ifs: IFS, n: int, seed: int, warn: bool) -> np.ndarray:
-    """`chaos_game`'s points; ``warn``: say when the burn-in is cut at `MAX_BURN_IN`. A picture of the
-    attractor (`chaos_field`, `chaos_reach`, a window) does not warn: it draws the set, which every point
-    lies on whatever the burn-in, not the measure."""
+    """`chaos_game`'s points; a picture of the set (``warn=False``) lies on it whatever the burn-in."""
     check_int(n, "the number of chaos-game points", 1)
     check_int(seed, "seed", 0)
     _check_memory(n)
@@ -278,17 +263,8 @@ def chaos_field(ifs: IFS, size: int, n: int = DEFAULT_POINTS, seed: int = 0, win
 
 def chaos_reach(ifs: IFS, size: int, radius: float, n: int = DEFAULT_POINTS,
                 seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """Every (pixel, chaos-game point) pair closer than ``radius`` (plane units), found without a KD-tree:
-    ``(pixel, distance)``, the flat row-major pixel index and the float64 distance of each pair.
-
-    A pixel's least distance among its pairs is `chaos_field`'s value there wherever that is at most
-    ``radius`` (the same ``n`` points of the same ``seed``, the same pixel centres and the same float64
-    distance), and the pixels with no pair are farther than ``radius`` from every point. A point can only be
-    within ``radius`` of the pixel centres in the box of ``radius`` around it, so each point is tested
-    against those few (2 x 2 within 0.83 px, the reach of `figure_mask`'s default): at a screening
-    drawing's 50,000 points 11 ms where the distance field's KD-tree took 24, and the fractal search draws
-    hundreds (`ifslib.figure_mask` uses it for ``method="chaos"``).
-    """
+    """Every (pixel, chaos-game point) pair closer than ``radius``, without a KD-tree: each pixel's least distance is
+    `chaos_field`'s wherever that is at most ``radius``."""
     check_int(n, "the number of chaos-game points", 1)
     check_int(size, "size", 1)
     if not (isinstance(radius, (int, float)) and 0 <= radius < math.inf):

@@ -1,9 +1,4 @@
-"""`distance_field`: the signed distance from every pixel centre to the depth-K leaves.
-
-``"fast"`` finds each pixel's nearest leaf with no autograd, then differentiates the distance to that one
-leaf (the (sub)gradient of a minimum is its winner's); ``"brute"`` is the paper's algorithm, every leaf at
-every pixel, kept as the reference; ``depth="attractor"`` measures to the attractor's certified cut.
-"""
+"""`distance_field`: the signed distance from every pixel centre to the depth-K leaves, or to the attractor."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -11,9 +6,9 @@ from dataclasses import dataclass
 import torch
 from torch.utils.checkpoint import checkpoint
 
-from ...errors import IFSError, check_int
+from ...errors import IFSError, check_int, check_positive
 from ..geometry.attractor import (DEFAULT_SAMPLES, DEFAULT_TOLERANCE, AttractorLeaves, check_depth_or_attractor,
-                                  check_tolerance, check_window, is_attractor, leaf_points)
+                                  check_window, is_attractor, leaf_points)
 from ..geometry.expand import expand_attractor
 from ..geometry.ifs import IFS
 from ..geometry.leaves import Leaves, check_budget, expand, expand_batch
@@ -25,9 +20,8 @@ FRAME = (-0.5, -0.5, 0.5, 0.5)
 
 METHODS = ("fast", "brute", "sampled")
 
-#: Below this pixel side (plane units), a float32 field of the attractor is computed in float64 and returned
-#: in float32: at a 100x zoom of 256² (pixels of 4e-5), float32's rounding through the words' maps already
-#: moves the field by 1/100 of a pixel, and by 7/100 at 1000x.
+#: Below this pixel side (plane units), a float32 field of the attractor is computed in float64 (float32's
+#: rounding through the words' maps moves the field by 1/100 of a pixel at a 100x zoom).
 FLOAT32_PIXEL = 1e-4
 
 #: Working memory of one brute-force chunk, in bytes.
@@ -36,18 +30,8 @@ BRUTE_CHUNK_BYTES = 64 * 2**20
 
 @dataclass(frozen=True)
 class Budget:
-    """What one distance field may spend, each checked where it is used.
-
-    Attributes
-    ----------
-    memory : int, optional
-        Bytes for the depth-K leaves; the estimate is checked before anything is allocated.
-    leaves : int, optional
-        The attractor's leaf budget (`ifslib.core.geometry.attractor.DEFAULT_MAX_LEAVES` when None).
-    samples : int, optional
-        For ``method="sampled"``: how many leaves; two per pixel, between 16,384 and
-        `ifslib.core.geometry.attractor.DEFAULT_SAMPLES` (65,536), when None.
-    """
+    """What one distance field may spend, each checked where it is used (its default when None): bytes of
+    ``memory`` for the depth-K leaves, the attractor's ``leaves`` budget, and the ``samples`` of ``method="sampled"``."""
 
     memory: int | None = None
     leaves: int | None = None
@@ -91,10 +75,7 @@ def pixel_size(size: int, window: tuple[float, float, float, float] | None = Non
 
 
 def point_distance(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
-    """``|(x, y) - points|`` row by row, ``(N,)`` from ``(N, 2)`` points and ``(N,)`` coordinates.
-
-    Differentiable, and finite where a query sits exactly on its point (gradient 0 there).
-    """
+    """``|(x, y) - points|`` row by row; finite where a query sits exactly on its point (gradient 0 there)."""
     sq = (x - points[:, 0]).square() + (y - points[:, 1]).square()
     return sq.clamp_min(torch.finfo(sq.dtype).tiny).sqrt()
 
@@ -103,16 +84,12 @@ def attractor_leaves_for(ifs: IFS, size: int, window=None, tolerance: float = DE
                          device: str | torch.device = "cpu", dtype: torch.dtype | None = None,
                          gradient: str = "exact", max_leaves: int | None = None,
                          sampled: bool = False, samples: int | None = None) -> AttractorLeaves:
-    """The attractor's leaves for a ``size x size`` picture of ``window``: ``tolerance`` pixels of it, in plane units.
-
-    ``sampled``: ``samples`` random leaves of the cut (two per pixel, between 16,384 and
-    `ifslib.core.geometry.attractor.DEFAULT_SAMPLES`, when None) instead of the whole cut, confined to
-    ``window`` when one is given.
-    """
+    """The attractor's leaves for a ``size x size`` picture of ``window``, within ``tolerance`` pixels (or
+    ``samples`` random leaves of the cut)."""
     size = check_size(size)
     given = window
     window = FRAME if window is None else check_window(window)
-    eps = check_tolerance(tolerance) * pixel_size(size, window)
+    eps = check_positive(tolerance, "tolerance", " of pixels") * pixel_size(size, window)
     if sampled:
         samples = min(DEFAULT_SAMPLES, max(1 << 14, 2 * size * size)) if samples is None else samples
         return expand_attractor(ifs, eps, given, device=device, dtype=dtype, gradient=gradient, samples=samples)
@@ -143,55 +120,18 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
                    device: str | torch.device = "auto", dtype: torch.dtype | None = None,
                    gradient: str = "exact", tolerance: float = DEFAULT_TOLERANCE, window=None,
                    budget: Budget | None = None) -> torch.Tensor:
-    """Signed distance from every pixel centre to the union of the depth-K leaf shapes, or to the attractor.
+    """Signed distance ``(size, size)`` from every pixel centre to the depth-K leaf shapes, or to the attractor.
 
     Parameters
     ----------
-    ifs : IFS
-        The fractal; the result is differentiable in ``ifs.points``.
-    size : int
-        Image side in pixels; pixel centres follow docs/guide/conventions.md (row 0 at the top).
     depth : int or "attractor", optional
-        Number of Hutchinson steps ``K`` (``ifs.depth`` when None), or ``"attractor"``: the
-        unsigned distance to the attractor itself, within ``tolerance`` pixels (see the module
-        docstring). A ``window`` implies ``"attractor"``.
+        ``K`` (``ifs.depth`` when None), or the attractor within ``tolerance`` pixels (a ``window`` implies it).
     method : {"fast", "brute", "sampled"}
-        ``"fast"`` (default): exact nearest-leaf search, then autograd through the winner only.
-        ``"brute"``: every leaf at every pixel (the paper's algorithm), the reference.
-        ``"sampled"`` (attractor only): ``samples`` leaves of the certified cut drawn at random
-        (`ifslib.core.geometry.sampled.sample_attractor`; confined to ``window`` when given), for
-        attractors of many overlapping maps whose certified cut has millions of leaves, and for
-        deep zooms into them.
-    device : {"auto", "cpu", "cuda"} or torch.device
-        ``"auto"`` uses CUDA when present.
-    dtype : torch.dtype, optional
-        float32 or float64; that of ``ifs.points`` when None (float32 by default).
+        Exact nearest-leaf search; every leaf at every pixel (the paper's algorithm); random leaves of the cut.
     gradient : {"exact", "paper"}
         ``"paper"`` cuts the gradient through segment rules' rotations, as the paper's code did.
-    tolerance : float
-        For the attractor: the field is within this many pixels of the distance to it (0.5).
     window : (x0, y0, x1, y1), optional
-        For the attractor: the box of the plane the picture covers (the frame ``[-0.5, 0.5]^2``
-        when None); its leaves are refined for its own pixels, so a small window shows detail
-        the frame's pixels cannot, at a cost that follows its pixels, not the zoom (the whole
-        window is certified within ``tolerance``; see `ifslib.core.geometry.attractor`, step 4).
-        Pixels smaller than `FLOAT32_PIXEL` are computed in float64 whatever ``dtype``.
-    budget : Budget, optional
-        What it may spend: bytes of memory for the depth-K leaves, the attractor's leaf budget, and the
-        sampled leaves of ``method="sampled"`` (`Budget`; each its default when None).
-
-    Returns
-    -------
-    torch.Tensor
-        ``(size, size)`` signed distances in plane units (unsigned for the attractor).
-
-    Raises
-    ------
-    IFSError
-        Unknown method or device, bad size, depth, tolerance or window, a degenerate or
-        non-contractive rule, NaN points, an estimate over the memory budget or more leaves
-        than the leaf budget.
-    """
+        For the attractor: the box of the plane the picture covers, its leaves refined for its pixels."""
     if method not in METHODS:
         raise IFSError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}")
     check_size(size)
@@ -225,29 +165,7 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
 
 def distance_fields(ifs: IFS, points: torch.Tensor, size: int, depth: int | None = None, *,
                     gradient: str = "exact") -> torch.Tensor:
-    """The distance fields of a batch of point sets of one pattern, in one computation.
-
-    Each item is what `distance_field` gives for ``ifs`` with that item's points (method
-    ``"fast"``): one nearest-leaf search over the whole batch, each pixel searching only its own
-    item's leaves, then autograd through the winners.
-
-    Parameters
-    ----------
-    ifs : IFS
-        The pattern (rules, primitives); its own points are not used.
-    points : torch.Tensor
-        ``(B, n, 2)`` on the device and in the dtype to compute in. Every item must make
-        non-degenerate, contractive rules (see `ifslib.leaves.expand_batch`).
-    size : int
-    depth : int, optional
-        ``ifs.depth`` when None.
-    gradient : {"exact", "paper"}
-
-    Returns
-    -------
-    torch.Tensor
-        ``(B, size, size)``, differentiable in ``points``.
-    """
+    """`distance_field` of ``(B, n, 2)`` point sets of one pattern in one computation (each item's rules contractive)."""
     check_size(size)
     leaves = expand_batch(ifs, points, depth, gradient=gradient)
     x, y = pixel_centres(size, points.device, points.dtype)

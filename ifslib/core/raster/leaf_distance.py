@@ -1,6 +1,4 @@
-"""The distance from points to leaves: one leaf's signed distance, and the lookups the nearest-leaf search
-and the dense field make of many pairs (point, leaf) of a `ifslib.core.geometry.leaves.Leaves`.
-"""
+"""The distance from points to leaves: one leaf's, and the lookups of many (point, leaf) pairs."""
 from __future__ import annotations
 
 import torch
@@ -30,11 +28,8 @@ def leaf_sdf(kind: str, x: torch.Tensor, y: torch.Tensor, inverse: torch.Tensor,
 
 
 def _gather_words(leaves: Leaves, leaf: torch.Tensor):
-    """Per-pair inverse-map rows, scale, forward-map rows, local primitive index and ``params`` row for leaf ids ``leaf`` (N,).
-
-    The forward rows are None for similarity leaves; the primitive index and the row are None when
-    every pair uses ``params[0]`` (one IFS, one primitive).
-    """
+    """Per-pair inverse-map rows, scale, forward rows (None for similarities), local primitive index and ``params``
+    row for leaf ids ``leaf`` (the last two None when every pair uses ``params[0]``)."""
     p = leaves.n_prims
     word = leaf if p == 1 else torch.div(leaf, p, rounding_mode="floor")
     inv = leaves.inverse.reshape(-1, 6).index_select(0, word)

@@ -1,8 +1,5 @@
-"""The no-grad search for each pixel's nearest leaf: exact, and O(pixels + leaves) in memory.
-
-A quadtree over the pixel grid, walked top down, prunes each block's candidate leaves by the leaves' 1-Lipschitz
-bound and, where a kind gives its gradient, its tangent plane (the argument: docs/guide/design.md).
-"""
+"""The no-grad search for each pixel's nearest leaf: exact, and O(pixels + leaves) in memory, by a quadtree
+pruned with the leaves' Lipschitz bound and tangent planes (docs/guide/design.md)."""
 from __future__ import annotations
 
 import math
@@ -15,32 +12,20 @@ from ...errors import IFSError
 from ..geometry.leaves import Leaves
 from .leaf_distance import has_slope, leaf_table, sdf_pairs, sdf_table, sdf_table_slope
 
-#: How many ulps (of 1, in plane units) rounding may move the vector a leaf's gradient is the direction of, for the
-#: tangent plane's error (`_lower`): float32 against float64 on the notebooks' leaves at depths 3 and 5 never
-#: exceeded 0.66, so 16 leaves a margin of 24 at the price of a slightly looser plane near a spine.
+#: How many ulps (of 1, in plane units) rounding may move a leaf's gradient's vector, for the tangent plane's
+#: error (`_lower`): float32 against float64 on the notebooks' leaves never exceeded 0.66.
 ROUNDING_ULPS = 16
 #: Above this many (block, leaf) pairs a level is processed in chunks of blocks.
 MAX_PAIRS = 1 << 20
 #: The walk starts at the deepest level whose blocks x leaves stay within this many pairs: with few
-#: leaves the top levels prune little and cost only per-level overhead. With the tangent planes they
-#: prune more: 2^14 took 5-30 % less time than 2^16 on the notebooks' starts at 64²-256² (one thread).
+#: leaves the top levels prune little and cost only per-level overhead.
 START_PAIRS = 1 << 14
 
 
 @dataclass
 class NearestResult:
-    """Outcome of `nearest_leaf`.
-
-    Attributes
-    ----------
-    leaf : torch.Tensor
-        ``(size * size,)`` id of each pixel's nearest leaf (row-major pixels); for batched leaves
-        ``(B * size * size,)``, item-major, with the batch's global leaf ids.
-    distance : torch.Tensor
-        Same shape: its signed distance (in the leaves' dtype, no gradient).
-    pairs : int
-        Number of (block, leaf) distance evaluations the search made.
-    """
+    """Outcome of `nearest_leaf`: each pixel's nearest ``leaf`` id (row-major; item-major with the batch's global
+    ids for batched leaves), its signed ``distance`` (no gradient) and the number of (block, leaf) ``pairs`` evaluated."""
 
     leaf: torch.Tensor
     distance: torch.Tensor
@@ -49,21 +34,8 @@ class NearestResult:
 
 def pixel_centres(size: int, device: torch.device | str = "cpu", dtype: torch.dtype = torch.float64,
                   window: tuple[float, float, float, float] | None = None):
-    """Pixel-centre coordinates of a ``size x size`` image, as in docs/guide/conventions.md.
-
-    Parameters
-    ----------
-    size : int
-    device, dtype
-    window : (x0, y0, x1, y1), optional
-        The box of the plane the image covers; the frame ``[-0.5, 0.5]^2`` when None. Pixel
-        ``(r, c)`` then sits at ``x = x0 + (c + 0.5) (x1 - x0) / size``, ``y = y1 - (r + 0.5) (y1 - y0) / size``.
-
-    Returns
-    -------
-    x, y : torch.Tensor
-        ``(size * size,)`` each, row-major (row 0 at the top, ``y`` growing upward).
-    """
+    """Pixel-centre coordinates ``x, y`` ``(size * size,)`` of a ``size x size`` image of ``window`` (the frame when
+    None), row-major, row 0 at the top (docs/guide/conventions.md)."""
     t = (torch.arange(size, device=device, dtype=dtype) + 0.5) / size
     if window is None:
         x, y = t - 0.5, 0.5 - t  # row r has y = 0.5 - (r + 0.5) / size
@@ -74,25 +46,7 @@ def pixel_centres(size: int, device: torch.device | str = "cpu", dtype: torch.dt
 
 
 def nearest_point(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """The nearest of ``points`` to each query ``(x, y)``, exactly, by a KD-tree (`scipy.spatial.cKDTree`).
-
-    Point leaves (the attractor's, `ifslib.core.geometry.attractor`) are many and tiny, which is what a
-    KD-tree is made for: O(L log L) to build and about log L per query, memory O(L + queries).
-
-    Parameters
-    ----------
-    points : torch.Tensor
-        ``(L, 2)``, L >= 1.
-    x, y : torch.Tensor
-        ``(N,)`` query coordinates.
-
-    Returns
-    -------
-    index : torch.Tensor
-        ``(N,)`` long, on the points' device: the nearest point of each query (ties: any of them).
-    distance : torch.Tensor
-        ``(N,)`` its Euclidean distance, in the queries' dtype (no gradient).
-    """
+    """The nearest of ``points`` to each query ``(x, y)`` by a KD-tree (point leaves are many and tiny): index and distance."""
     from scipy.spatial import cKDTree
 
     tree = cKDTree(points.detach().cpu().double().numpy(), balanced_tree=False, compact_nodes=False)
@@ -104,29 +58,8 @@ def nearest_point(points: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tup
 
 @torch.no_grad()
 def nearest_leaf(leaves: Leaves, size: int, max_pairs: int = MAX_PAIRS) -> NearestResult:
-    """Find the nearest leaf of every pixel centre, exactly.
-
-    Parameters
-    ----------
-    leaves : Leaves
-        The leaves (their gradients are not used), of one IFS or of a batch (`ifslib.leaves.expand_batch`:
-        each item's pixels then search only that item's leaves). The search runs in their dtype and on their
-        device; float32 rounding is absorbed by a small slack in the pruning test, so the
-        surviving candidates are always a superset of the true minimisers.
-    size : int
-        Image side in pixels.
-    max_pairs : int
-        Memory bound: a level with more (block, leaf) pairs is split into chunks of blocks.
-
-    Returns
-    -------
-    NearestResult
-
-    Raises
-    ------
-    IFSError
-        When some pixel ends with no leaf, which only a non-finite distance can cause.
-    """
+    """Find the nearest leaf of every pixel centre, exactly (each batch item's pixels among its own leaves); a level
+    over ``max_pairs`` pairs is split; `IFSError` when a pixel ends with no leaf."""
     tree = _quadtree(leaves.detach(), size)
     n_pixels = tree.n_items * size * size
     best_leaf = torch.full((n_pixels,), -1, dtype=torch.long, device=tree.device)
@@ -237,9 +170,8 @@ def _first_task(tree: _Quadtree) -> _Task:
 
 
 def _block_minimum(tree: _Quadtree, task: _Task):
-    """The distances at the blocks' centres: each pair's ``(pairs,)``; above the pixels, where the table gives
-    them, their gradients and reaches ``[gx, gy, reach]`` (`sdf_table_slope`; else None); and each block's
-    least one and the smallest leaf id at it ``(blocks,)``."""
+    """Each pair's distance at its block's centre (with gradients and reaches where the table gives them), and each
+    block's least one and the smallest leaf id at it."""
     n_blocks, device, dtype = task.rows.numel(), tree.device, tree.dtype
     bx, by = _centres(tree, task.rows, task.cols, tree.side >> task.level)
     x, y = bx.index_select(0, task.pair_block), by.index_select(0, task.pair_block)

@@ -1,8 +1,5 @@
-"""Losses between a rendered IFS and a target: pixel or distance, fine or multiscale.
-
-Each name of `ifslib.names.LOSSES` is an entry of `LOSS_KINDS`, which carries what the code branches on; a new
-loss is a line in `ifslib.names.LOSSES` and an entry here.
-"""
+"""Losses between a rendered IFS and a target: pixel or distance, fine or multiscale; each name of
+`ifslib.names.LOSSES` an entry of `LOSS_KINDS`."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -31,18 +28,8 @@ def _distance_images(distance: torch.Tensor, target: Target, sigma: float | None
 
 @dataclass(frozen=True)
 class Family:
-    """What a family of losses compares.
-
-    Attributes
-    ----------
-    images : callable
-        ``(distance, target, sigma) -> (drawn, wanted)``, two images of the target's shape.
-    pool : {"avg", "min"}
-        How `pyramid` pools them: a mask averages, a distance keeps its least.
-    sharpens : {"sigma", "levels"}
-        What a coarse-to-fine schedule (the ``anneal`` strategy) narrows: the rendering width, or the
-        pooling levels (a distance has no width).
-    """
+    """What a family of losses compares: its ``images(distance, target, sigma) -> (drawn, wanted)``, how `pyramid`
+    pools them (``"avg"`` a mask, ``"min"`` a distance), and what the ``anneal`` strategy ``sharpens``."""
 
     images: Callable[[torch.Tensor, Target, float | None], tuple[torch.Tensor, torch.Tensor]]
     pool: str
@@ -55,10 +42,8 @@ DISTANCE = Family(_distance_images, "min", "levels")
 
 def mse(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
     """Mean squared error of two images ``(h, w)`` (a scalar), or per image of a batch ``(B, h, w)`` (``(B,)``)."""
-    # Row means first, then their mean: torch splits one reduction of a whole image between its
-    # threads (so the last bits follow the thread count), but reduces each of many outputs in one.
-    err = (a - b).square().mean(-1).mean(-1)
-    return err
+    # row means first: one reduction of a whole image is split between threads (its last bits follow their count)
+    return (a - b).square().mean(-1).mean(-1)
 
 
 @dataclass(frozen=True)
@@ -93,21 +78,7 @@ def loss_kind(kind: str) -> LossKind:
 
 
 def pyramid(image: torch.Tensor, levels: int, mode: str = "avg") -> list[torch.Tensor]:
-    """The image and ``levels`` copies, each 2 x 2 pooled from the previous.
-
-    Parameters
-    ----------
-    image : torch.Tensor
-        ``(h, w)``, or ``(B, h, w)``.
-    levels : int
-        Number of pooled copies (stops early when a copy reaches 1 x 1).
-    mode : {"avg", "min"}
-
-    Returns
-    -------
-    list of torch.Tensor
-        ``[image, pooled_1, ...]``.
-    """
+    """The ``(h, w)`` (or ``(B, h, w)``) image and ``levels`` copies, each 2 x 2 pooled from the previous (down to 1 x 1)."""
     out = [image]
     lead = image.shape[:-2]
     x = image.reshape(-1, 1, *image.shape[-2:])
@@ -132,29 +103,8 @@ def multiscale_mse(a: torch.Tensor, b: torch.Tensor, levels: int = 5, mode: str 
 
 def loss(distance: torch.Tensor, target: Target, kind: str | Callable = DEFAULT_LOSS,
          sigma: float | None = None, levels: int = 5) -> torch.Tensor:
-    """The loss of a distance field against a target.
-
-    Parameters
-    ----------
-    distance : torch.Tensor
-        ``(size, size)`` signed distance field of the fractal (`ifslib.distance_field`), or a batch
-        ``(B, size, size)`` (`ifslib.distance.distance_fields`).
-    target : Target
-        Same size.
-    kind : str or callable
-        One of ``pixel``, ``multiscale_pixel``, ``distance``, ``multiscale_distance``, or a function
-        ``f(distance, target) -> scalar``; by default a fit's (`ifslib.names.DEFAULT_LOSS`).
-    sigma : float, optional
-        Rendering width for pixel losses (one pixel by default).
-    levels : int
-        Pooled copies for the multiscale losses.
-
-    Returns
-    -------
-    torch.Tensor
-        A scalar (``(B,)`` for a batch: a callable is then called on each item), differentiable in the
-        distance field.
-    """
+    """The loss of a distance field (or a batch of them: one each) against a target: a name of `LOSSES` or
+    ``f(distance, target)``; ``sigma`` for the pixel losses, ``levels`` for the multiscale ones."""
     if callable(kind):
         if distance.ndim == 3:
             return torch.stack([kind(d, target) for d in distance])

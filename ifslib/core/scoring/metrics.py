@@ -1,6 +1,4 @@
-"""How good a fit is: IoU and F1 of the masks, symmetric Chamfer distance, control-point error, and a
-curve's self-crossings; of the drawing at depth K and of the attractor (docs/guide/conventions.md, "Judging a fit").
-"""
+"""How good a fit is: IoU, F1, Chamfer distance, control-point error and self-crossings (docs/guide/conventions.md)."""
 from __future__ import annotations
 
 import numpy as np
@@ -15,8 +13,7 @@ from ..raster.distance import Budget
 from ..raster.render import figure_mask
 from ..targets.target import Target
 
-#: Tolerance in pixels of the attractor's distance when it is scored: a quarter pixel, so that a mask
-#: pixel (distance <= 0.83 px) is decided to within 0.25 px of its true distance.
+#: Tolerance in pixels of the attractor's distance when it is scored.
 EVAL_TOLERANCE = 0.25
 #: Above this many leaves in the certified cut, the attractor is scored by the chaos game ...
 EVAL_MAX_LEAVES = 1_000_000
@@ -37,11 +34,7 @@ def f1(pred: np.ndarray, true: np.ndarray) -> float:
 
 
 def chamfer(pred: np.ndarray, true: np.ndarray) -> float:
-    """Symmetric Chamfer distance in pixels: the mean of the two directed mean distances.
-
-    Each directed term is the mean, over one mask's pixels, of the distance to the other mask's
-    nearest pixel (from `scipy.ndimage.distance_transform_edt`). ``inf`` if one mask is empty.
-    """
+    """Symmetric Chamfer distance in pixels: the mean of the two directed mean distances (``inf`` if a mask is empty)."""
     if not pred.any() or not true.any():
         return float("inf")
     to_true = ndimage.distance_transform_edt(~true)
@@ -55,11 +48,8 @@ def scores(pred: np.ndarray, true: np.ndarray) -> dict[str, float]:
 
 
 def attractor_mask(ifs: IFS, size: int, sigma: float | None = None, tolerance: float = EVAL_TOLERANCE) -> np.ndarray:
-    """The attractor's pixels at ``size``: ``(size, size)`` bool, where its render is >= 0.5.
-
-    Drawn from the certified field within ``tolerance`` pixels when its cut has at most
-    `EVAL_MAX_LEAVES` leaves, else by the chaos game (`EVAL_POINTS` points, seed 0).
-    """
+    """The attractor's pixels at ``size`` (its render >= 0.5): from the certified field within ``tolerance`` pixels, or by
+    the chaos game (`EVAL_POINTS` points, seed 0) when the cut has more than `EVAL_MAX_LEAVES` leaves."""
     try:
         return figure_mask(ifs, size, ATTRACTOR, sigma, tolerance=tolerance, budget=Budget(leaves=EVAL_MAX_LEAVES))
     except LeafBudgetError:
@@ -68,26 +58,8 @@ def attractor_mask(ifs: IFS, size: int, sigma: float | None = None, tolerance: f
 
 def evaluate(ifs: IFS, target: Target, depth: int | str | None = None, sigma: float | None = None,
              attractor: bool = True) -> dict[str, float]:
-    """IoU, F1 and Chamfer (pixels) of an IFS against a target: its drawing at depth K and its attractor.
-
-    Parameters
-    ----------
-    ifs : IFS
-    target : Target
-    depth : int or "attractor", optional
-        The drawing's depth (``ifs.depth`` when None); ``"attractor"`` scores only the attractor.
-    sigma : float, optional
-        Rendering width (one pixel by default).
-    attractor : bool
-        Also score the attractor (``attractor_iou``, ``attractor_f1``, ``attractor_chamfer``).
-        Strategies that judge their own drawing turn it off.
-
-    Returns
-    -------
-    dict
-        ``iou``, ``f1``, ``chamfer`` of the drawing at depth K (of the attractor when
-        ``depth="attractor"``), and with ``attractor`` the ``attractor_*`` scores.
-    """
+    """IoU, F1 and Chamfer (pixels) of an IFS against a target: its drawing at ``depth`` (``ifs.depth`` when None)
+    and, with ``attractor``, its attractor (``attractor_iou``, ...); ``depth="attractor"`` scores only the attractor."""
     if is_attractor(depth):
         return scores(attractor_mask(ifs, target.size, sigma), target.mask)
     out = scores(figure_mask(ifs, target.size, depth, sigma), target.mask)
@@ -97,14 +69,7 @@ def evaluate(ifs: IFS, target: Target, depth: int | str | None = None, sigma: fl
 
 
 def caption(ifs: IFS, target: Target) -> str:
-    """The one number that judges a fit, as a caption: Chamfer (pixels) for a curve, IoU for a figure with area.
-
-    IoU is harsh on a thin curve: a one-pixel-wide line drawn one pixel off shares no pixel with it
-    (IoU 0; half a pixel off, the line's mask is two pixels wide and IoU is 1/2), so a Koch fit
-    right to 0.7 px can score IoU 0.2. The symmetric Chamfer distance measures what the eye sees
-    there. For shapes with area (the carpet, silhouettes) the overlap, IoU, is the natural measure.
-    A curve is an IFS whose rules chain segments, as the Koch curve's do (`ifslib.core.geometry.crossings.is_curve`).
-    """
+    """The one number that judges a fit: Chamfer (pixels) for a curve, on which IoU is harsh, IoU for a figure."""
     m = evaluate(ifs, target, attractor=False)
     return f"Chamfer {m['chamfer']:.2f} px" if is_curve(ifs) else f"IoU {m['iou']:.2f}"
 
@@ -117,13 +82,8 @@ def _normalize(points: np.ndarray, a: int, b: int) -> np.ndarray:
 
 
 def point_error(ifs: IFS, reference: IFS) -> float:
-    """Control-point error against a known IFS, up to similarity and reflection.
-
-    Both point sets are mapped by the similarity taking the first rule's source segment onto
-    ``(0, 0) -> (1, 0)``; the error is the root-mean-square distance between corresponding points,
-    the smaller of the direct and the reflected (``y -> -y``) comparison. For the Koch curve, a fit
-    traversed backwards is such a reflection.
-    """
+    """Control-point error against a known IFS, up to similarity and reflection: the RMS distance after mapping
+    the first rule's source segment onto ``(0, 0) -> (1, 0)``, the smaller of the direct and the reflected comparison."""
     a, b = reference.rules[0].source
     p = _normalize(ifs.points.detach().cpu().double().numpy(), a, b)
     q = _normalize(reference.points.detach().cpu().double().numpy(), a, b)
@@ -132,37 +92,14 @@ def point_error(ifs: IFS, reference: IFS) -> float:
 
 
 def curve_segments(ifs: IFS, depth: int | None = None) -> np.ndarray:
-    """The depth-K copies of a curve's segment primitives, in drawing order.
-
-    Parameters
-    ----------
-    ifs : IFS
-        Every primitive must be a segment (radius ignored).
-    depth : int, optional
-        ``ifs.depth`` when None.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(W * p, 2, 2)``: start and end point of each leaf segment, words in lexicographic order.
-    """
+    """The depth-K copies ``(W * p, 2, 2)`` of a curve's segment primitives, in drawing order."""
     with torch.no_grad():
         return leaf_segments(ifs.to(torch.float64), depth).numpy()
 
 
 def crossing_points(ifs: IFS, depth: int | None = None) -> np.ndarray:
-    """Where a curve's depth-K segments properly cross each other: ``(k, 2)`` points, one per pair.
-
-    Two segments cross when each one's endpoints lie strictly on opposite sides of the other's line;
-    segments that only touch (as consecutive pieces of a curve do) or overlap on one line do not.
-
-    Parameters
-    ----------
-    ifs : IFS
-        A curve: every primitive a segment.
-    depth : int, optional
-        ``ifs.depth`` when None.
-    """
+    """Where a curve's depth-K segments properly cross each other: ``(k, 2)`` points, one per pair (touching
+    or collinear segments do not cross)."""
     with torch.no_grad():
         segments = leaf_segments(ifs.to(torch.float64), depth)
         i, j, (_, _, cda, cdb) = crossing_pairs(segments)  # the predicate the crossing penalty uses
@@ -175,19 +112,12 @@ def crossing_points(ifs: IFS, depth: int | None = None) -> np.ndarray:
 
 
 def self_crossings(ifs: IFS, depth: int | None = None) -> int:
-    """How many pairs of a curve's depth-K segments properly cross each other (see `crossing_points`).
-
-    The Koch curve itself has none; the paper remarks that its stalled fits seem related to
-    self-crossings (notebooks 04 and 06 test it).
-    """
+    """How many pairs of a curve's depth-K segments properly cross each other (see `crossing_points`)."""
     return len(crossing_points(ifs, depth))
 
 
 def hausdorff(a: np.ndarray, b: np.ndarray) -> float:
-    """Hausdorff distance between two point sets ``(N, 2)`` and ``(M, 2)`` (plane units), by KD-trees.
-
-    The larger of the two directed distances: the farthest any point of one set lies from the other set.
-    """
+    """Hausdorff distance between two point sets ``(N, 2)`` and ``(M, 2)`` (plane units), by KD-trees."""
     from scipy.spatial import cKDTree
 
     if len(a) == 0 or len(b) == 0:
@@ -196,10 +126,7 @@ def hausdorff(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def curve_points(ifs: IFS, depth: int | None = None, spacing: float = 1e-3) -> np.ndarray:
-    """Points along a curve's depth-K segments, at most ``spacing`` apart (plane units): ``(N, 2)`` float64.
-
-    Every primitive must be a segment (see `curve_segments`).
-    """
+    """Points along a curve's depth-K segments, at most ``spacing`` apart: ``(N, 2)`` float64."""
     seg = curve_segments(ifs, depth)
     out = []
     for a, b in seg:
@@ -209,12 +136,8 @@ def curve_points(ifs: IFS, depth: int | None = None, spacing: float = 1e-3) -> n
 
 
 def depth_to_attractor(ifs: IFS, depths, points: int = 1_000_000, spacing: float = 1e-3, seed: int = 0) -> list[float]:
-    """The Hausdorff distance (plane units) between a curve's drawing at each depth and its attractor.
-
-    The drawing is sampled along its segments every ``spacing``, the attractor by the float64 chaos
-    game (``points`` points): the values are within about ``spacing`` plus the chaos game's
-    coverage of the true ones. For maps of contraction at most ``s`` they shrink like ``s^K``.
-    """
+    """The Hausdorff distance between a curve's drawing at each depth (sampled every ``spacing``) and its attractor
+    (``points`` of the chaos game); it shrinks like ``s^K`` for maps of contraction at most ``s``."""
     from ..raster.chaos import chaos_game
 
     limit = chaos_game(ifs, points, seed)

@@ -1,9 +1,5 @@
-"""Which part of an image file is the figure, and its gray levels on the target's grid.
-
-The background is the colour (or the transparency) that touches the image's border; the rules, and how
-`Target.polarity` says which part was taken: docs/guide/conventions.md, "Targets and polarity".
-"""
-
+"""Which part of an image file is the figure (the background touches the border: docs/guide/conventions.md,
+"Targets and polarity"), and its gray levels on the target's grid."""
 from __future__ import annotations
 
 import math
@@ -23,10 +19,6 @@ BORDER_BAND = 1 / 32
 
 #: Pixels a side above which an image is reduced as it is read (never below twice the target's size).
 READ_SIDE = 2048
-
-# Rough peak bytes per target pixel while a target is made (resampled gray levels, the mask, the
-# distance transform and its float64 intermediates, the float32 copies kept), rounded up.
-_TARGET_BYTES_PER_PIXEL = 64
 
 # 16-bit modes, whose values Pillow's conversion to 8 bits would clip: read as 32-bit integers instead.
 _WIDE_MODES = ("I;16", "I;16L", "I;16B", "I;16N")
@@ -66,24 +58,8 @@ def _percent(share: float) -> str:
 
 
 def border_polarity(gray: np.ndarray, threshold: float | None = None) -> tuple[bool, str]:
-    """Which part of an image is the figure, read from its border: the background is what touches it.
-
-    Parameters
-    ----------
-    gray : numpy.ndarray
-        ``(h, w)`` gray levels of any range (not uniform).
-    threshold : float, optional
-        Gray level in ``(0, 1)`` of the image's range at or above which a pixel is light (0.5, the
-        mask's threshold).
-
-    Returns
-    -------
-    invert : bool
-        True when the figure is the dark part: more than ``0.5 + SPLIT`` of the border band is light.
-        A split border (within `SPLIT` of an even split) gives False, the paper's convention.
-    polarity : str
-        The part taken and why, for `Target.polarity`.
-    """
+    """Which part of an image is the figure, read from its border (the background touches it): ``invert`` and why,
+    in words; a split border gives the paper's convention."""
     light = float((_scaled(gray)[border_band(np.shape(gray))] >= check_threshold(threshold)).mean())
     if light > 0.5 + SPLIT:
         return True, f"a dark figure on a light background (its border is light: {_percent(light)} of it)"
@@ -130,12 +106,8 @@ def _image_file(path: Path):
 
 
 def gray_levels(path: Path) -> np.ndarray:
-    """An image file's gray levels in ``[0, 1]``, ``(h, w)`` float64, at its full size and upright (EXIF).
-
-    8-bit images (colour by Pillow's luma, any alpha ignored) are divided by 255 and 16-bit ones by
-    65535: Pillow's conversion of a 16-bit image to 8 bits clips it at 255, almost all white. A 32-bit
-    integer image must hold values of at most 16 bits and a float image values in ``[0, 1]``.
-    """
+    """An image file's gray levels in ``[0, 1]``, ``(h, w)`` float64, at its full size and upright (EXIF): 8-bit
+    divided by 255, 16-bit by 65535 (Pillow's 8-bit conversion would clip it at 255)."""
     path = Path(path)
     with _image_file(path) as opened:
         im = ImageOps.exif_transpose(opened)  # a phone's photo, as its viewer shows it
@@ -178,21 +150,8 @@ def read_image(path: Path, size: int) -> tuple[np.ndarray, str]:
 
 
 def resample_gray(gray: np.ndarray, size: int, invert: bool = False) -> np.ndarray:
-    """Scale a gray image to ``[0, 1]`` by its own range, figure bright, and resample it to ``size x size``.
-
-    Parameters
-    ----------
-    gray : numpy.ndarray
-        ``(h, w)`` values.
-    size : int
-    invert : bool
-        True for a dark figure on a light background.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(size, size)`` float, bilinear resampling (Pillow).
-    """
+    """A gray image scaled to ``[0, 1]`` by its own range, figure bright (``invert`` for a dark figure), resampled
+    bilinearly to ``size x size``."""
     gray = _scaled(gray)
     if invert:
         gray = 1 - gray

@@ -1,10 +1,5 @@
-"""A pattern placed on a target (paper, "Initial Conditions"): a curve's points evenly spaced along the
-target's best-fit line, any other pattern stretched onto its bounding box, with optional seeded jitter.
-
-It reads the target's pixels alone (no search), so a fit may place its own starts with it. A start read
-from the image itself (a curve, a shape or a fractal's maps, searched) is the automatic path's:
-`ifslib.discover`.
-"""
+"""A pattern placed on a target (paper, "Initial Conditions"), from the target's pixels alone (no search: a
+start read from the image itself is the automatic path's, `ifslib.discover`)."""
 from __future__ import annotations
 
 import numpy as np
@@ -16,17 +11,8 @@ from .target import Target, foreground_points
 
 
 def best_fit_line(target: Target) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """The principal axis of the foreground.
-
-    Returns
-    -------
-    centre : numpy.ndarray
-        ``(2,)`` mean of the foreground.
-    direction : numpy.ndarray
-        ``(2,)`` unit vector of largest variance (sign chosen so that it points right, or up).
-    lo, hi : float
-        Extreme projections of the foreground on the axis, relative to ``centre``.
-    """
+    """The principal axis of the foreground: its mean ``(2,)``, the unit direction of largest variance (pointing
+    right, or up) and the extreme projections ``lo, hi`` on it, relative to the mean."""
     pts = foreground_points(target)
     centre = pts.mean(0)
     _, _, vt = np.linalg.svd(pts - centre, full_matrices=False)
@@ -46,37 +32,14 @@ def check_jitter(jitter: float, seed: int | None) -> None:
 
 
 def initialize(pattern: IFS, target: Target, jitter: float = 0.0, seed: int | None = None) -> IFS:
-    """A start for fitting ``target``: the pattern's points placed on it (paper, "Initial Conditions").
-
-    Parameters
-    ----------
-    pattern : IFS
-        The pattern (`ifslib.patterns`). A curve (see `is_curve`, as the Koch curve) gets its points
-        evenly spaced along the target's best-fit line, the paper's advice; any other pattern (grids,
-        the carpet, rosettes) is stretched onto the target's bounding box.
-    target : Target
-    jitter : float
-        Half-width of the uniform jitter added to every free coordinate (plane units, from 0 to 1).
-    seed : int, optional
-        Seed of the jitter, from 0 to ``ifslib.errors.MAX_SEED``.
-
-    Returns
-    -------
-    IFS
-        The placed copy of ``pattern``.
-    """
+    """A start for fitting ``target`` (paper, "Initial Conditions"): a curve's points evenly spaced along the target's
+    best-fit line, any other pattern stretched onto its bounding box, then jittered by ``jitter`` (seeded)."""
     if isinstance(pattern, str):
         hint = ("a start read from the image is ifslib.discover(target) (import ifslib.automatic)"
                 if pattern == "auto" else "patterns by name: ifslib.patterns.by_name")
         raise IFSError(f"initialize takes an IFS, got {pattern!r}: {hint}")
     if not isinstance(pattern, IFS):
         raise IFSError(f"initialize takes an IFS (ifslib.patterns), got {type(pattern).__name__}")
-    return place(pattern, target, jitter, seed)
-
-
-def place(pattern: IFS, target: Target, jitter: float = 0.0, seed: int | None = None) -> IFS:
-    """A copy of ``pattern`` with its points on ``target`` (`placed_points`), each coordinate then jittered by
-    ``U(-jitter, jitter)`` plane units (seeded by ``seed``)."""
     check_jitter(jitter, seed)
     return pattern.clone(placed_points(pattern, target)).jittered(jitter, np.random.default_rng(seed))
 

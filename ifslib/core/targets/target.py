@@ -1,7 +1,4 @@
-"""Targets: images, arrays or IFSs turned into a binary mask on the pixel grid, with its distances.
-
-Reading a file (which part is the figure) is `ifslib.core.targets.image`.
-"""
+"""Targets: images, arrays or IFSs turned into a binary mask on the pixel grid, with its distances."""
 from __future__ import annotations
 
 import os
@@ -23,39 +20,15 @@ from ..geometry.ifs import IFS
 from .image import check_threshold, file_polarity, read_image, resample_gray, threshold_gray
 
 
-
-
 # Rough peak bytes per target pixel while a target is made (resampled gray levels, the mask, the
 # distance transform and its float64 intermediates, the float32 copies kept), rounded up.
 _TARGET_BYTES_PER_PIXEL = 64
 
-# 16-bit modes, whose values Pillow's conversion to 8 bits would clip: read as 32-bit integers instead.
-
 
 @dataclass
 class Target:
-    """A fitting target on the ``size x size`` pixel grid.
-
-    Attributes
-    ----------
-    mask : numpy.ndarray
-        ``(size, size)`` bool, True on the figure.
-    distance : torch.Tensor
-        ``(size, size)`` float32: distance from each pixel centre to the nearest figure pixel centre,
-        in plane units (0 on the figure), from `scipy.ndimage.distance_transform_edt`.
-    image : torch.Tensor
-        ``(size, size)`` float32 in ``[0, 1]``: the mask as pixels.
-    name : str
-        Where it came from.
-    gray : numpy.ndarray, optional
-        ``(size, size)`` float in ``[0, 1]``: the source image's own gray levels at this size, figure
-        bright, before thresholding (None for a mask or an IFS source). See `picture`.
-    polarity : str
-        Which part of the source is the figure, and why, in words: e.g. ``"a dark figure on a light
-        background (its border is light: 97 % of it)"`` (docs/guide/conventions.md).
-    inverted : bool
-        True when the figure is the source's dark (or transparent, or low) part.
-    """
+    """A fitting target on the ``size x size`` grid: its ``mask``, the distance to it (plane units), the mask as an
+    ``image``, the source's ``gray`` levels, and which part of the source is the figure (``polarity``), and why."""
 
     mask: np.ndarray
     distance: torch.Tensor
@@ -71,12 +44,8 @@ class Target:
 
     @property
     def picture(self) -> np.ndarray:
-        """The target as a reader recognises it: ``(size, size)`` in ``[0, 1]``, figure bright.
-
-        The source's gray levels when it had them, else the mask. A thin anti-aliased line
-        (the paper's Koch file) thresholded at mid-range keeps only its brightest pixels and looks
-        dotted; its gray levels show the curve the file draws.
-        """
+        """The target as a reader recognises it, figure bright: the source's gray levels when it had them (a thin
+        anti-aliased line thresholded at mid-range looks dotted), else the mask."""
         return self.gray if self.gray is not None else self.mask.astype(np.float32)
 
 
@@ -87,34 +56,13 @@ def _check_invert(invert) -> bool | None:
                    f"(found from the image's border), got {invert!r}")
 
 
-
-
 def _check_memory(size: int) -> None:
     check_bytes(size * size * _TARGET_BYTES_PER_PIXEL, f"a {size:,}x{size:,} target", "choose a smaller size")
 
 
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 def target_from_mask(mask: np.ndarray, name: str = "", gray: np.ndarray | None = None, *, polarity: str = "",
                      inverted: bool = False) -> Target:
-    """A `Target` from a square boolean mask (checks it is neither empty nor full), with its source's gray levels.
-
-    ``polarity`` and ``inverted`` are recorded on the target (`Target.polarity`).
-    """
+    """A `Target` from a square boolean mask, neither empty nor full, with its source's gray levels."""
     mask = np.asarray(mask, dtype=bool)
     if mask.ndim != 2 or mask.shape[0] != mask.shape[1]:
         raise IFSError(f"a target mask must be square, got shape {mask.shape}")
@@ -140,41 +88,10 @@ def _from_gray(gray: np.ndarray, size: int, invert: bool, threshold: float | Non
                             polarity=polarity, inverted=invert)
 
 
-
-
 def load_target(source, size: int, invert: bool | None = None, threshold: float | None = None,
                 depth: int | None = None) -> Target:
-    """Make a fitting target from an image file, an array or an IFS.
-
-    Parameters
-    ----------
-    source : str, path, numpy.ndarray, torch.Tensor or IFS
-        An image file (PNG, GIF, JPEG, ...; 1-bit, gray, 16-bit, RGB, RGBA or palette), a name of
-        one of the paper's images (``"koch"``, ``"sierpinski"``, ``"apple"``, ``"flower"``, see
-        `ifslib.data`), a 2-D array (figure high), or an IFS (rendered at ``size``, figure where the
-        render is >= 0.5).
-    size : int
-        Pixels per side of the target.
-    invert : bool, optional
-        None (the default): an image file's figure is found from its border, or its alpha channel
-        (docs/guide/conventions.md); an array's figure is where it is high, an IFS's is its drawing.
-        True: the figure is the dark (transparent, low) part; False: the light (opaque, high) part.
-    threshold : float, optional
-        Gray level in ``[0, 1]`` of the image's range above which a pixel is figure (0.5).
-    depth : int, optional
-        Depth at which to render an IFS source.
-
-    Returns
-    -------
-    Target
-        With `Target.polarity` saying which part was taken as the figure, and why.
-
-    Raises
-    ------
-    IFSError
-        Missing file, not an image, uniform image, a size over the memory budget, or an empty or
-        all-foreground mask.
-    """
+    """A fitting target of ``size`` pixels from an image file, one of the paper's images by name, an array (figure high)
+    or an IFS; ``invert`` None reads the figure from the border (docs/guide/conventions.md)."""
     size = check_size(size)
     invert = _check_invert(invert)
     check_threshold(threshold)
@@ -200,13 +117,8 @@ def load_target(source, size: int, invert: bool | None = None, threshold: float 
 
 
 def pyramid_sizes(size: int, coarsest: int = 64, factor: int = 2) -> list[int]:
-    """The sizes of a target's resolution pyramid, coarsest first.
-
-    ``size`` is halved while it stays >= ``coarsest``; with ``factor=4`` every other of those sizes
-    is kept (the coarsest and the full size always). ``pyramid_sizes(256, 64) == [64, 128, 256]``,
-    ``pyramid_sizes(1024, 64, 4) == [64, 256, 1024]``; a target smaller than ``2 * coarsest`` is its
-    own pyramid (``[size]``).
-    """
+    """The sizes of a target's resolution pyramid, coarsest first: ``size`` halved while it stays >= ``coarsest``,
+    every other one kept with ``factor=4`` (``pyramid_sizes(1024, 64, 4) == [64, 256, 1024]``)."""
     size, coarsest = check_size(size), check_size(coarsest)
     if factor not in (2, 4):
         raise IFSError(f"factor must be 2 or 4, got {factor!r}")
@@ -218,25 +130,8 @@ def pyramid_sizes(size: int, coarsest: int = 64, factor: int = 2) -> list[int]:
 
 
 def resize_target(target: Target, size: int) -> Target:
-    """The same target at another size, made from the target's own gray levels.
-
-    The picture (`Target.picture`) is resampled with scikit-image's ``resize``: bilinear, after a
-    Gaussian blur against aliasing when shrinking (not an area mean), then thresholded at half its
-    largest value, so a thin curve stays connected at a coarse size and a filled shape keeps its
-    area. (`load_target` resamples an image file with Pillow's bilinear filter instead, so the two
-    need not give the same mask.)
-
-    Parameters
-    ----------
-    target : Target
-    size : int
-        Pixels per side.
-
-    Returns
-    -------
-    Target
-        ``target`` itself when ``size == target.size``.
-    """
+    """The same target at another size, from its own gray levels (`Target.picture`): scikit-image's anti-aliased
+    ``resize``, thresholded at half its largest value, so a thin curve stays connected at a coarse size."""
     size = check_size(size)
     if size == target.size:
         return target

@@ -1,6 +1,5 @@
-"""The exercises' harness: run a student's function with the library's own one switched off
-(`run_answer`, `library_off`), and read an answer as a matrix or a number. Each raises
-``AssertionError`` with a hint, as an nbgrader test cell expects."""
+"""The exercises' harness: run a student's function with the library's own switched off (`run_answer`), and read
+an answer as a matrix or a number; each raises ``AssertionError`` with a hint."""
 from __future__ import annotations
 
 import contextlib
@@ -21,10 +20,7 @@ from .library import ALLOWED, LIBRARY
 
 
 class WriteItYourself(RuntimeError):
-    """Raised by a library function that a test has switched off: the exercise asks for your own.
-
-    ``name`` is the function reached (``module.attribute``).
-    """
+    """Raised by a library function that a test has switched off (``name``: the function reached): write your own."""
 
     def __init__(self, name: str = "a library function"):
         super().__init__(f"{name} is switched off while this test runs: write it yourself")
@@ -152,10 +148,8 @@ def _switched_off(name: str) -> Callable:
 
 
 def _originals(exercise: str, imported: bool = False) -> list[tuple[object, str, object, str]]:
-    """(owner, attribute, what it keeps, dotted name) for each of ``exercise``'s library functions.
-
-    With ``imported``, only those of modules already imported (nothing else can be held yet).
-    """
+    """(owner, attribute, what it keeps, dotted name) for each of ``exercise``'s library functions (``imported``: of
+    modules already imported)."""
     if exercise not in LIBRARY:
         raise KeyError(f"no exercise {exercise!r}; one of {sorted(LIBRARY)}")
     out = []
@@ -174,17 +168,8 @@ def _originals(exercise: str, imported: bool = False) -> list[tuple[object, str,
 
 @contextlib.contextmanager
 def library_off(exercise: str, answer: Callable | None = None) -> Iterator[None]:
-    """Within the block, the library's functions for ``exercise`` (a key of `LIBRARY`) raise `WriteItYourself`.
-
-    A plain Python function (a method's or a property's too) is switched off itself: its ``__code__``
-    is swapped for code that raises, so every reference to it raises, wherever it is held (a module, a
-    global of the notebook, a ``functools.partial``, a class attribute, a dict or list, a default
-    argument) and whoever calls it, other ifslib functions included. Anything else (a builtin, a
-    C extension's function) is replaced where the library keeps it and, when ``answer`` is a
-    function, in its globals. Everything is restored when the block ends, however it ends; two
-    blocks may hold one function at once (nested, or from two threads), and the lock keeps their
-    swaps apart. While a block runs, every thread of the process sees the functions switched off.
-    """
+    """Within the block, the library's functions for ``exercise`` raise `WriteItYourself`, wherever they are held: a
+    function's ``__code__`` is swapped, a builtin replaced; restored when the block ends (the lock: nested blocks)."""
     keys: list[tuple] = []
     with _LOCK:
         try:
@@ -262,14 +247,8 @@ def _filled(cell) -> bool:
 
 
 class _Watch:
-    """While a student's function runs, every call into ifslib outside ``allowed`` is refused.
-
-    A profile hook (`sys.setprofile`, and `threading.setprofile` for threads the function starts) sees
-    each Python call with the module it runs in (``frame.f_globals["__name__"]``): the library's own code
-    is refused by module, however it was reached (a re-export, a private helper, a copy of a function
-    made with the library's globals). A refusal is recorded before it is raised, so an answer that
-    catches it still fails; so does one that removes the hook.
-    """
+    """While a student's function runs, a profile hook refuses every call into ifslib outside ``allowed``, by module
+    however it was reached; a refusal is recorded, so catching it (or removing the hook) still fails."""
 
     def __init__(self, allowed: frozenset[str]):
         self.allowed = allowed
@@ -309,31 +288,8 @@ _PROFILE_SETTERS = (sys.setprofile, sys.settrace, threading.setprofile, threadin
 
 
 def run_answer(answer, exercise: str, *args):
-    """The student's function called on ``args`` while the library's own ``exercise`` functions are off.
-
-    While it runs, `LIBRARY`'s functions for ``exercise`` are switched off and every call into a module
-    of ifslib other than `ALLOWED`'s is refused (`_Watch`); what it returns is read as plain values
-    (`plain`), so an object that claims to equal anything is refused too.
-
-    Parameters
-    ----------
-    answer : callable
-        The student's function.
-    exercise : str
-        A key of `LIBRARY`.
-    *args
-        Passed to ``answer``.
-
-    Returns
-    -------
-    object
-        What ``answer`` returned, as `plain` values.
-
-    Raises
-    ------
-    AssertionError
-        With a hint: ``answer`` is not a function, is (or wraps) the library's own, calls it, or raises.
-    """
+    """The student's ``answer(*args)`` with the library's own off and the rest of ifslib refused (`_Watch`), as `plain`
+    values; ``AssertionError`` with a hint otherwise."""
     assert answer is not None and answer is not Ellipsis, f"write your {exercise} first (the cell above)."
     assert callable(answer), (f"give your function itself (its name, without brackets), "
                               f"got {type(answer).__name__}.")
@@ -372,9 +328,8 @@ _SCANNED: dict = {}
 
 
 def _kernel_check() -> None:
-    """Say at once what the grader will not trust: the cells run so far in this IPython kernel, read with
-    `integrity.scan` (the grader reads the submission the same way, outside the kernel, and gives the
-    tests after such a cell no points). Each cell's source is read once; outside IPython nothing is read."""
+    """Say at once what the grader will not trust in the cells run so far in this IPython kernel (`integrity.scan`,
+    each cell read once)."""
     try:
         from IPython import get_ipython
     except ImportError:
@@ -398,14 +353,8 @@ def _kernel_check() -> None:
 
 
 def plain(value, name: str = "your answer"):
-    """``value`` as plain data a test can compare without trusting it: exact numbers, strings, tuples,
-    lists, dicts, float or bool arrays, tensors; ``AssertionError`` for anything else.
-
-    numpy scalars become Python numbers, arrays plain ``numpy.ndarray`` copies, tensors plain
-    ``torch.Tensor`` (the graph kept, so that a loss still has its gradient); an `ifslib.IFS` or
-    ``None`` is returned as it is. A subclass of a number, string or container is refused: it can
-    answer ``==`` with anything.
-    """
+    """``value`` as plain data a test can compare without trusting it; ``AssertionError`` for anything else, a subclass
+    included (it can answer ``==`` with anything)."""
     from ...core.geometry.ifs import IFS
 
     _kernel_check()
@@ -458,25 +407,8 @@ def as_number(answer, name: str) -> float:
 
 def random_maps(rng: np.random.Generator, m: int, lo: float = 0.3, hi: float = 0.55,
                 shear: float = 0.0) -> np.ndarray:
-    """Random affine contractions for a test's inputs: a rotation, scales in ``[lo, hi]``, a shear, a translation.
-
-    Parameters
-    ----------
-    rng : numpy.random.Generator
-    m : int
-        Number of maps.
-    lo, hi : float
-        Range of the two scales drawn; ``hi < 1``.
-    shear : float
-        Largest shear factor drawn (0: none).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(m, 3, 3)`` homogeneous matrices whose linear parts have largest singular value at most ``hi``:
-        a shear stretches some direction beyond the scales drawn, so a linear part stretched beyond ``hi``
-        is scaled down to it (``hi / sigma_max``), and every map is a contraction as the tests say.
-    """
+    """Random affine contractions ``(m, 3, 3)`` for a test's inputs: a rotation, scales in ``[lo, hi]`` (``hi < 1``), a
+    shear up to ``shear``, a translation; a linear part the shear stretches beyond ``hi`` is scaled back to it."""
     if not 0 < lo <= hi < 1:
         raise IFSError(f"random_maps needs 0 < lo <= hi < 1 for contractions, got lo={lo}, hi={hi}")
     out = np.zeros((m, 3, 3))

@@ -1,12 +1,4 @@
-"""Read a student's cells for what changes the checks instead of answering them (`scan`).
-
-A test that runs in the student's kernel can be fooled by code that rebinds what the test reads: the
-checker, numpy, the library, a builtin, a lesson's variable, or an answer whose ``==`` always holds.
-`scan` reads the cells' source (it runs nothing) and names each such construct; the grader runs it
-outside the student's kernel, on the cells a student can change, and gives the tests after a
-finding no points. The same rules hold for every exercise, so an honest answer never trips them:
-an answer computes its value; it does not reach into modules, frames or classes.
-"""
+"""Read a student's cells, without running them, for what changes the checks instead of answering them (`scan`)."""
 from __future__ import annotations
 
 import ast
@@ -42,10 +34,7 @@ BUILTIN_NAMES = frozenset(name for name in dir(builtins) if not name.startswith(
 
 @dataclass(frozen=True)
 class Finding:
-    """One construct of a student's cell that a check cannot trust.
-
-    ``cell`` is the cell's label (its nbgrader ``grade_id``, or its index), ``line`` the line in it.
-    """
+    """One construct of a student's cell (``cell``: its label, ``line`` in it) that a check cannot trust."""
 
     cell: str
     line: int
@@ -166,27 +155,8 @@ def _global_bindings(tree: ast.Module) -> list[tuple[str, int]]:
 
 def scan(cells: Iterable[tuple[str, str]], modules: Iterable[str] = (), protected: Iterable[str] = (),
          own: dict[str, set[str]] | None = None, bans: dict[str, Iterable[str]] | None = None) -> list[Finding]:
-    """What in ``cells`` changes the checks instead of answering them.
-
-    Parameters
-    ----------
-    cells : iterable of (label, source)
-        The cells a student can change (their answer cells and any cell they added), in order.
-    modules : iterable of str
-        Names the notebook binds to modules (`imported_names` of all its cells): an answer that sets an
-        attribute of one of them, or binds one of these names anew, changes what the tests call.
-    protected : iterable of str
-        Further global names a test reads that the lesson binds: an answer may not rebind them.
-    own : dict, optional
-        label -> the names that cell's exercise asks for (its stub binds them): allowed there.
-    bans : dict, optional
-        label -> names that answer may not mention (`BANS`), in its cell or in the cells it reads from.
-
-    Returns
-    -------
-    list of Finding
-        Empty for an honest answer.
-    """
+    """What in ``cells`` (``(label, source)``) changes the checks: rebinding ``modules`` or the lesson's ``protected``
+    names, beyond what each cell's exercise asks for (``own``), or mentioning its ``bans``."""
     cells = [(str(label), source) for label, source in cells]
     modules, protected, own = set(modules), set(protected), own or {}
     findings: list[Finding] = []
@@ -239,9 +209,8 @@ def _banned(cells: list[tuple[str, str]], label: str, banned: set[str]) -> list[
 def _scan_cell(label: str, source: str, modules: set[str], protected: set[str], own: set[str]) -> list[Finding]:
     try:
         tree = ast.parse(python_source(source))
-    except SyntaxError as error:
-        # a cell that does not parse cannot hide anything from the checks: it raises when run
-        return [] if error.lineno is None else []
+    except SyntaxError:
+        return []  # a cell that does not parse cannot hide anything from the checks: it raises when run
     found: list[Finding] = []
 
     def add(node, kind, what):
@@ -328,12 +297,7 @@ def is_students(cell) -> bool:
 
 
 def scan_notebook(book, stubs: dict[str, str], bans: dict[str, Iterable[str]]) -> list[tuple[int, Finding]]:
-    """(cell index, finding) for each construct of ``book``'s student cells that changes its checks.
-
-    ``stubs``: grade_id -> the answer cell as released (what the exercise asks for: the names it binds);
-    ``bans``: grade_id -> names that answer may not mention (`BANS`). The lesson's cells (locked) give the
-    modules the tests use and the names they read from the lesson.
-    """
+    """(cell index, finding) for each construct of ``book``'s student cells that changes its checks."""
     code = [(k, c) for k, c in enumerate(book.cells) if c.cell_type == "code"]
     mine = [(k, c) for k, c in code if is_students(c)]
     lesson = [c for _, c in code if not is_students(c)]

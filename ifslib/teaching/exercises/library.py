@@ -1,6 +1,5 @@
-"""Which library functions each exercise switches off while a student's function runs (`LIBRARY`), by
-module and attribute: the function asked for, and the library's other routes to the same answer. No
-answer or reference value lives here."""
+"""Which library functions each exercise switches off while a student's function runs (`LIBRARY`), and what
+it may call (`ALLOWED`) or name (`BANS`)."""
 from __future__ import annotations
 
 import types
@@ -29,7 +28,7 @@ LIBRARY = {
              ("ifslib.core.scoring.losses", "multiscale_mse"), ("ifslib.core.scoring.losses", "pyramid")],
     "best-fit-line start": [("ifslib", "initialize"), ("ifslib", "best_fit_line"),
                             ("ifslib.core.targets.placement", "initialize"),
-                            ("ifslib.core.targets.placement", "best_fit_line"), ("ifslib.core.targets.placement", "place"),
+                            ("ifslib.core.targets.placement", "best_fit_line"),
                             ("ifslib.core.targets.placement", "placed_points")],
     "leaf map": [("ifslib", "expand"), ("ifslib.core.geometry.leaves", "expand"),
                  ("ifslib.core.geometry.leaves", "compose_words"), ("ifslib.core.geometry.attractor", "word_maps")],

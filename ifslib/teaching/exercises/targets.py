@@ -27,27 +27,13 @@ def _target(name: str, size: int) -> Target:
 
 
 def koch_target(size: int = 64) -> Target:
-    """A Koch-like curve the library does not ship (its five points drawn at random, turned), ``size`` px.
-
-    Parameters
-    ----------
-    size : int
-        64, 128 or 256.
-
-    Returns
-    -------
-    Target
-        ``(size, size)``; the plain `ifslib.patterns.koch` lies more than a pixel from it.
-    """
+    """A Koch-like curve the library does not ship (its five points drawn at random, turned), ``size`` 64, 128 or
+    256 px: the plain `ifslib.patterns.koch` lies more than a pixel from it."""
     return _target("koch", size)
 
 
 def carpet_target(size: int = 64) -> Target:
-    """A Sierpinski carpet of other proportions (a rectangle, corner cells narrower than a third), ``size`` px.
-
-    `ifslib.patterns.sierpinski_carpet` has square rules (each copy scaled by one factor), which cannot
-    take these rectangles.
-    """
+    """A Sierpinski carpet of other proportions, ``size`` px: the library's square rules cannot take its rectangles."""
     return _target("carpet", size)
 
 

@@ -3,7 +3,6 @@ import numpy as np
 import pytest
 
 import ifslib
-from ifslib.core.targets.placement import place
 
 SIZE, DEPTH = 48, 2
 
@@ -24,20 +23,10 @@ def test_best_fit_line_initialization(koch_target):
     assert p.min() == pytest.approx(-0.5 + 3.5 / 16) and p.max() == pytest.approx(-0.5 + 12.5 / 16)
 
 
-def test_place_is_initialize_for_a_pattern_and_refuses_a_bad_jitter(koch_target):
-    pattern = ifslib.patterns.koch(depth=DEPTH)
-    placed = place(pattern, koch_target, jitter=0.05, seed=3)
-    assert np.array_equal(placed.points.detach().numpy(),
-                          ifslib.initialize(pattern, koch_target, jitter=0.05, seed=3).points.detach().numpy())
-    with pytest.raises(ifslib.IFSError, match="jitter must be a number from 0 to 1"):
-        place(pattern, koch_target, jitter=2.0)
-
-
 def test_a_pattern_is_placed_and_jittered_with_its_seed(koch_target):
     pattern = ifslib.patterns.koch(depth=2)
     plain = ifslib.initialize(pattern, koch_target)
     assert isinstance(plain, ifslib.IFS) and plain is not pattern
-    assert np.array_equal(plain.points.detach().numpy(), place(pattern, koch_target).points.detach().numpy())
     a, b = (ifslib.initialize(pattern, koch_target, jitter=0.05, seed=7).points.detach().numpy() for _ in range(2))
     moved = a - plain.points.detach().numpy()
     assert np.array_equal(a, b) and 0 < np.abs(moved).max() <= 0.05

@@ -1,6 +1,5 @@
-"""The kinds of primitive, one module each: the table `SHAPES` holds every module of this folder that
-defines a ``SHAPE`` (a `Shape`), so a new kind is a module here, its test, and its entry in the
-``ifslib/1`` JSON Schema (a test says the schema and the table agree)."""
+"""The kinds of primitive, one module each defining a ``SHAPE``: a new kind is a module here, its test and its
+entry in the ``ifslib/1`` JSON Schema (a test says the two agree)."""
 from __future__ import annotations
 
 import importlib
