@@ -14,7 +14,7 @@
 #      kernel, and strict nbval compares it with what is stored (`make test-stored KERNEL=...`, the same
 #      check as on the project's venv): the teaching values take code paths the quick ones do not
 #      (notebook 06's "local" scheduler where the quick run's is "serial"). One run at the teaching
-#      values serves both checks, the stored outputs' and the students' venv's: they cost about 1,000 s each.
+#      values (about 1,000 s) serves both checks, the stored outputs' and the students' venv's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo="$(pwd)"

@@ -1,11 +1,11 @@
 """Run every notebook of a folder as a student would, with nothing of the repository beside it.
 
-    python run_edition.py FOLDER [--timeout S] [--teaching] [--jobs N]
+    python run_edition.py FOLDER [--timeout S] [--jobs N]
 
 Run by the Python of the environment under test (a fresh venv with the wheel of ifslib and
 requirements-student.txt): each notebook is executed in FOLDER with that Python's own kernel, its
 quick values (``metadata["ifslib"]["quick"]``) injected after its parameters cell when it has them
-(``--teaching``: at the values of its parameters cell, as a student runs it). ``--jobs`` notebooks
+(the teaching values run in the students' venv under nbval: ``.ci/wheel.sh``). ``--jobs`` notebooks
 run at once (one per core by default, as ``notebooks/student.py`` runs them), each its own kernel (give
 each one thread: ``IFSLIB_THREADS=1``).
 An nbgrader test cell may raise ``AssertionError`` (an unanswered exercise); any other error fails
@@ -40,11 +40,10 @@ def is_test(cell) -> bool:
     return bool(grader.get("grade")) and not grader.get("solution")
 
 
-def run(path: Path, timeout: int, teaching: bool = False) -> tuple[list[str], float]:
+def run(path: Path, timeout: int) -> tuple[list[str], float]:
     """Execute one notebook in its folder: the errors that are not an unanswered exercise's test, and seconds."""
     started = time.perf_counter()
-    book = nbformat.read(path, as_version=4)
-    book = book if teaching else with_quick_values(book)
+    book = with_quick_values(nbformat.read(path, as_version=4))
     NotebookClient(book, timeout=timeout, kernel_name="python3", allow_errors=True,
                    resources={"metadata": {"path": str(path.parent)}}).execute()
     problems = []
@@ -59,7 +58,6 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=Path)
     parser.add_argument("--timeout", type=int, default=900, help="seconds a cell may run")
-    parser.add_argument("--teaching", action="store_true", help="run at the parameters cell's values")
     parser.add_argument("--jobs", type=int, default=len(os.sched_getaffinity(0)),
                         help="notebooks run at once (default: one per core)")
     args = parser.parse_args(argv)
@@ -68,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     paths = sorted(args.folder.glob("*.ipynb"))
     failed = 0
     with ThreadPoolExecutor(args.jobs) as pool:  # each notebook's work is in its kernel's process
-        runs = pool.map(lambda p: run(p, args.timeout, args.teaching), paths)
+        runs = pool.map(lambda p: run(p, args.timeout), paths)
         for path, (problems, seconds) in zip(paths, runs):
             failed += bool(problems)
             print(f"{path.name}: {'FAILED' if problems else 'ran'} in {seconds:.0f} s", flush=True)

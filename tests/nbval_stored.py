@@ -5,8 +5,8 @@ A pytest plugin, loaded with ``-p tests.nbval_stored`` next to ``--nbval`` (the 
 
 * **The kernel's environment, as ``notebooks/store.py`` stores a run**: no ``MPLBACKEND`` (the
   inline backend, so the figure cells show their pictures; CI exports ``MPLBACKEND=Agg``),
-  ``store.KERNEL_ENV`` (no progress bar, torch's AVX2 kernels), the figure that a notebook saves written into ``build/nbval-figures``
-  (``IFSLIB_FIGURES``), never over ``figures/``, and ``IFSLIB_THREADS=1`` unless it is set: the
+  ``store.KERNEL_ENV`` (no progress bar, torch's AVX2 kernels), the figure that a notebook saves
+  written into ``build/nbval-figures`` (``IFSLIB_FIGURES``), never over ``figures/``, and ``IFSLIB_THREADS=1`` unless it is set: the
   stored runs are made two notebooks at a time at one thread each (``notebooks/run.py``), and
   ``-n auto`` runs as many notebooks at once as the cores hold at that thread count.
 * **Progress bars dropped from the run's outputs** by the function that drops them from the stored
