@@ -41,7 +41,7 @@ from run_edition import with_quick_values  # noqa: E402  one way to inject the q
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 CONFIG = Path(__file__).resolve().parent / "nbgrader_config.py"
-CHECKS = Path(__file__).resolve().parent / "nbgrader_checks.py"
+CHECKS = [Path(__file__).resolve().parent / name for name in ("nbgrader_checks.py", "notebook_scan.py")]
 LECTURES = ROOT / "docs" / "slides" / "lectures.yaml"
 
 
@@ -69,7 +69,8 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> dict[
         shutil.rmtree(course)
     (course / "source").mkdir(parents=True)
     shutil.copy2(CONFIG, course / "nbgrader_config.py")
-    shutil.copy2(CHECKS, course / "nbgrader_checks.py")
+    for checks in CHECKS:
+        shutil.copy2(checks, course / checks.name)
     lectures = lecture_of()
     names: dict[str, list[str]] = {}
     for path in sorted(source.glob("*.ipynb")):

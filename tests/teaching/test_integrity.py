@@ -19,6 +19,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "course"))
 import tricks_submission  # noqa: E402
 from lazy_submission import answered  # noqa: E402
+from notebook_scan import scan_notebook as grader_scan  # noqa: E402
 
 SOLUTION = re.compile(r"^([ \t]*)### BEGIN SOLUTION.*?### END SOLUTION[ \t]*$", re.S | re.M)
 
@@ -39,7 +40,7 @@ def scan_notebook(book) -> list[integrity.Finding]:
     for k, cell in enumerate(book.cells):
         if cell.cell_type == "code" and not cell.metadata.get("nbgrader"):
             cell.metadata["nbgrader"] = {"grade": False, "solution": False, "locked": True, "grade_id": f"lesson-{k}"}
-    return [finding for _, finding in integrity.scan_notebook(book, STUBS, BANS)]
+    return [finding for _, finding in grader_scan(book, STUBS, BANS)]
 
 
 def answer_cells(book):

@@ -1,4 +1,5 @@
-"""Read a student's cells, without running them, for what changes the checks instead of answering them (`scan`)."""
+"""Read a student's cells, without running them, for what changes the checks instead of answering them (`scan`); the
+grader's reading of a whole submission is ``course/notebook_scan.py``."""
 from __future__ import annotations
 
 import ast
@@ -66,21 +67,6 @@ def _dotted(node: ast.AST) -> str:
         return ast.unparse(node)
     except Exception:  # noqa: BLE001  only for the message
         return type(node).__name__
-
-
-def imported_names(sources: Iterable[str]) -> set[str]:
-    """The names that import statements bind in ``sources`` (``np`` for ``import numpy as np``)."""
-    names = set()
-    for source in sources:
-        try:
-            tree = ast.parse(python_source(source))
-        except SyntaxError:
-            continue
-        for node in ast.walk(tree):
-            if isinstance(node, (ast.Import, ast.ImportFrom)):
-                for alias in node.names:
-                    names.add((alias.asname or alias.name).split(".")[0])
-    return names
 
 
 def global_reads(source: str) -> set[str]:
@@ -284,30 +270,3 @@ def _is_import_of(tree: ast.Module, name: str, line: int) -> bool:
                and any((a.asname or a.name).split(".")[0] == name for a in node.names)
                for node in ast.walk(tree))
 
-
-def nbgrader_meta(cell) -> dict:
-    """A cell's nbgrader metadata ({} for a cell nbgrader does not know)."""
-    return cell.metadata.get("nbgrader", {}) or {}
-
-
-def is_students(cell) -> bool:
-    """An answer cell, or a cell the student added (a released lesson locks every other code cell)."""
-    meta = nbgrader_meta(cell)
-    return cell.cell_type == "code" and bool(meta.get("solution", False) or not meta.get("grade_id"))
-
-
-def scan_notebook(book, stubs: dict[str, str], bans: dict[str, Iterable[str]]) -> list[tuple[int, Finding]]:
-    """(cell index, finding) for each construct of ``book``'s student cells that changes its checks."""
-    code = [(k, c) for k, c in enumerate(book.cells) if c.cell_type == "code"]
-    mine = [(k, c) for k, c in code if is_students(c)]
-    lesson = [c for _, c in code if not is_students(c)]
-    label = {k: nbgrader_meta(c).get("grade_id") or f"added cell {k}" for k, c in mine}
-    own = {label[k]: bound_names(stubs.get(label[k], "")) for k, _ in mine}
-    tests = [c for c in lesson if nbgrader_meta(c).get("grade")]
-    reads = set().union(*(global_reads(c.source) for c in tests))
-    bound = set().union(*(bound_names(c.source) for c in lesson if not nbgrader_meta(c).get("grade")))
-    findings = scan([(label[k], c.source) for k, c in mine], imported_names(c.source for c in lesson),
-                    (reads & bound) - set().union(*own.values()), own,
-                    {name: bans[name] for name in label.values() if name in bans})
-    index = {v: k for k, v in label.items()}
-    return [(index[f.cell], f) for f in findings]
