@@ -23,8 +23,7 @@ from nbgrader.api import Gradebook, MissingEntry
 from nbgrader.preprocessors import NbGraderPreprocessor
 from nbgrader.preprocessors import OverwriteCells as _OverwriteCells
 
-from ifslib.teaching.exercises import BANS
-from notebook_scan import is_students, nbgrader_meta, scan_notebook  # beside this file (course/grading.py)
+from notebook_scan import BANS, is_students, nbgrader_meta, scan_notebook  # beside this file (course/grading.py)
 
 SOLUTION = re.compile(r"### BEGIN SOLUTION.*?### END SOLUTION", re.S)
 HIDDEN = re.compile(r"[ \t]*### BEGIN HIDDEN TESTS.*?### END HIDDEN TESTS[ \t]*\n?", re.S)
