@@ -18,11 +18,26 @@ product of the lists, all on one pool:
 from __future__ import annotations
 
 import argparse
+import csv
 import itertools
+import json
+import os
 import time
+from pathlib import Path
 
 from ifslib.core.fitting.strategies import STRATEGIES
-from ifslib.studies.sweep import Cell, Setup, summarize, sweep, table, write_csv
+from ifslib.studies.sweep import Cell, Setup, summarize, sweep, table
+
+
+def write_csv(rows: list[dict], path: str | os.PathLike) -> Path:
+    """Write the per-fit rows as CSV (the fitted points as a JSON list)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows({**r, "points": json.dumps(r["points"])} if "points" in r else r for r in rows)
+    return path
 
 
 def main() -> None:

@@ -41,7 +41,7 @@ from run_edition import with_quick_values  # noqa: E402  one way to inject the q
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 CONFIG = Path(__file__).resolve().parent / "nbgrader_config.py"
-CHECKS = Path(__file__).resolve().parent / "nbgrader_checks.py"
+CHECKS = [Path(__file__).resolve().parent / name for name in ("nbgrader_checks.py", "notebook_scan.py")]
 LECTURES = ROOT / "docs" / "slides" / "lectures.yaml"
 
 
@@ -69,7 +69,8 @@ def layout(course: Path, source: Path = NOTEBOOKS, quick: bool = False) -> dict[
         shutil.rmtree(course)
     (course / "source").mkdir(parents=True)
     shutil.copy2(CONFIG, course / "nbgrader_config.py")
-    shutil.copy2(CHECKS, course / "nbgrader_checks.py")
+    for checks in CHECKS:
+        shutil.copy2(checks, course / checks.name)
     lectures = lecture_of()
     names: dict[str, list[str]] = {}
     for path in sorted(source.glob("*.ipynb")):
@@ -104,9 +105,15 @@ def lock_lesson(book, name: str):
 
 def check_images() -> None:
     """Refuse to grade when the paper's target images cannot be found: correct work would score 0."""
-    from ifslib.data import missing_images
+    from ifslib import data
+    from ifslib.errors import IFSError
 
-    missing = missing_images()
+    missing = []
+    for name in data.NAMES:   # each one found, or downloaded into the cache now
+        try:
+            data.path(name, timeout=10.0)
+        except IFSError:
+            missing.append(f"{name}.png")
     if missing:
         raise SystemExit(
             f"the paper's target images are not found ({', '.join(missing)}): notebooks 02 and 04 read them, "

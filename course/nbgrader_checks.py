@@ -12,7 +12,7 @@ lack their hidden tests). `HideTests` is for ``generate_feedback``: the hidden t
 error's traceback reduced to its message, so that the feedback holds no line of a hidden test.
 
 ``course/nbgrader_config.py`` puts them in nbgrader's pipelines; ``course/grading.py`` copies this file
-beside it.
+and ``notebook_scan.py`` beside it.
 """
 from __future__ import annotations
 
@@ -23,8 +23,7 @@ from nbgrader.api import Gradebook, MissingEntry
 from nbgrader.preprocessors import NbGraderPreprocessor
 from nbgrader.preprocessors import OverwriteCells as _OverwriteCells
 
-from ifslib.teaching.exercises import BANS
-from ifslib.teaching.exercises.integrity import nbgrader_meta, is_students, scan_notebook
+from notebook_scan import BANS, is_students, nbgrader_meta, scan_notebook  # beside this file (course/grading.py)
 
 SOLUTION = re.compile(r"### BEGIN SOLUTION.*?### END SOLUTION", re.S)
 HIDDEN = re.compile(r"[ \t]*### BEGIN HIDDEN TESTS.*?### END HIDDEN TESTS[ \t]*\n?", re.S)

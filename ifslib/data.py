@@ -42,13 +42,3 @@ def path(name: str, base_url: str | None = None, timeout: float = 30.0) -> Path:
     os.replace(tmp, cached)
     return cached
 
-
-def missing_images(timeout: float = 10.0) -> list[str]:
-    """The paper's images that can be neither found nor downloaded now (those it can are downloaded into the cache)."""
-    missing = []
-    for name in NAMES:
-        try:
-            path(name, timeout=timeout)
-        except IFSError:
-            missing.append(f"{name}.png")
-    return missing

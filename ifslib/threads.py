@@ -78,21 +78,16 @@ def configure_threads(threads: int | str | None = None) -> int:
     default), the cores other processes leave free, picked again at each run (`refresh`)."""
     source = f"{ENV}={os.environ.get(ENV)!r}" if threads is None else f"threads={threads!r}"
     value = os.environ.get(ENV, "") if threads is None else threads
-    if isinstance(value, str):
-        value = value.strip().lower() or "auto"
-        if value != "auto":
-            try:
-                value = int(value)
-            except ValueError:
-                raise IFSError(f"{source}: expected 'auto' or a positive integer number of threads") from None
-    if value == "auto":
-        _state["auto"] = True
-        torch.set_num_threads(free_threads())
-        return torch.get_num_threads()
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+    if isinstance(value, str) and (value.strip().lower() or "auto") != "auto":
+        try:
+            value = int(value)
+        except ValueError:
+            value = None
+    auto = isinstance(value, str)
+    if not auto and (isinstance(value, bool) or not isinstance(value, int) or value < 1):
         raise IFSError(f"{source}: expected 'auto' or a positive integer number of threads")
-    _state["auto"] = False
-    torch.set_num_threads(value)
+    _state["auto"] = auto
+    torch.set_num_threads(free_threads() if auto else value)
     return torch.get_num_threads()
 
 

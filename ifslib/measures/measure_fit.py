@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Callable
 
 from tqdm.auto import tqdm
 
@@ -16,7 +17,7 @@ from scipy import ndimage
 from ..automatic.auto import FIGURE
 from ..automatic.plan import discover
 from ..errors import IFSError, check_int, check_positive
-from ..core.fitting.descent import Descent, StepPolicy, halve_step
+from ..core.fitting.descent import Descent, StepPolicy
 from ..core.geometry.rules import singular_values
 from ..core.geometry.ifs import IFS
 from ..core.scoring.losses import multiscale_mse
@@ -31,6 +32,19 @@ from .measure import MeasureOptions, measure_from_maps
 #: start read from the support alone has maps of scale 0.9 that a full step pushes past 1.
 MAX_FIT_SCALE = 0.98
 MAX_HALVINGS = 8
+
+
+def halve_step(points: torch.Tensor, before: torch.Tensor, contracts: Callable[[], bool], times: int) -> None:
+    """Halve the step just taken from ``before`` to ``points`` until ``contracts()`` (``times`` halvings at most, then
+    undo the step), in place."""
+    step = points - before
+    for _ in range(times):
+        if contracts():
+            return
+        step /= 2
+        points.copy_(before + step)
+    points.copy_(before)
+
 
 #: A copy is known from the support only up to the figure's symmetries: ``T_i S`` draws the same set as
 #: ``T_i`` when ``S`` keeps the figure, but not the same measure. The turns tried as ``S``: this many

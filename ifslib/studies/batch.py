@@ -13,7 +13,11 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
-from ..core.raster.distance import distance_fields, resolve_device
+from ..core.geometry.leaves import Leaves, compose_words, word_geometry
+from ..core.geometry.primitives import PARAM_WIDTH, primitive_params
+from ..core.raster.distance import check_size, resolve_device
+from ..core.raster.leaf_distance import sdf_pairs
+from ..core.raster.nearest import nearest_leaf, pixel_centres
 from ..errors import IFSError, check_int
 from ..names import DEFAULT_STEPS
 from ..threads import refresh as refresh_threads
@@ -59,6 +63,49 @@ def _valid(pattern: IFS, points: torch.Tensor, depth: int, gradient: str) -> tor
         smallest, largest = singular_values(rule_maps(safe, pattern.rules, gradient))
         ok &= (largest < 1).all(dim=-1) & (smallest >= MIN_SINGULAR).all(dim=-1)  # as IFS.check_contractive
     return ok
+
+
+def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gradient: str = "exact") -> Leaves:
+    """Expand a batch of point sets of one pattern to their leaves, in one computation.
+
+    Parameters
+    ----------
+    ifs : IFS
+        The pattern: rules and primitives (its own points are not used).
+    points : torch.Tensor
+        ``(B, n, 2)`` point sets, on the device and in the dtype to build with. They are not
+        checked here: the caller makes sure every item's rules are non-degenerate and contractive
+        (`ifslib.rules.rule_lengths`, `ifslib.rules.map_scales`).
+    depth : int, optional
+        ``K``; ``ifs.depth`` when None.
+    gradient : {"exact", "paper"}
+
+    Returns
+    -------
+    Leaves
+        ``B * m**K`` words with ``words_per_item = m**K``; item ``b``'s leaves are those of
+        ``expand(ifs.clone(points[b]))``.
+    """
+    depth = ifs.depth if depth is None else check_depth(depth)
+    if points.ndim != 3 or points.shape[1:] != ifs.points.shape:
+        raise IFSError(f"points must have shape (B, {ifs.n_points}, 2), got {tuple(points.shape)}")
+    words = compose_words(rule_maps(points, ifs.rules, gradient), depth)  # (B, W, 3, 3)
+    inverse, scale, forward = word_geometry(words, ifs.is_similarity)
+    n_items, per_item = words.shape[:2]
+    return Leaves(inverse.reshape(-1, 2, 3), scale.reshape(-1), primitive_params(points, ifs.primitives).reshape(-1, PARAM_WIDTH),
+                  tuple(p.kind for p in ifs.primitives), per_item, None if forward is None else forward.reshape(-1, 6))
+
+
+def distance_fields(ifs: IFS, points: torch.Tensor, size: int, depth: int | None = None, *,
+                    gradient: str = "exact") -> torch.Tensor:
+    """`distance_field` of ``(B, n, 2)`` point sets of one pattern in one computation (each item's rules contractive)."""
+    check_size(size)
+    leaves = expand_batch(ifs, points, depth, gradient=gradient)
+    x, y = pixel_centres(size, points.device, points.dtype)
+    n_items = points.shape[0]
+    # smaller chunks than one field's: a batch's pair lists outgrow the cache
+    winner = nearest_leaf(leaves, size, max_pairs=1 << 18).leaf
+    return sdf_pairs(leaves, x.repeat(n_items), y.repeat(n_items), winner).view(n_items, size, size)
 
 
 def fit_many(ifs: IFS | Sequence[IFS] | Callable[[int], IFS], target: Target, *, seeds: Sequence[int] = range(8),
@@ -243,4 +290,4 @@ def _check_batchable(options: RunOptions) -> None:
         raise IFSError(f"fit_many does not take {', '.join(unsupported)}: fit those starts one by one with ifslib.fit")
 
 
-__all__ = ["fit_many"]
+__all__ = ["distance_fields", "expand_batch", "fit_many"]

@@ -3,8 +3,6 @@ thread a task so the serial result equals the parallel one: ``"serial"``, ``"loc
 run it under ``if __name__ == "__main__":``) or a Dask scheduler's address."""
 from __future__ import annotations
 
-import csv
-import json
 import math
 import multiprocessing
 import os
@@ -13,7 +11,6 @@ import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass
-from pathlib import Path
 from typing import Callable
 
 from tqdm.auto import tqdm
@@ -133,24 +130,16 @@ def sweep(cells: list[Cell], seeds: list[int], setup: Setup = Setup(), *, batch:
         return _joined(parts)
     if scheduler == "local":
         return _joined(_run_pool(tasks, setup, _local_workers(workers), on_rows))
-    distributed = _distributed()
-    if distributed is None:
+    try:
+        import dask.distributed as distributed
+    except ImportError:   # a student's environment
         raise IFSError(f"a sweep on the Dask scheduler {scheduler!r} needs dask.distributed: "
-                       "pip install 'dask[distributed]' (or use scheduler='local' or 'serial')")
+                       "pip install 'dask[distributed]' (or use scheduler='local' or 'serial')") from None
     return _joined(_run_dask(distributed, tasks, setup, scheduler, on_rows))
 
 
 def _joined(parts: list[list[dict]]) -> list[dict]:
     return [row for part in parts for row in part]
-
-
-def _distributed():
-    """``dask.distributed``, or None where it is not installed (a student's environment)."""
-    try:
-        import dask.distributed
-    except ImportError:
-        return None
-    return dask.distributed
 
 
 def _local_workers(workers: int) -> int:
@@ -227,13 +216,3 @@ def table(summary: list[dict]) -> str:
                      f"{s['crossing']}/{s['fits']} | {s['median_steps']:.0f} | {s['median_seconds']:.1f} |")
     return "\n".join(lines)
 
-
-def write_csv(rows: list[dict], path: str | os.PathLike) -> Path:
-    """Write the per-fit rows as CSV (the fitted points as a JSON list)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows({**r, "points": json.dumps(r["points"])} if "points" in r else r for r in rows)
-    return path

@@ -163,12 +163,7 @@ def copies_image(maps, target: Target) -> np.ndarray:
 
 def show_copies(ax: plt.Axes, maps, target: Target, title: str | None = None) -> plt.Axes:
     """Show `copies_image` of ``maps`` ``(k, 2, 3)`` over ``target`` on the plane's extent."""
-    ax.imshow(copies_image(maps, target), extent=EXTENT, interpolation="nearest")
-    ax.set_xticks([])
-    ax.set_yticks([])
-    if title:
-        ax.set_title(title, fontsize=9)
-    return ax
+    return show_image(ax, copies_image(maps, target), title)  # RGB: show_image's cmap and limits play no part
 
 
 def show_attractor(ax: plt.Axes, maps, target: Target, title: str | None = None, points: int = 20_000,

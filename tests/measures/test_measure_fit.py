@@ -38,6 +38,14 @@ def test_fitting_the_maps_too_lowers_the_loss_and_keeps_fixed_points():
     assert (moved[list(start.fixed)] == 0).all() and (moved[4:] > 0).all()
 
 
+def test_halve_step_halves_until_the_maps_contract_else_undoes_the_step():
+    points, before = torch.tensor([1.0]), torch.tensor([0.0])
+    measure_fit.halve_step(points, before, lambda: float(points) < 0.3, 8)
+    assert float(points) == 0.25
+    measure_fit.halve_step(points, before, lambda: False, 3)
+    assert float(points) == 0.0
+
+
 def test_a_step_that_would_stop_a_map_contracting_is_shortened():
     """From maps of scale 0.95 with a step far too large, every map stays below `MAX_FIT_SCALE` after each step."""
     tri = ifslib.patterns.sierpinski_triangle().to(torch.float64)

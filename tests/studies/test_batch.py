@@ -3,9 +3,8 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.studies.batch import fit_many
-from ifslib.core.raster.distance import distance_fields
-from ifslib.core.geometry.leaves import expand, expand_batch
+from ifslib.studies.batch import distance_fields, expand_batch, fit_many
+from ifslib.core.geometry.leaves import expand
 from ifslib.core.raster.leaf_distance import leaf_table, sdf_pairs, sdf_table
 from ifslib.core.raster.nearest import nearest_leaf, pixel_centres
 

@@ -6,7 +6,9 @@ import sys
 import pytest
 
 from ifslib import IFSError
-from ifslib.studies.sweep import Cell, Setup, summarize, sweep, table, write_csv
+from ifslib.studies.sweep import Cell, Setup, summarize, sweep, table
+
+from common_testing import benchmark_module
 
 SETUP = Setup(target="rendered", size=24, depth=2, steps=4)
 CELLS = [Cell("plain", "exact", "paper"), Cell("plain", "paper", "line"), Cell("coarse_to_fine", "exact", "line")]
@@ -28,7 +30,7 @@ def test_serial_sweep_rows_and_summary(tmp_path):
     summary = summarize(rows)
     assert [s["fits"] for s in summary] == [3, 3, 3]
     assert "| paper | exact | multiscale_distance | plain |" in table(summary)
-    path = write_csv(rows, tmp_path / "rows.csv")
+    path = benchmark_module("convergence").write_csv(rows, tmp_path / "rows.csv")
     assert path.read_text().splitlines()[0].startswith("strategy,gradient,init,loss,seed,recovered")
 
 

@@ -13,12 +13,14 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.teaching.exercises import BANS, integrity, plain, run_answer
+from ifslib.teaching.exercises import integrity, plain, run_answer
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "course"))
 import tricks_submission  # noqa: E402
 from lazy_submission import answered  # noqa: E402
+from notebook_scan import BANS, banned  # noqa: E402
+from notebook_scan import scan_notebook as grader_scan  # noqa: E402
 
 SOLUTION = re.compile(r"^([ \t]*)### BEGIN SOLUTION.*?### END SOLUTION[ \t]*$", re.S | re.M)
 
@@ -39,7 +41,7 @@ def scan_notebook(book) -> list[integrity.Finding]:
     for k, cell in enumerate(book.cells):
         if cell.cell_type == "code" and not cell.metadata.get("nbgrader"):
             cell.metadata["nbgrader"] = {"grade": False, "solution": False, "locked": True, "grade_id": f"lesson-{k}"}
-    return [finding for _, finding in integrity.scan_notebook(book, STUBS, BANS)]
+    return [finding for _, finding in grader_scan(book, STUBS, BANS)]
 
 
 def answer_cells(book):
@@ -115,10 +117,10 @@ def test_honest_constructs_are_not_named():
 
 def test_a_ban_follows_the_names_an_answer_reads_from_other_cells():
     cells = [("helper", "K = ifslib.patterns.koch_unit()"), ("00_tutorial-koch-t3", "T3 = K.maps()[2]")]
-    bans = {"00_tutorial-koch-t3": BANS["00_tutorial-koch-t3"]}
-    assert {f.cell for f in integrity.scan(cells, {"ifslib"}, (), {}, bans)} == {"00_tutorial-koch-t3"}
+    bans = BANS["00_tutorial-koch-t3"]
+    assert {f.cell for f in banned(cells, "00_tutorial-koch-t3", bans)} == {"00_tutorial-koch-t3"}
     honest = [("00_tutorial-koch-t3", "T3 = [[1 / 6, 0.2886, 0.5], [-0.2886, 1 / 6, 0.2886], [0, 0, 1]]")]
-    assert integrity.scan(honest, {"ifslib"}, (), {}, bans) == []
+    assert banned(honest, "00_tutorial-koch-t3", bans) == []
 
 
 # -- the harness: the library watched by module, and plain values ----------------------------------

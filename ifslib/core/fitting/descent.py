@@ -61,7 +61,7 @@ class StepPolicy:
         ``schedule(index)``: the share of each group's learning rate at step ``index`` (a decay).
     contract : callable, optional
         ``contract(before)``, without gradients, after Adam's step: moves the parameters back into
-        the contractive maps, given their values ``before`` the step (`clamp_scales`, `halve_step`).
+        the contractive maps, given their values ``before`` the step (`clamp_scales`, `ifslib.measures.measure_fit.halve_step`).
     advice : str
         Without rollback: what the error raised by a loss that is not finite tells the caller.
     name : str
@@ -231,16 +231,4 @@ def clamp_scales(maps: torch.Tensor, low: float | None = None, high: float | Non
     maps[..., :2] = u @ torch.diag_embed(s.clamp(low, high)) @ vh
 
 
-def halve_step(points: torch.Tensor, before: torch.Tensor, contracts: Callable[[], bool], times: int) -> None:
-    """Halve the step just taken from ``before`` to ``points`` until ``contracts()`` (``times`` halvings at most, then
-    undo the step), in place."""
-    step = points - before
-    for _ in range(times):
-        if contracts():
-            return
-        step /= 2
-        points.copy_(before + step)
-    points.copy_(before)
-
-
-__all__ = ["Descent", "StepPolicy", "clamp_scales", "converged", "halve_step"]
+__all__ = ["Descent", "StepPolicy", "clamp_scales", "converged"]

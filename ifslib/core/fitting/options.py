@@ -24,14 +24,6 @@ def _finite(value, allow_zero: bool = False) -> bool:
             and (value >= 0 if allow_zero else value > 0))
 
 
-def check_stop(tol: float | None, patience: int | None) -> None:
-    """Raise `IFSError` unless ``tol`` is None or a finite number >= 0 and ``patience`` None or an int >= 1."""
-    if tol is not None and not _finite(tol, allow_zero=True):
-        raise IFSError(f"tol must be None or a finite number >= 0, got {tol!r}")
-    if patience is not None:
-        check_int(patience, "patience", 1)
-
-
 @dataclass(frozen=True)
 class RunOptions:
     """How one Adam run moves the control points (`ifslib.core.fitting.run.run`): the learning rate (the paper's
@@ -66,7 +58,10 @@ class RunOptions:
             raise IFSError(f"unknown method {self.method!r}; known methods: {', '.join(METHODS)}")
         resolve_device(self.device)  # a name torch does not know is refused here; an absent device when used
         check_gradient_mode(self.gradient)
-        check_stop(self.tol, self.patience)
+        if self.tol is not None and not _finite(self.tol, allow_zero=True):
+            raise IFSError(f"tol must be None or a finite number >= 0, got {self.tol!r}")
+        if self.patience is not None:
+            check_int(self.patience, "patience", 1)
         if not _finite(self.crossing_weight, allow_zero=True):
             raise IFSError(f"crossing_weight must be a finite number >= 0, got {self.crossing_weight!r}")
         if self.keep_every is not None:

@@ -9,7 +9,7 @@ import torch
 
 from ...errors import IFSError
 from .ifs import IFS, check_depth
-from .primitives import PARAM_WIDTH, primitive_params
+from .primitives import primitive_params
 from .rules import map_scales, rule_maps, singular_values
 
 #: Default memory budget in bytes for one distance field (override with ``IFSLIB_MEMORY_BUDGET_GB``).
@@ -36,7 +36,7 @@ class Leaves:
         ``(p,)`` kind of each primitive.
     words_per_item : int
         0 for the leaves of one IFS. For a batch of ``B`` point sets of one pattern (see
-        `expand_batch`), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
+        `ifslib.studies.batch.expand_batch`), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
         ``(B * p, PARAM_WIDTH)``, and leaf ids run over the whole batch, item ``b`` owning the ids
         ``b * m**K * p`` to ``(b + 1) * m**K * p - 1``.
     forward : torch.Tensor or None
@@ -206,37 +206,6 @@ def expand(ifs: IFS, depth: int | None = None, *, device: torch.device | str = "
                   tuple(p.kind for p in ifs.primitives), 0, forward)
 
 
-def expand_batch(ifs: IFS, points: torch.Tensor, depth: int | None = None, *, gradient: str = "exact") -> Leaves:
-    """Expand a batch of point sets of one pattern to their leaves, in one computation.
-
-    Parameters
-    ----------
-    ifs : IFS
-        The pattern: rules and primitives (its own points are not used).
-    points : torch.Tensor
-        ``(B, n, 2)`` point sets, on the device and in the dtype to build with. They are not
-        checked here: the caller makes sure every item's rules are non-degenerate and contractive
-        (`ifslib.rules.rule_lengths`, `ifslib.rules.map_scales`).
-    depth : int, optional
-        ``K``; ``ifs.depth`` when None.
-    gradient : {"exact", "paper"}
-
-    Returns
-    -------
-    Leaves
-        ``B * m**K`` words with ``words_per_item = m**K``; item ``b``'s leaves are those of
-        ``expand(ifs.clone(points[b]))``.
-    """
-    depth = ifs.depth if depth is None else check_depth(depth)
-    if points.ndim != 3 or points.shape[1:] != ifs.points.shape:
-        raise IFSError(f"points must have shape (B, {ifs.n_points}, 2), got {tuple(points.shape)}")
-    words = compose_words(rule_maps(points, ifs.rules, gradient), depth)  # (B, W, 3, 3)
-    inverse, scale, forward = word_geometry(words, ifs.is_similarity)
-    n_items, per_item = words.shape[:2]
-    return Leaves(inverse.reshape(-1, 2, 3), scale.reshape(-1), primitive_params(points, ifs.primitives).reshape(-1, PARAM_WIDTH),
-                  tuple(p.kind for p in ifs.primitives), per_item, None if forward is None else forward.reshape(-1, 6))
-
-
 def _power_text(m: int, depth: int, factor: int = 1) -> str:
     """``factor * m**depth`` in words: exact below 10^15, else its power of ten (without building the integer)."""
     digits = (depth * math.log10(m) if m > 1 else 0) + math.log10(max(factor, 1))
@@ -249,5 +218,5 @@ def leaf_count_text(ifs: IFS, depth: int) -> str:
     return f"{m}^{check_depth(depth)} x {p} = {_power_text(m, depth, p)} leaves"
 
 
-__all__ = ["Leaves", "expand", "expand_batch", "compose_words", "invert_similarities", "estimate_bytes", "check_bytes", "check_budget",
+__all__ = ["Leaves", "expand", "compose_words", "invert_similarities", "estimate_bytes", "check_bytes", "check_budget",
            "DEFAULT_MEMORY_BUDGET", "leaf_count_text", "word_geometry"]

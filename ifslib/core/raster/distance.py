@@ -11,7 +11,7 @@ from ..geometry.attractor import (DEFAULT_SAMPLES, DEFAULT_TOLERANCE, AttractorL
                                   check_window, is_attractor, leaf_points)
 from ..geometry.expand import expand_attractor
 from ..geometry.ifs import IFS
-from ..geometry.leaves import Leaves, check_budget, expand, expand_batch
+from ..geometry.leaves import Leaves, check_budget, expand
 from .leaf_distance import sdf_dense, sdf_pairs
 from .nearest import nearest_leaf, nearest_point, pixel_centres
 
@@ -161,15 +161,3 @@ def distance_field(ifs: IFS, size: int, depth: int | str | None = None, method: 
         winner = nearest_leaf(leaves, size).leaf
         field = sdf_pairs(leaves, x, y, winner)
     return field.view(size, size)
-
-
-def distance_fields(ifs: IFS, points: torch.Tensor, size: int, depth: int | None = None, *,
-                    gradient: str = "exact") -> torch.Tensor:
-    """`distance_field` of ``(B, n, 2)`` point sets of one pattern in one computation (each item's rules contractive)."""
-    check_size(size)
-    leaves = expand_batch(ifs, points, depth, gradient=gradient)
-    x, y = pixel_centres(size, points.device, points.dtype)
-    n_items = points.shape[0]
-    # smaller chunks than one field's: a batch's pair lists outgrow the cache
-    winner = nearest_leaf(leaves, size, max_pairs=1 << 18).leaf
-    return sdf_pairs(leaves, x.repeat(n_items), y.repeat(n_items), winner).view(n_items, size, size)

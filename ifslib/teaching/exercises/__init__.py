@@ -2,10 +2,10 @@
 own switched off (`run_answer`), and the targets (the truths behind them live in ``course/``)."""
 import importlib
 
-from .library import ALLOWED, BANS  # plain tables: nbgrader's own process reads them without torch
+from .library import ALLOWED  # a plain table: nbgrader's own process reads it without torch
 
 # The harness and the targets load torch: imported on first use, so that the grader's scan of a
-# submission (course/nbgrader_checks.py, with `integrity` and `BANS`) starts without it.
+# submission (course/nbgrader_checks.py, with `integrity`) starts without it.
 _LAZY = {name: "harness" for name in ("LIBRARY", "WriteItYourself", "as_matrix", "as_number", "library_off",
                                       "plain", "random_maps", "run_answer")}
 _LAZY.update({name: "targets" for name in ("SIZES", "koch_target", "carpet_target", "two_map_target")})
@@ -19,5 +19,5 @@ def __getattr__(name: str):
     return value
 
 
-__all__ = ["LIBRARY", "ALLOWED", "BANS", "plain", "WriteItYourself", "library_off", "run_answer", "as_matrix", "as_number", "random_maps",
+__all__ = ["LIBRARY", "ALLOWED", "plain", "WriteItYourself", "library_off", "run_answer", "as_matrix", "as_number", "random_maps",
            "SIZES", "koch_target", "carpet_target", "two_map_target"]

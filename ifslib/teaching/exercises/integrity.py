@@ -1,9 +1,9 @@
-"""Read a student's cells, without running them, for what changes the checks instead of answering them (`scan`)."""
+"""Read a student's cells, without running them, for what changes the checks instead of answering them (`scan`); the
+grader's reading of a whole submission is ``course/notebook_scan.py``."""
 from __future__ import annotations
 
 import ast
 import builtins
-import symtable
 from dataclasses import dataclass
 from typing import Iterable
 
@@ -68,37 +68,6 @@ def _dotted(node: ast.AST) -> str:
         return type(node).__name__
 
 
-def imported_names(sources: Iterable[str]) -> set[str]:
-    """The names that import statements bind in ``sources`` (``np`` for ``import numpy as np``)."""
-    names = set()
-    for source in sources:
-        try:
-            tree = ast.parse(python_source(source))
-        except SyntaxError:
-            continue
-        for node in ast.walk(tree):
-            if isinstance(node, (ast.Import, ast.ImportFrom)):
-                for alias in node.names:
-                    names.add((alias.asname or alias.name).split(".")[0])
-    return names
-
-
-def global_reads(source: str) -> set[str]:
-    """The global names a cell reads: at its top level before binding them, or from inside its functions."""
-    try:
-        table = symtable.symtable(python_source(source), "<cell>", "exec")
-    except SyntaxError:
-        return set()
-    reads = {s.get_name() for s in table.get_symbols() if s.is_referenced() and not s.is_assigned()
-             and not s.is_imported()}
-    stack = list(table.get_children())
-    while stack:
-        child = stack.pop()
-        stack += child.get_children()
-        reads |= {s.get_name() for s in child.get_symbols() if s.is_referenced() and s.is_global()}
-    return reads
-
-
 def bound_names(source: str) -> set[str]:
     """The global names a cell binds (assignments, definitions, imports, loop targets, ``global`` declarations)."""
     try:
@@ -154,56 +123,14 @@ def _global_bindings(tree: ast.Module) -> list[tuple[str, int]]:
 
 
 def scan(cells: Iterable[tuple[str, str]], modules: Iterable[str] = (), protected: Iterable[str] = (),
-         own: dict[str, set[str]] | None = None, bans: dict[str, Iterable[str]] | None = None) -> list[Finding]:
+         own: dict[str, set[str]] | None = None) -> list[Finding]:
     """What in ``cells`` (``(label, source)``) changes the checks: rebinding ``modules`` or the lesson's ``protected``
-    names, beyond what each cell's exercise asks for (``own``), or mentioning its ``bans``."""
-    cells = [(str(label), source) for label, source in cells]
+    names, beyond what each cell's exercise asks for (``own``)."""
     modules, protected, own = set(modules), set(protected), own or {}
     findings: list[Finding] = []
     for label, source in cells:
-        findings += _scan_cell(label, source, modules, protected, own.get(label, set()))
-    for label, banned in (bans or {}).items():
-        findings += _banned(cells, label, set(banned))
+        findings += _scan_cell(str(label), source, modules, protected, own.get(str(label), set()))
     return findings
-
-
-def _banned(cells: list[tuple[str, str]], label: str, banned: set[str]) -> list[Finding]:
-    """Mentions of ``banned`` names in the cell ``label`` and in the student's cells it reads from."""
-    sources = dict(cells)
-    if label not in sources:
-        return []
-    binders: dict[str, list[str]] = {}
-    for other, source in cells:
-        for name in bound_names(source):
-            binders.setdefault(name, []).append(other)
-    todo, seen, found = [label], set(), []
-    while todo:
-        current = todo.pop()
-        if current in seen:
-            continue
-        seen.add(current)
-        try:
-            tree = ast.parse(python_source(sources[current]))
-        except SyntaxError:
-            continue
-        for node in ast.walk(tree):
-            words = set()
-            if isinstance(node, ast.Name):
-                words = {node.id}
-            elif isinstance(node, ast.Attribute):
-                words = {node.attr}
-            elif isinstance(node, ast.Call):   # a name passed as a string: fit(..., strategy="auto")
-                words = {a.value for a in [*node.args, *(k.value for k in node.keywords)]
-                         if isinstance(a, ast.Constant) and isinstance(a.value, str)}
-            elif isinstance(node, (ast.Import, ast.ImportFrom)):
-                words = {part for a in node.names for part in a.name.split(".")}
-                words |= set((node.module or "").split(".")) if isinstance(node, ast.ImportFrom) else set()
-            for word in sorted(words & banned):
-                found.append(Finding(label, getattr(node, "lineno", 0), "uses the library's answer",
-                                     f"{'its cell' if current == label else 'cell ' + current} mentions "
-                                     f"{word!r}: this exercise asks you to work it out"))
-        todo += [b for name in global_reads(sources[current]) for b in binders.get(name, []) if b != current]
-    return found
 
 
 def _scan_cell(label: str, source: str, modules: set[str], protected: set[str], own: set[str]) -> list[Finding]:
@@ -284,30 +211,3 @@ def _is_import_of(tree: ast.Module, name: str, line: int) -> bool:
                and any((a.asname or a.name).split(".")[0] == name for a in node.names)
                for node in ast.walk(tree))
 
-
-def nbgrader_meta(cell) -> dict:
-    """A cell's nbgrader metadata ({} for a cell nbgrader does not know)."""
-    return cell.metadata.get("nbgrader", {}) or {}
-
-
-def is_students(cell) -> bool:
-    """An answer cell, or a cell the student added (a released lesson locks every other code cell)."""
-    meta = nbgrader_meta(cell)
-    return cell.cell_type == "code" and bool(meta.get("solution", False) or not meta.get("grade_id"))
-
-
-def scan_notebook(book, stubs: dict[str, str], bans: dict[str, Iterable[str]]) -> list[tuple[int, Finding]]:
-    """(cell index, finding) for each construct of ``book``'s student cells that changes its checks."""
-    code = [(k, c) for k, c in enumerate(book.cells) if c.cell_type == "code"]
-    mine = [(k, c) for k, c in code if is_students(c)]
-    lesson = [c for _, c in code if not is_students(c)]
-    label = {k: nbgrader_meta(c).get("grade_id") or f"added cell {k}" for k, c in mine}
-    own = {label[k]: bound_names(stubs.get(label[k], "")) for k, _ in mine}
-    tests = [c for c in lesson if nbgrader_meta(c).get("grade")]
-    reads = set().union(*(global_reads(c.source) for c in tests))
-    bound = set().union(*(bound_names(c.source) for c in lesson if not nbgrader_meta(c).get("grade")))
-    findings = scan([(label[k], c.source) for k, c in mine], imported_names(c.source for c in lesson),
-                    (reads & bound) - set().union(*own.values()), own,
-                    {name: bans[name] for name in label.values() if name in bans})
-    index = {v: k for k, v in label.items()}
-    return [(index[f.cell], f) for f in findings]

@@ -1,5 +1,5 @@
 """Which library functions each exercise switches off while a student's function runs (`LIBRARY`), and what
-it may call (`ALLOWED`) or name (`BANS`)."""
+it may call (`ALLOWED`); what an answer may not name is the grader's (``course/notebook_scan.py``)."""
 from __future__ import annotations
 
 import types
@@ -75,21 +75,4 @@ ALLOWED = types.MappingProxyType({
                              "ifslib.compression.config", "ifslib.compression.quantize"}),
     # the exercise asks for a loop over the decoder's pass (iterate_offset) and its plan
     "largest changes": frozenset({"ifslib.compression"}),
-})
-
-#: Names an answer cell (and the cells it reads from) may not mention, by the answer's nbgrader
-#: ``grade_id``: the library's routes to a number or an object the exercise asks the student to work out,
-#: which no switch-off can reach because the answer is a value, not a function.
-BANS = types.MappingProxyType({
-    "00_tutorial-koch-t3": frozenset({"koch_unit", "koch", "koch_like", "maps", "rules", "patterns"}),
-    "00_tutorial-scaled-distance": frozenset({"distance_field", "render", "sdf_dense", "metrics"}),
-    "01_koch_iterations-koch-depth": frozenset({"depth_to_attractor", "attractor_depth", "expand_attractor"}),
-    "02_fitting_gallery-shifted-line": frozenset({"metrics", "scores", "evaluate", "distance_transform_edt"}),
-    "03_gradient_fields-further-out": frozenset({"scores"}),
-    "06_convergence_study-rotation": frozenset({"_rotation", "splatting", "parameters", "rules"}),
-    "05_more_examples-carpet-fit": frozenset({"auto", "automatic", "discover", "fit_plan", "fit_many"}),
-    "06_convergence_study-seeds-needed": frozenset({"binomtest", "proportion_ci", "proportion_confint"}),
-    "07_your_own_image-two-maps": frozenset({"auto", "automatic", "discover", "fit_plan", "fit_many",
-                                             "moment_maps", "shape_maps", "sqrtm_psd"}),
-    "09_measures_and_dimension-box-by-hand": frozenset({"dimension", "box_counting", "box_dimension"}),
 })

@@ -3,7 +3,7 @@ rate, the best parameters kept, an early stop, the contractivity steps, and clea
 import pytest
 import torch
 
-from ifslib.core.fitting.descent import Descent, StepPolicy, clamp_scales, converged, halve_step
+from ifslib.core.fitting.descent import Descent, StepPolicy, clamp_scales, converged
 from ifslib.errors import IFSError
 
 
@@ -75,11 +75,6 @@ def test_the_contractivity_steps():
     clamp_scales(maps, 0.2, 0.9)
     s = torch.linalg.svdvals(maps[..., :2])
     assert float(s.max()) <= 0.9 + 1e-6 and float(s.min()) >= 0.2 - 1e-6 and maps[0, 0, 2] == 0.5
-    points, before = torch.tensor([1.0]), torch.tensor([0.0])
-    halve_step(points, before, lambda: float(points) < 0.3, 8)
-    assert float(points) == 0.25
-    halve_step(points, before, lambda: False, 3)
-    assert float(points) == 0.0
 
 
 def test_forget_and_bad_input():
