@@ -6,8 +6,8 @@ import numpy as np
 import torch
 
 from ...core.fitting.descent import Descent, StepPolicy, clamp_scales
-from ...core.scoring.collage import collage_terms
-from ...core.targets.target import Target, sample_foreground
+from ...core.scoring.collage import collage_terms, sample_foreground
+from ...core.targets.target import Target
 from .config import DEFAULT, SearchConfig
 
 

@@ -11,8 +11,8 @@ import math
 import numpy as np
 import torch
 
-from ...core.targets.target import Target, sample_foreground
-from ...core.scoring.collage import copy_terms
+from ...core.targets.target import Target
+from ...core.scoring.collage import copy_terms, sample_foreground
 from .config import DEFAULT, SearchConfig
 
 

@@ -4,11 +4,22 @@ How it works: docs/guide/internals.md.
 """
 from __future__ import annotations
 
+import numpy as np
 import torch
 
 from ...errors import IFSError, check_int
 from ..geometry.ifs import IFS
-from ..targets.target import Target, sample_foreground
+from ..targets.target import Target, foreground_points
+
+
+def sample_foreground(target: Target, n: int, rng: np.random.Generator | int = 0) -> np.ndarray:
+    """At most ``n`` of the target's foreground pixel centres ``(min(n, k), 2)``, drawn without replacement
+    by ``rng`` (a generator, or the seed of one); all of them, in order, when there are no more than ``n``."""
+    fg = foreground_points(target)
+    if len(fg) <= n:
+        return fg
+    rng = np.random.default_rng(rng) if isinstance(rng, (int, np.integer)) else rng
+    return fg[rng.choice(len(fg), n, replace=False)]
 
 
 def lookup(distance: torch.Tensor, points: torch.Tensor) -> torch.Tensor:

@@ -148,14 +148,3 @@ def foreground_points(target: Target) -> np.ndarray:
     x, y = pixel_centres(target.size)
     flat = torch.from_numpy(target.mask.reshape(-1))
     return torch.stack([x[flat], y[flat]], 1).numpy()
-
-
-def sample_foreground(target: Target, n: int, rng: np.random.Generator | int = 0) -> np.ndarray:
-    """At most ``n`` of the target's foreground pixel centres ``(min(n, k), 2)``, drawn without replacement
-    by ``rng`` (a generator, or the seed of one); all of them, in order, when there are no more than ``n``."""
-    fg = foreground_points(target)
-    if len(fg) <= n:
-        return fg
-    rng = np.random.default_rng(rng) if isinstance(rng, (int, np.integer)) else rng
-    return fg[rng.choice(len(fg), n, replace=False)]
-
