@@ -15,8 +15,9 @@ from scipy.optimize import nnls
 from tqdm.auto import tqdm
 
 from ..automatic.fractal.candidates import linear_grid, plane_maps
+from ..automatic.fractal.collage import clamp_scales
 from ..automatic.fractal.config import DEFAULT as SEARCH
-from ..core.fitting.descent import Descent, StepPolicy, clamp_scales
+from ..core.fitting.descent import Descent, StepPolicy
 from ..core.geometry.ifs import IFS
 from ..core.geometry.patterns import affine
 from ..core.scoring.losses import multiscale_mse

@@ -5,10 +5,17 @@ from __future__ import annotations
 import numpy as np
 import torch
 
-from ...core.fitting.descent import Descent, StepPolicy, clamp_scales
+from ...core.fitting.descent import Descent, StepPolicy
 from ...core.scoring.collage import collage_terms, sample_foreground
 from ...core.targets.target import Target
 from .config import DEFAULT, SearchConfig
+
+
+def clamp_scales(maps: torch.Tensor, low: float | None = None, high: float | None = None) -> None:
+    """Clamp the singular values of every map's linear part (``maps[..., :2, :2]``) into [``low``, ``high``],
+    in place."""
+    u, s, vh = torch.linalg.svd(maps[..., :2])
+    maps[..., :2] = u @ torch.diag_embed(s.clamp(low, high)) @ vh
 
 
 def refine(maps: np.ndarray | torch.Tensor, target: Target, steps: int, lr: float, points: int,

@@ -61,7 +61,8 @@ class StepPolicy:
         ``schedule(index)``: the share of each group's learning rate at step ``index`` (a decay).
     contract : callable, optional
         ``contract(before)``, without gradients, after Adam's step: moves the parameters back into
-        the contractive maps, given their values ``before`` the step (`clamp_scales`, `ifslib.measures.measure_fit.halve_step`).
+        the contractive maps, given their values ``before`` the step (`ifslib.automatic.fractal.collage.clamp_scales`,
+        `ifslib.measures.measure_fit.halve_step`).
     advice : str
         Without rollback: what the error raised by a loss that is not finite tells the caller.
     name : str
@@ -224,11 +225,4 @@ class Descent:
         return "steps"
 
 
-def clamp_scales(maps: torch.Tensor, low: float | None = None, high: float | None = None) -> None:
-    """Clamp the singular values of every map's linear part (``maps[..., :2, :2]``) into [``low``, ``high``],
-    in place."""
-    u, s, vh = torch.linalg.svd(maps[..., :2])
-    maps[..., :2] = u @ torch.diag_embed(s.clamp(low, high)) @ vh
-
-
-__all__ = ["Descent", "StepPolicy", "clamp_scales", "converged"]
+__all__ = ["Descent", "StepPolicy", "converged"]
