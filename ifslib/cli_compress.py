@@ -21,13 +21,27 @@ from .progress import draw_bars, note
 
 
 def read_gray(path: str) -> np.ndarray:
-    """An image file as ``(h, w)`` float32 gray levels in [0, 1], a 16-bit one unclipped.
+    """An image file as ``(h, w)`` float32 gray levels in [0, 1], at its full size and upright (EXIF): 8-bit divided
+    by 255, 16-bit by 65535 (Pillow's 8-bit conversion would clip it at 255)."""
+    from PIL import ImageOps
 
-    The library's reader, `targets.image.gray_levels`: Pillow's 8-bit conversion would clip 16 bits at 255.
-    """
-    from .core.targets.image import gray_levels  # imports torch (the thread count): after the arguments are checked
+    # the target reader's file handling; imports torch (the thread count): after the arguments are checked
+    from .core.targets.image import _WIDE_MODES, _image_file, _luma
 
-    return gray_levels(Path(path)).astype(np.float32)
+    path = Path(path)
+    with _image_file(path) as opened:
+        im = ImageOps.exif_transpose(opened)  # a phone's photo, as its viewer shows it
+        if im.mode in _WIDE_MODES:
+            im = im.convert("I")
+        if im.mode in ("I", "F"):
+            gray, top = np.asarray(im, dtype=np.float64), (65535.0 if im.mode == "I" else 1.0)
+        else:
+            gray, top = _luma(im), 255.0
+    # checked outside the file's context, whose ValueError handler would take an IFSError for a bad file
+    if not (np.isfinite(gray).all() and gray.min() >= 0 and gray.max() <= top):
+        raise IFSError(f"{str(path)!r} holds {im.mode!r} values from {gray.min():g} to {gray.max():g}, not gray "
+                       f"levels from 0 to {top:g}; save it with 8 or 16 bits a pixel")
+    return (gray / top).astype(np.float32)
 
 
 #: The extensions `decompress` writes, each a lossless format of 8-bit gray (Pillow picks it by the extension).

@@ -105,25 +105,6 @@ def _image_file(path: Path):
         raise IFSError(f"{str(path)!r} is not an image this library can read (PNG, GIF, JPEG): {exc}") from None
 
 
-def gray_levels(path: Path) -> np.ndarray:
-    """An image file's gray levels in ``[0, 1]``, ``(h, w)`` float64, at its full size and upright (EXIF): 8-bit
-    divided by 255, 16-bit by 65535 (Pillow's 8-bit conversion would clip it at 255)."""
-    path = Path(path)
-    with _image_file(path) as opened:
-        im = ImageOps.exif_transpose(opened)  # a phone's photo, as its viewer shows it
-        if im.mode in _WIDE_MODES:
-            im = im.convert("I")
-        if im.mode in ("I", "F"):
-            gray, top = np.asarray(im, dtype=np.float64), (65535.0 if im.mode == "I" else 1.0)
-        else:
-            gray, top = _luma(im), 255.0
-    # checked outside the file's context, whose ValueError handler would take an IFSError for a bad file
-    if not (np.isfinite(gray).all() and gray.min() >= 0 and gray.max() <= top):
-        raise IFSError(f"{str(path)!r} holds {im.mode!r} values from {gray.min():g} to {gray.max():g}, not gray "
-                       f"levels from 0 to {top:g}; save it with 8 or 16 bits a pixel")
-    return gray / top
-
-
 def read_image(path: Path, size: int) -> tuple[np.ndarray, str]:
     """An image file's gray levels (float64, any range) and what they are: ``"gray"``, or ``"alpha"`` (its alpha channel)."""
     with _image_file(path) as opened:
