@@ -9,7 +9,7 @@ import symtable
 import types
 from typing import Iterable
 
-from ifslib.teaching.exercises.integrity import Finding, bound_names, python_source, scan
+from ifslib.teaching.exercises.integrity import Finding, _global_bindings, python_source, scan
 
 #: Names an answer cell (and the cells it reads from) may not mention, by the answer's nbgrader
 #: ``grade_id``: the library's routes to a number or an object the exercise asks the student to work out,
@@ -69,6 +69,15 @@ def global_reads(source: str) -> set[str]:
         stack += child.get_children()
         reads |= {s.get_name() for s in child.get_symbols() if s.is_referenced() and s.is_global()}
     return reads
+
+
+def bound_names(source: str) -> set[str]:
+    """The global names a cell binds (assignments, definitions, imports, loop targets, ``global`` declarations)."""
+    try:
+        tree = ast.parse(python_source(source))
+    except SyntaxError:
+        return set()
+    return {name for name, _ in _global_bindings(tree)}
 
 
 def banned(cells: list[tuple[str, str]], label: str, banned: set[str]) -> list[Finding]:

@@ -68,15 +68,6 @@ def _dotted(node: ast.AST) -> str:
         return type(node).__name__
 
 
-def bound_names(source: str) -> set[str]:
-    """The global names a cell binds (assignments, definitions, imports, loop targets, ``global`` declarations)."""
-    try:
-        tree = ast.parse(python_source(source))
-    except SyntaxError:
-        return set()
-    return {name for name, _ in _global_bindings(tree)}
-
-
 def _global_bindings(tree: ast.Module) -> list[tuple[str, int]]:
     """(name, line) of each binding of a global name: at the cell's top level, or declared ``global``."""
     out = []
