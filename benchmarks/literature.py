@@ -25,6 +25,7 @@ JSON and a picture of the targets beside the attractors found.
     python benchmarks/literature.py --only stem --count 2  # the first two stems
     python benchmarks/literature.py --only many --seeds 3 4  # the 10-map set's or a class's seeds 3 and 4
     python benchmarks/literature.py --ten                  # ten 10-map fractals
+    python benchmarks/literature.py --ten --learned        # the same, the learned guess offered beside the search
     python benchmarks/literature.py --held-out             # the held-out seeds: once, at the end
 """
 from __future__ import annotations
@@ -77,14 +78,16 @@ def truths(args) -> list[tuple[str, str, int, int, ifslib.IFS]]:
     return out
 
 
-def fit_and_score(label: str, kind: str, maps: int, seed: int, truth: ifslib.IFS, size: int, out: Path):
+def fit_and_score(label: str, kind: str, maps: int, seed: int, truth: ifslib.IFS, size: int, out: Path,
+                  learned: bool = False):
     """Draw, fit by the command line and score one fractal: ``(row, panel)``, or ``(None, why)`` when the fit failed."""
     picture = ifslib.render(truth, size, method="chaos", points=POINTS, seed=seed).numpy()
     png, fit_json = out / f"{label}.png", out / f"{label}.json"
     Image.fromarray(((picture >= 0.5) * 255).astype(np.uint8)).save(png)
     t0 = time.perf_counter()
     done = subprocess.run([sys.executable, "-m", "ifslib", "fit", str(png), "--pattern", "auto", "--size", str(size),
-                           "--quiet", "-o", str(fit_json)], capture_output=True, text=True)
+                           "--quiet", "-o", str(fit_json)] + (["--learned"] if learned else []),
+                          capture_output=True, text=True)
     seconds = time.perf_counter() - t0
     if done.returncode:
         return None, f"the fit failed after {seconds:.0f} s: {done.stderr.strip()[-200:]}"
@@ -147,6 +150,7 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     parser.add_argument("--held-out", action="store_true", help="the held-out seeds 1000-1004: run once, at the end")
     parser.add_argument("--ten", action="store_true", help="ten 10-map random_ifs fractals instead of the classes")
+    parser.add_argument("--learned", action="store_true", help="fit with --learned: the learned guess beside the search")
     parser.add_argument("--out", default="build/literature", help="folder for the PNGs, fits, rows and picture")
     args = parser.parse_args()
     if args.ten and (args.only or args.held_out):
@@ -168,7 +172,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     rows, panels = [], []
     for label, kind, maps, seed, truth in truths(args):
-        row, panel = fit_and_score(label, kind, maps, seed, truth, args.size, out)
+        row, panel = fit_and_score(label, kind, maps, seed, truth, args.size, out, args.learned)
         if row is None:
             print(f"| {label} | {maps} | - | - | - | - | no | - | - | - | - | {panel} |", flush=True)
             continue

@@ -161,10 +161,11 @@ def cmd_fit(args: argparse.Namespace) -> None:
         if attractor:
             raise IFSError("--depth attractor goes with a pattern: an automatic start compares depths of its own "
                            "and its fit ends on the attractor anyway")
-        start = discover(target, args.maps, args.depth, jitter=args.jitter, seed=args.seed)
+        chosen = {} if args.learned is None else {"learned": args.learned}   # else the automatic path's own default
+        start = discover(target, args.maps, args.depth, jitter=args.jitter, seed=args.seed, **chosen)
     else:
-        if args.maps is not None:
-            raise IFSError("--maps goes with --pattern auto")
+        if args.maps is not None or args.learned is not None:
+            raise IFSError(f"{'--maps' if args.maps is not None else '--learned'} goes with --pattern auto")
         ifs = _spec(args.pattern)
         if args.depth is not None and not attractor:
             ifs.depth = args.depth
@@ -281,6 +282,9 @@ def _fit_parser(sub) -> None:
                    help="auto (any image: a fractal's maps searched for, a curve or a shape; the number of maps compared), koch, koch_paper, carpet, "
                         "gridN, rosetteN, or an ifslib/1 JSON file (default koch)")
     f.add_argument("--maps", type=int, help="with --pattern auto: this many maps instead of comparing candidates")
+    f.add_argument("--learned", action=argparse.BooleanOptionalAction, default=None,
+                   help="with --pattern auto: offer the learned first guess of a fractal's maps beside the search's, "
+                        "the one whose attractor scores better kept (default: off, docs/results/learned-guess.md)")
     f.add_argument("--size", type=int, default=256, help="target size in pixels (default 256)")
     f.add_argument("--depth", type=_depth, help="render depth (default: the pattern's, 3), or 'attractor' to fit the "
                    "attractor at every stage (the default fits end on it anyway)")

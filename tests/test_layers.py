@@ -1,7 +1,7 @@
 """The house's rules: the paper's core imports no extension, and a folder imports only from the folders above it.
 
 The order (docs/guide/design.md): the core's stages (geometry, raster, targets, scoring, fitting), then
-the extensions, each using the core (compression, splatting, the automatic path, measures), then
+the extensions, each using the core (compression, splatting, the learned guess, the automatic path, measures), then
 studies, teaching and the command line; the top-level helpers (errors, data, names, paths, threads,
 progress) may be imported from anywhere.
 """
@@ -12,7 +12,7 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "ifslib"
 CORE = ["core.geometry", "core.raster", "core.targets", "core.scoring", "core.fitting"]
-EXTENSIONS = ["compression", "splatting", "automatic", "measures"]
+EXTENSIONS = ["compression", "splatting", "learned", "automatic", "measures"]
 ORDER = CORE + EXTENSIONS + ["studies", "teaching", "cli"]
 HELPERS = {"errors", "data", "names", "paths", "threads", "progress"}
 

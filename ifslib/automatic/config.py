@@ -158,11 +158,16 @@ class AutoFitConfig:
     # with both moves maps off the search's places (many1: attractor IoU 0.798 -> 0.567; 0.005 at full size: 0.840;
     # docs/results/literature.md, "The splat polish")
     splat_lr: float = 0.005
+    # offer the learned guess (`ifslib.learned`) beside the search's maps, the one whose attractor scores better
+    # (the search's own rule) kept: a fractal of many maps whose search falls short (docs/results/learned-guess.md)
+    learned: bool = False
 
     def __post_init__(self):
         check_loss(self.polish_loss)
         check_loss(self.fractal_loss)
-        _check(self, skip=("polish_loss", "fractal_loss"))
+        _check(self, skip=("polish_loss", "fractal_loss", "learned"))
+        if not isinstance(self.learned, bool):
+            raise IFSError(f"learned must be True or False, got {self.learned!r}")
         _share(self, "splat_below")
         if not self.splat_lr > 0:
             raise IFSError(f"splat_lr must be a learning rate > 0, got {self.splat_lr!r}")

@@ -6,15 +6,17 @@ How it works: docs/guide/internals.md.
 from __future__ import annotations
 
 import dataclasses
+import time
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
+from ..errors import IFSError
 from ..core.geometry import patterns
 from ..core.geometry.ifs import IFS
 from ..core.scoring.metrics import evaluate
-from ..core.targets.target import Target
+from ..core.targets.target import Target, resize_target
 from . import fractal
 from .auto import candidates, choices, curve_path, measure
 from .config import AUTO
@@ -73,10 +75,11 @@ class Plan:
 
 
 def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.start.default_depth, seed: int = 0,
-                  progress: bool = True, *, config: fractal.SearchConfig = AUTO.search
+                  progress: bool = True, *, config: fractal.SearchConfig = AUTO.search, learned: bool = AUTO.fit.learned
                   ) -> tuple[IFS | None, dict, fractal.SearchResult]:
     """The maps of `ifslib.automatic.fractal.search` (with ``config``) as a start, or None when their attractor
-    does not fit.
+    does not fit; with ``learned``, the learned guess's maps instead when they score less by the search's rule
+    (`with_learned`).
 
     Returns
     -------
@@ -89,6 +92,8 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.sta
         What the search found, its rows at full precision (what a later decision reads).
     """
     found = fractal.search(target, maps, seed=seed, progress=progress, config=config)
+    if learned and maps is None:
+        found = with_learned(target, found, config)
     chamfer_px = found.choice.chamfer_px
     record = {"search": found.table, "rule": found.rule}
     if chamfer_px > FIGURE.fractal_chamfer:
@@ -99,6 +104,25 @@ def fractal_start(target: Target, maps: int | None = None, depth: int = AUTO.sta
     ifs = patterns.affine(found.maps, depth=depth, name="auto")
     ifs.meta["pattern"] = {"name": "auto", "kind": "fractal", "maps": len(found.maps), "depth": depth, **record}
     return ifs, record, found
+
+
+def with_learned(target: Target, found: fractal.SearchResult, config: fractal.SearchConfig) -> fractal.SearchResult:
+    """The search's result with the learned guess's row (`ifslib.learned.guess_maps`) last, scored as the search
+    scores its own (``1 - attractor IoU at judge_size + map_cost a map``); its maps chosen when they score less."""
+    from ..learned.estimator import guess_maps
+
+    t0 = time.perf_counter()
+    guessed = guess_maps(target.mask)
+    judge = resize_target(target, min(config.judge_size, target.size))
+    fine = resize_target(target, min(config.refine_size, target.size))
+    iou = fractal.attractor_iou(guessed, judge, config=config)
+    row = fractal.Row(len(guessed), float("nan"), float("nan"), fractal.attractor_chamfer(guessed, fine, config=config),
+                      iou, 1 - iou + config.map_cost * len(guessed), time.perf_counter() - t0, learned=True)
+    won = row.score < found.choice.score
+    rule = (f"{found.rule}; the learned guess's {row.maps} maps scored {row.score:.3f} against the search's "
+            f"{found.choice.score:.3f}: {'the guess' if won else 'the search'} kept")
+    return dataclasses.replace(found, maps=guessed if won else found.maps, rows=found.rows + (row,), rule=rule,
+                               learned=won)
 
 
 def _searchable(target: Target, share: float, edge: float | None, maps: int | None) -> bool:
@@ -131,7 +155,7 @@ def ambiguous(share: float, maps: int, iou: float, edge: float | None = None) ->
 
 
 def discover(target: Target, maps: int | None = None, depth: int | None = None, *, jitter: float = 0.0,
-             seed: int | None = 0, primitive: str = "box") -> Plan:
+             seed: int | None = 0, primitive: str = "box", learned: bool = AUTO.fit.learned) -> Plan:
     """A start read from ``target`` itself: a curve, a shape or a fractal's maps, with the candidates an
     automatic fit compares (`ifslib.fit` fits the plan by comparing them).
 
@@ -147,6 +171,8 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
         Seed of the jitter and of the start's k-means, from 0 to ``ifslib.errors.MAX_SEED``.
     primitive : str
         The shapes' primitive.
+    learned : bool
+        Offer the learned guess (`ifslib.learned`) beside the fractal search's maps (`with_learned`).
 
     Returns
     -------
@@ -154,12 +180,14 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
         Its ``start`` is the IFS chosen without fitting (`plan_for`), jittered when ``jitter`` is set.
     """
     check_jitter(jitter, seed)
-    plan = plan_for(target, maps, depth, primitive, seed or 0)
+    if not isinstance(learned, bool):
+        raise IFSError(f"learned must be True or False, got {learned!r}")
+    plan = plan_for(target, maps, depth, primitive, seed or 0, learned=learned)
     return plan.with_start(plan.start.jittered(jitter, np.random.default_rng(seed)))
 
 
 def plan_for(target: Target, maps: int | None = None, depth: int | None = None, primitive: str = "box",
-             seed: int = 0) -> Plan:
+             seed: int = 0, *, learned: bool = AUTO.fit.learned) -> Plan:
     """The plan for ``target``: a fractal's maps when the figure is porous (or solid with a rough edge) and the
     search finds them
     (`fractal_start`), else the curve or shape starts of the (maps, depth)
@@ -184,7 +212,7 @@ def plan_for(target: Target, maps: int | None = None, depth: int | None = None, 
     if share is not None and _searchable(target, share, edge, maps):
         config = AUTO.ambiguous_search if share >= FIGURE.ambiguous_share else AUTO.search
         start, searched, found = fractal_start(target, maps, AUTO.start.default_depth if depth is None else depth, seed,
-                                                config=config)
+                                                config=config, learned=learned)
         if edge is not None:  # why a figure with interior was searched, for the file
             searched["edge_dimension"] = round(edge, 3)
             if start is not None:

@@ -135,6 +135,8 @@ def test_cli_fits_any_image_with_pattern_auto(tmp_path, capsys):
     assert doc["meta"]["pattern"]["name"] == "auto" and doc["rules"][0]["kind"] == "affine"
     assert main(["fit", str(png), "--pattern", "koch", "--maps", "3", "-o", str(out)]) == 2
     assert "--maps goes with --pattern auto" in capsys.readouterr().err
+    assert main(["fit", str(png), "--pattern", "koch", "--learned", "-o", str(out)]) == 2
+    assert "--learned goes with --pattern auto" in capsys.readouterr().err
 
 
 def test_silhouettes_are_centred_filled_and_keep_their_holes():

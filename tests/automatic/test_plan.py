@@ -26,7 +26,7 @@ def searches(monkeypatch):
     """The fractal search stood in for by one that finds nothing: the list of ``(target, config)`` it was asked for."""
     calls = []
 
-    def no_fractal(target, maps, depth, seed, *, config):
+    def no_fractal(target, maps, depth, seed, *, config, learned=False):
         calls.append((target, config))
         return None, {"search": [], "rule": "", "verdict": "none"}, None
 
@@ -242,3 +242,27 @@ def test_discover_refuses_a_bad_jitter_before_any_search():
     target = ifslib.load_target(ifslib.patterns.koch(depth=2), 32)
     with pytest.raises(ifslib.IFSError, match="jitter must be a number from 0 to 1"):
         ifslib.discover(target, jitter=1.5)
+
+
+def test_the_learned_guess_is_kept_only_when_its_attractor_scores_less(monkeypatch):
+    truth, target = fractal_target(maps=2, seed=4, size=128)
+    found = fractal.search(target, 2, progress=False)
+    import ifslib.learned.estimator as learned
+
+    monkeypatch.setattr(learned, "guess_maps", lambda mask: truth.maps()[:, :2].detach().double().numpy())
+    exact = plan.with_learned(target, found, fractal.DEFAULT)
+    assert exact.learned and np.allclose(exact.maps, truth.maps()[:, :2].detach().double().numpy())
+    assert exact.choice is exact.rows[-1] and exact.choice.learned and exact.choice.score <= found.choice.score
+    assert exact.rows[:-1] == found.rows and "the guess kept" in exact.rule
+    assert exact.table[-1]["learned"] is True and "learned" not in exact.table[0]
+    far = np.array([[[0.3, 0, 0.3], [0, 0.3, 0.3]], [[0.3, 0, -0.3], [0, 0.3, 0.3]]])
+    monkeypatch.setattr(learned, "guess_maps", lambda mask: far)
+    kept = plan.with_learned(target, found, fractal.DEFAULT)
+    assert not kept.learned and kept.maps is found.maps and kept.choice is found.choice
+    assert "the search kept" in kept.rule
+
+
+def test_discover_refuses_a_learned_that_is_not_a_bool():
+    target = ifslib.load_target(ifslib.patterns.koch(depth=2), 32)
+    with pytest.raises(ifslib.IFSError, match="learned must be True or False"):
+        ifslib.discover(target, learned="yes")

@@ -74,6 +74,8 @@ class Row:
         Time spent on this number of maps.
     reoriented, grown : bool
         Whether its maps were turned (`reorient`), or are the fewer's and one more (`region_grow`).
+    learned : bool
+        Whether its maps are the learned guess's (`ifslib.learned`), not the search's.
     regions, swapped : int
         Rounds of `region_swap` and of `swap` that replaced maps.
     """
@@ -89,13 +91,15 @@ class Row:
     regions: int = 0
     grown: bool = False
     swapped: int = 0
+    learned: bool = False
 
     def written(self) -> dict:
         """The row for the file: scores rounded to 4 digits, seconds to 2, the moves only where they apply."""
         out = {"maps": self.maps, "cover": round(self.cover, 4), "collage_px": round(self.collage_px, 4),
                "chamfer_px": round(self.chamfer_px, 4), "iou": round(self.iou, 4), "score": round(self.score, 4),
                "seconds": round(self.seconds, 2)}
-        moves = {"reoriented": self.reoriented, "regions": self.regions, "grown": self.grown, "swapped": self.swapped}
+        moves = {"reoriented": self.reoriented, "regions": self.regions, "grown": self.grown, "swapped": self.swapped,
+                 "learned": self.learned}
         return out | {k: v for k, v in moves.items() if v}
 
 

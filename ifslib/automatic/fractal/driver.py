@@ -34,16 +34,19 @@ class SearchResult:
         One `Row` per number of maps tried, in the order tried, at full precision: what decides.
     rule : str
         How the number of maps was chosen, in words.
+    learned : bool
+        Whether the chosen maps are the learned guess's (its row is the last, `Row.learned`).
     """
 
     maps: np.ndarray
     rows: tuple[Row, ...] = ()
     rule: str = ""
+    learned: bool = False
 
     @property
     def choice(self) -> Row:
-        """The row of the chosen number of maps."""
-        return next(row for row in self.rows if row.maps == len(self.maps))
+        """The row of the chosen maps."""
+        return next(row for row in self.rows if row.maps == len(self.maps) and row.learned == self.learned)
 
     @property
     def table(self) -> list[dict]:

@@ -156,14 +156,9 @@ def _singular_pairs(n: int, sigma: float, rng: np.random.Generator) -> np.ndarra
 MAX_RANDOM_SCALE = 0.9
 
 
-def random_ifs(maps: int, seed: int = 0, depth: int = 3, extent: float = 0.8) -> IFS:
-    """A random contractive affine IFS whose attractor is neither dust nor a blob (the sampler of Anderson and Farrell,
-    WACV 2022), conjugated so that the attractor's box fills ``extent`` of the frame."""
-    check_int(maps, "number of maps", 1)
-    if maps > 64:
-        raise IFSError(f"random_ifs draws at most 64 maps, got {maps}")
-    check_int(seed, "seed", 0)
-    rng = np.random.default_rng(seed)
+def random_affine(maps: int, rng: np.random.Generator) -> np.ndarray:
+    """``(maps, 2, 3)`` contractive affine maps drawn by the sigma-factor sampler of Anderson and Farrell (WACV 2022),
+    not yet fitted to the frame (`random_ifs` does that)."""
     sigma = rng.uniform((5 + maps) / 2, (6 + maps) / 2)
     pairs = _singular_pairs(maps, sigma, rng)
 
@@ -175,7 +170,18 @@ def random_ifs(maps: int, seed: int = 0, depth: int = 3, extent: float = 0.8) ->
 
     u, v = rotations(maps), rotations(maps)
     matrices = u @ (pairs[:, :, None] * v)
-    shifts = rng.uniform(-1.0, 1.0, (maps, 2))
+    return np.concatenate([matrices, rng.uniform(-1.0, 1.0, (maps, 2))[:, :, None]], 2)
+
+
+def random_ifs(maps: int, seed: int = 0, depth: int = 3, extent: float = 0.8) -> IFS:
+    """A random contractive affine IFS whose attractor is neither dust nor a blob (`random_affine`), conjugated so
+    that the attractor's box fills ``extent`` of the frame."""
+    check_int(maps, "number of maps", 1)
+    if maps > 64:
+        raise IFSError(f"random_ifs draws at most 64 maps, got {maps}")
+    check_int(seed, "seed", 0)
+    drawn = random_affine(maps, np.random.default_rng(seed))
+    matrices, shifts = drawn[:, :, :2], drawn[:, :, 2]
     full = torch.zeros(maps, 3, 3, dtype=torch.float64)
     full[:, :2, :2], full[:, :2, 2], full[:, 2, 2] = torch.as_tensor(matrices), torch.as_tensor(shifts), 1.0
     radius = attractor_ball(full)[1]
