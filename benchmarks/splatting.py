@@ -34,13 +34,14 @@ import torch
 
 import ifslib
 from ifslib.core.targets.target import target_from_mask
-from ifslib.paths import repo_root
 from ifslib.splatting import SplatFitOptions, SplatOptions, fit_splat, splat_measure
 from ifslib.splatting.config import POINTS_PER_PIXEL
 
 sys.path.insert(0, str(Path(__file__).parent))
 from literature_scores import literature_scores  # noqa: E402 - a helper beside this script
 from literature import EXTENT, POINTS  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 #: A start padded with copies of its own maps (`padded_with_copies`): each copy's translation
@@ -241,7 +242,7 @@ def main() -> None:
         fern(args)
     if args.ten:
         rows = ten(args)
-        out = repo_root() / args.out
+        out = ROOT / args.out
         out.mkdir(parents=True, exist_ok=True)
         changed = "".join(f"_{k}{getattr(args, k)}" for k in ("anneal_noise", "reseed_every", "map_lr")
                           if getattr(args, k) is not None)
