@@ -25,7 +25,8 @@ import numpy as np
 from PIL import Image
 
 import ifslib
-from ifslib.paths import repo_root
+
+ROOT = Path(__file__).resolve().parents[1]
 
 TIMING_KEYS = {"seconds", "wall_seconds", "time", "elapsed"}
 
@@ -95,7 +96,7 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=256)
     parser.add_argument("--out", default="build/determinism")
     args = parser.parse_args()
-    out = repo_root() / args.out
+    out = ROOT / args.out
     out.mkdir(parents=True, exist_ok=True)
     print(f"python -m ifslib fit <png> --size {args.size}; files compared without their timings")
     print("| case | pattern | " + " | ".join(f"{t} (s)" for t in args.threads) + " | against " + args.threads[0] + " |")

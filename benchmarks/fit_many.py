@@ -1,4 +1,4 @@
-"""Throughput of `ifslib.studies.batch.fit_many` (one batched computation) against sequential `ifslib.fit` calls.
+"""Throughput of `fit_many` (benchmarks/batch.py: one batched computation) against sequential `ifslib.fit` calls.
 
 The paper's Koch start (`ifslib.patterns.koch_paper(seed)`) fitted to the paper's koch.png with the
 multiscale distance loss, seeds 0..B-1. Both sides run the same number of steps per seed from the
@@ -11,13 +11,17 @@ because every seed costs about the same. Needs the images: set IFSLIB_DATA (``ma
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 
 import torch
 
 import ifslib
-from ifslib.studies.batch import fit_many
 from ifslib.core.raster.distance import resolve_device
+
+sys.path.insert(0, str(Path(__file__).parent))
+from batch import fit_many  # noqa: E402 - a helper beside this script
 
 
 def main() -> None:

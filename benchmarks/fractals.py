@@ -28,8 +28,9 @@ import numpy as np
 from PIL import Image
 
 import ifslib
-from ifslib.paths import repo_root
 from ifslib.teaching.figures import box_outlines, draw_outlines, gallery, save_figure
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def why(row: dict) -> str:
@@ -60,7 +61,7 @@ def main() -> None:
     chosen = list(range(args.count)) if args.only is None else args.only
     if any(not 0 <= i < args.count for i in chosen):
         parser.error(f"--only takes fractal numbers from 0 to {args.count - 1}")
-    out = repo_root() / args.out
+    out = ROOT / args.out
     out.mkdir(parents=True, exist_ok=True)
     rows, panels = [], []
     print(f"python -m ifslib fit <png> --pattern auto --size {args.size}, IFSLIB_THREADS={os.environ.get('IFSLIB_THREADS', 'auto')}")
@@ -106,7 +107,7 @@ def main() -> None:
                   captions=[[""] * len(names), list(captions)], cell=1.6)
     for ax, quads in zip(fig.axes[:len(names)], outlines):
         draw_outlines(ax, quads)
-    picture = repo_root() / args.picture
+    picture = ROOT / args.picture
     print(f"picture: {save_figure(fig, picture.stem, picture.parent)}")
 
 

@@ -44,13 +44,14 @@ import numpy as np
 from PIL import Image
 
 import ifslib
-from ifslib.paths import repo_root
 from ifslib.teaching.figures import box_outlines, draw_outlines, gallery, save_figure
 
 sys.path.insert(0, str(Path(__file__).parent))
 from samplers import literature_ifs  # noqa: E402 - a helper beside this script
 from literature_scores import literature_scores  # noqa: E402 - a helper beside this script
 from fractals import why  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
 
 #: Number of maps of fractal ``i`` of each class.
 CLASSES = {"stem": lambda i: 3 + i % 3, "spiral": lambda i: 2 + i % 3, "overlap": lambda i: 3 + i % 3,
@@ -162,7 +163,7 @@ def main() -> None:
         if args.count is not None or not set(args.seeds) <= set(allowed):
             parser.error(f"--seeds takes seeds {allowed.start}-{allowed.stop - 1} (held out with --held-out), "
                          "without --count")
-    out = repo_root() / args.out
+    out = ROOT / args.out
     out.mkdir(parents=True, exist_ok=True)
     threads = os.environ.get("IFSLIB_THREADS", "auto")
     print(f"python -m ifslib fit <png> --pattern auto --size {args.size}, IFSLIB_THREADS={threads}, "

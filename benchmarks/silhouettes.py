@@ -30,7 +30,8 @@ from PIL import Image
 
 import ifslib
 from ifslib.core.targets import silhouettes
-from ifslib.paths import repo_root
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def targets(size: int, paper_size: int) -> dict[str, tuple[np.ndarray, int]]:
@@ -50,7 +51,7 @@ def main() -> None:
     parser.add_argument("--out", default="build/silhouettes", help="folder for the PNGs, fits and the picture")
     parser.add_argument("--picture", default="figures/silhouettes.png", help="targets beside their fits")
     args = parser.parse_args()
-    out = repo_root() / args.out
+    out = ROOT / args.out
     out.mkdir(parents=True, exist_ok=True)
     rows, panels = [], []
     for name, (picture, size) in targets(args.size, args.paper_size).items():
@@ -99,7 +100,7 @@ def main() -> None:
         names, masks, drawn, ious = zip(*panels)
         fig = gallery([masks, drawn], col_titles=names, row_titles=["target", "attractor"],
                       captions=[[""] * len(panels), [f"IoU {iou:.3f}" for iou in ious]], cell=1.6)
-        picture = repo_root() / args.picture
+        picture = ROOT / args.picture
         print(f"picture: {save_figure(fig, picture.stem, picture.parent)}")
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import statistics
 import sys
 import time
@@ -33,14 +34,57 @@ import torch
 
 import ifslib
 from ifslib.core.targets.target import target_from_mask
-from ifslib.paths import repo_root
 from ifslib.splatting import SplatFitOptions, SplatOptions, fit_splat, splat_measure
-from ifslib.splatting.config import PAD_JITTER, POINTS_PER_PIXEL
-from ifslib.splatting.moves import padded_with_copies
+from ifslib.splatting.config import POINTS_PER_PIXEL
 
 sys.path.insert(0, str(Path(__file__).parent))
 from literature_scores import literature_scores  # noqa: E402 - a helper beside this script
 from literature import EXTENT, POINTS  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+#: A start padded with copies of its own maps (`padded_with_copies`): each copy's translation
+#: moves by up to this much (plane units) and its rotation by up to this share of a turn. Larger, copies that start
+#: apart from their originals (less alike, so less likely to stay stacked) but farther from the figure's detail.
+PAD_JITTER = 0.03
+
+
+def padded_with_copies(maps: torch.Tensor, m: int, jitter: float, generator: torch.Generator) -> torch.Tensor:
+    """``maps`` topped up to ``m`` with jittered copies of the largest ones, in turn.
+
+    A set of few maps that covers a figure of many (the fractal search's) lays one copy over two or more of the
+    figure's; a copy of it, moved a little, is a second map where one is missing, which the fit can pull apart.
+
+    Parameters
+    ----------
+    maps : torch.Tensor
+        ``(k, 3, 3)`` maps, ``k >= 1``.
+    m : int
+        The number of maps wanted; ``maps`` itself when ``m <= k``.
+    jitter : float
+        Each copy's translation moves by up to this much (plane units), its rotation by up to ``jitter`` times
+        2 pi (radians).
+    generator : torch.Generator
+
+    Returns
+    -------
+    torch.Tensor
+        ``(max(k, m), 3, 3)`` float64.
+    """
+    maps = torch.as_tensor(maps, dtype=torch.float64)
+    k = len(maps)
+    if m <= k:
+        return maps
+    order = torch.argsort(torch.linalg.svdvals(maps[:, :2, :2])[:, 0], descending=True)
+    copies = maps[order[torch.arange(m - k) % k]].clone()
+    noise = 2 * torch.rand(m - k, 3, generator=generator, dtype=torch.float64) - 1
+    angle = noise[:, 2] * jitter * 2 * math.pi
+    c, s = angle.cos(), angle.sin()
+    turn = torch.stack([torch.stack([c, -s], -1), torch.stack([s, c], -1)], -2)
+    copies[:, :2, :2] = copies[:, :2, :2] @ turn
+    copies[:, :2, 2] += jitter * noise[:, :2]
+    return torch.cat([maps, copies])
 
 
 def searched_start(target, seed: int, pad: str) -> tuple[torch.Tensor | None, dict]:
@@ -198,7 +242,7 @@ def main() -> None:
         fern(args)
     if args.ten:
         rows = ten(args)
-        out = repo_root() / args.out
+        out = ROOT / args.out
         out.mkdir(parents=True, exist_ok=True)
         changed = "".join(f"_{k}{getattr(args, k)}" for k in ("anneal_noise", "reseed_every", "map_lr")
                           if getattr(args, k) is not None)

@@ -32,11 +32,10 @@ from pathlib import Path
 
 import nbformat
 
-from ifslib.paths import load_script
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from grading_run import parameters_index, with_grading_cell  # noqa: E402
 from run_edition import with_quick_values  # noqa: E402  one way to inject the quick values, here and there
+from scripts import load_script  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"

@@ -32,9 +32,9 @@ import zipfile
 from email.parser import Parser
 from pathlib import Path
 
-from ifslib.paths import load_script
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from scripts import ROOT, load_script  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
 STUDENT_REQUIREMENTS = ROOT / "requirements-student.txt"
 RUNTIME = ROOT / "binder" / "runtime.txt"
 #: PyTorch's index of CPU wheels: an extra index, since it lacks JupyterLab; its ``+cpu`` wheels rank

@@ -30,10 +30,10 @@ import sys
 import time
 from pathlib import Path
 
-from ifslib.paths import load_script
-
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
+sys.path.insert(0, str(ROOT / "course"))
+from scripts import load_script  # noqa: E402  course/scripts.py
 BOOK = ROOT / "build" / "book"
 SRC = BOOK / "src"
 HTML = BOOK / "html"

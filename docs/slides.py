@@ -308,7 +308,9 @@ _FENCE = re.compile(r"\s*(```|~~~)")
 
 def _student():
     """``notebooks/student.py``: where the solution and hidden-test markers are read (the student edition's tool)."""
-    from ifslib.paths import load_script
+    if str(DOCS.parent / "course") not in sys.path:
+        sys.path.insert(0, str(DOCS.parent / "course"))
+    from scripts import load_script  # course/scripts.py
 
     return load_script("notebooks/student.py", "ifslib_student_edition")
 

@@ -93,7 +93,7 @@ def configure_threads(threads: int | str | None = None) -> int:
 
 def refresh() -> int:
     """In ``auto`` mode, pick the thread count again from the cores free now (at most every `REFRESH_SECONDS`);
-    called at the start of every single run and of `fit_many`, so a long fit follows the machine's load."""
+    called at the start of every single run (and of benchmarks/batch.py's batch), so a long fit follows the machine's load."""
     if _state["auto"] and time.monotonic() - _state["sampled"] >= REFRESH_SECONDS:
         torch.set_num_threads(free_threads())
     return torch.get_num_threads()

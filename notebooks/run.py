@@ -30,7 +30,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from ifslib.errors import IFSError
-from ifslib.paths import figures_dir, repo_root
+
+ROOT = Path(__file__).resolve().parents[1]
 
 #: What ``--preset`` takes: the values stored in the notebooks, and the quick ones CI runs.
 PRESETS = ("teaching", "quick")
@@ -41,7 +42,7 @@ LONGEST = ("04_", "02_", "06_", "05_", "07_", "08_", "03_", "00_tutorial")
 
 def notebooks(only=()) -> list[Path]:
     """Every numbered lesson (``notebooks/[0-9][0-9]_*.ipynb``) and the glossary; those whose names start with one of ``only`` when given."""
-    folder = repo_root() / "notebooks"
+    folder = ROOT / "notebooks"
     books = sorted(folder.glob("[0-9][0-9]_*.ipynb")) + [folder / "glossary.ipynb"]
     return [b for b in books if not only or any(b.stem.startswith(p) for p in only)]
 
@@ -113,12 +114,12 @@ def execute(book: Path, preset: str, into: Path | None) -> float:
     """Run one notebook at ``preset`` where `main`'s arguments say; returns seconds."""
     from store import store  # notebooks/store.py: this script's folder is first on sys.path
 
-    root = repo_root()
+    root = ROOT
     started = time.perf_counter()
     if preset == "quick":
         run_quick(book, root / "build" / "quick", root / "build" / "figures-quick")
     else:
-        store(book, into / book.name if into else book, into / "figures" if into else figures_dir(),
+        store(book, into / book.name if into else book, into / "figures" if into else ROOT / "figures",
               teaching_parameters(book))
     return time.perf_counter() - started
 
@@ -142,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
     books = longest_first(notebooks([*args.names, *args.only]))
     if not books:
         parser.error(f"no notebook starts with {' or '.join([*args.names, *args.only])}")
-    root = repo_root()
+    root = ROOT
     where = args.into or ("the notebooks, in place" if args.preset == "teaching" else root / "build" / "quick")
     from ifslib.threads import cores  # loads torch: only once there is a notebook to run
 

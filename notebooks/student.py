@@ -185,7 +185,7 @@ def calls_checks(book) -> bool:
 
 def _grading():
     """``course/grading.py``, which lays the course out and runs nbgrader."""
-    from ifslib.paths import load_script
+    from scripts import load_script  # course/scripts.py, on sys.path above
 
     return load_script("course/grading.py", "ifslib_course_grading")
 

@@ -83,7 +83,7 @@ os.environ.setdefault("IFSLIB_THREADS", "1")
 
 
 #: Test modules kept on one worker: their module fixture draws for about 11 s (the literature's IFS classes).
-WHOLE_MODULES = {"tests/studies/test_samplers.py"}
+WHOLE_MODULES = {"tests/benchmarks/test_samplers.py"}
 
 
 def notebook_scope(nodeid: str) -> str:

@@ -71,8 +71,3 @@ SCREEN_TAIL = 10
 #: Reselection's coverage is counted on this many times a step's points: fewer, and a sparse part of a good fit reads
 #: uncovered by chance and a good map is moved.
 RESEED_POINTS = 4
-
-#: A start padded with copies of its own maps (`ifslib.splatting.moves.padded_with_copies`): each copy's translation
-#: moves by up to this much (plane units) and its rotation by up to this share of a turn. Larger, copies that start
-#: apart from their originals (less alike, so less likely to stay stacked) but farther from the figure's detail.
-PAD_JITTER = 0.03

@@ -5,18 +5,10 @@ How it works: docs/guide/internals.md.
 from __future__ import annotations
 
 import hashlib
-import os
 from typing import Iterable
 
-#: The environment variable nbgrader sets while it executes a notebook.
-GRADING_VARIABLE = "NBGRADER_EXECUTION"
 #: What a skipped cell runs instead: a statement, so that the cell's output is empty.
 SKIPPED = "pass  # a demonstration of the lesson: not needed by the checks, skipped while grading\n"
-
-
-def grading() -> bool:
-    """Whether nbgrader is executing this kernel's notebook (autograde or validate)."""
-    return bool(os.environ.get(GRADING_VARIABLE))
 
 
 def cell_key(source: str) -> str:

@@ -34,7 +34,6 @@ import torch
 import ifslib
 from ifslib.measures import dimension
 from ifslib.core.targets.target import foreground_points
-from ifslib.paths import load_script
 from ifslib.teaching.exercises import harness
 
 pytestmark = pytest.mark.slow  # make test-slow: the lazy answers' checks run the lessons' targets at several sizes
@@ -44,6 +43,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "course"))
 import grading_run  # noqa: E402  the grading values nbgrader runs a lesson at
 import targets as course_targets  # noqa: E402  the instructor's truths
+from scripts import load_script  # noqa: E402  course/scripts.py
 from test_exercises import SOLUTION, cell_of, fails, run  # noqa: E402  one way to run a test cell
 
 def cell(grade_id: str) -> str:

@@ -7,7 +7,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from ifslib.teaching.grading import SKIPPED, cell_key, grading, skip_cells
+from ifslib.teaching.grading import SKIPPED, cell_key, skip_cells
 
 ROOT = Path(__file__).resolve().parents[2]
 spec = importlib.util.spec_from_file_location("ifslib_course_grading_run", ROOT / "course" / "grading_run.py")
@@ -101,13 +101,6 @@ def test_skip_cells_runs_pass_instead_of_the_named_cells_only(shell):
     shell.run_cell("ran.append('demo')")
     assert shell.user_ns["ran"] == ["answer", "demo"]
     assert SKIPPED.startswith("pass")
-
-
-def test_grading_reads_nbgrader_s_variable(monkeypatch):
-    monkeypatch.delenv("NBGRADER_EXECUTION", raising=False)
-    assert not grading()
-    monkeypatch.setenv("NBGRADER_EXECUTION", "autograde")
-    assert grading()
 
 
 def test_every_graded_lesson_keeps_its_checks_and_skips_something():

@@ -1,5 +1,5 @@
 """The descent: the one Adam loop the library's fits run, each handing it its parameters and its loss (the other,
-`ifslib.studies.batch`'s, keeps a step count and learning rate per item, which torch's Adam cannot)."""
+benchmarks/batch.py's, keeps a step count and learning rate per item, which torch's Adam cannot)."""
 from __future__ import annotations
 
 import math

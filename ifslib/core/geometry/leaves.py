@@ -36,7 +36,7 @@ class Leaves:
         ``(p,)`` kind of each primitive.
     words_per_item : int
         0 for the leaves of one IFS. For a batch of ``B`` point sets of one pattern (see
-        `ifslib.studies.batch.expand_batch`), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
+        ``expand_batch`` of benchmarks/batch.py), ``m**K``: the words are then ``B * m**K`` (item-major), ``params`` is
         ``(B * p, PARAM_WIDTH)``, and leaf ids run over the whole batch, item ``b`` owning the ids
         ``b * m**K * p`` to ``(b + 1) * m**K * p - 1``.
     forward : torch.Tensor or None

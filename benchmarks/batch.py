@@ -1,4 +1,6 @@
-"""Batched fitting: many seeded starts of one pattern fitted in one computation.
+"""Batched fitting: many seeded starts of one pattern fitted in one computation, for `benchmarks/fit_many.py`
+(its throughput against sequential `ifslib.fit` calls). A benchmark's helper, not the package's: on a CPU it
+gains little (docs/results/fit-many.md), and the library's strategies run their starts one after another.
 
 How it works: docs/guide/internals.md.
 """
@@ -13,20 +15,20 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
-from ..core.geometry.leaves import Leaves, compose_words, word_geometry
-from ..core.geometry.primitives import PARAM_WIDTH, primitive_params
-from ..core.raster.distance import check_size, resolve_device
-from ..core.raster.leaf_distance import sdf_pairs
-from ..core.raster.nearest import nearest_leaf, pixel_centres
-from ..errors import IFSError, check_int
-from ..names import DEFAULT_STEPS
-from ..threads import refresh as refresh_threads
-from ..core.fitting.options import RunOptions, with_settings
-from ..core.fitting.result import FitResult, History
-from ..core.geometry.ifs import IFS, check_depth
-from ..core.scoring.losses import loss as loss_fn
-from ..core.geometry.rules import MIN_LENGTH, MIN_SINGULAR, rule_lengths, rule_maps, singular_values
-from ..core.targets.target import Target
+from ifslib.core.geometry.leaves import Leaves, compose_words, word_geometry
+from ifslib.core.geometry.primitives import PARAM_WIDTH, primitive_params
+from ifslib.core.raster.distance import check_size, resolve_device
+from ifslib.core.raster.leaf_distance import sdf_pairs
+from ifslib.core.raster.nearest import nearest_leaf, pixel_centres
+from ifslib.errors import IFSError, check_int
+from ifslib.names import DEFAULT_STEPS
+from ifslib.threads import refresh as refresh_threads
+from ifslib.core.fitting.options import RunOptions, with_settings
+from ifslib.core.fitting.result import FitResult, History
+from ifslib.core.geometry.ifs import IFS, check_depth
+from ifslib.core.scoring.losses import loss as loss_fn
+from ifslib.core.geometry.rules import MIN_LENGTH, MIN_SINGULAR, rule_lengths, rule_maps, singular_values
+from ifslib.core.targets.target import Target
 
 #: Adam's constants, those of `torch.optim.Adam`'s defaults (which the descent, `ifslib.core.fitting.descent`, uses).
 BETAS = (0.9, 0.999)

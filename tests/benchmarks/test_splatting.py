@@ -1,9 +1,12 @@
-"""A start padded with jittered copies of its largest maps: the given maps first, each copy within the jitter of one."""
+"""benchmarks/splatting.py's start padded with jittered copies of its largest maps: the given maps first, each copy
+within the jitter of one."""
 import math
 
 import torch
 
-from ifslib.splatting.moves import padded_with_copies
+from common_testing import benchmark_module
+
+padded_with_copies = benchmark_module("splatting").padded_with_copies
 
 MAPS = torch.tensor([[[0.3, 0.0, -0.2], [0.0, 0.3, 0.1], [0, 0, 1]],
                      [[0.6, 0.0, 0.2], [0.0, 0.5, -0.1], [0, 0, 1]]], dtype=torch.float64)

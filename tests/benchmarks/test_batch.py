@@ -1,14 +1,18 @@
-"""Batched fitting: every batched piece equals its one-IFS counterpart, and fit_many equals fit per seed."""
+"""benchmarks/batch.py's batched fitting: every batched piece equals its one-IFS counterpart, and fit_many equals fit
+per seed."""
 import pytest
 import torch
 
 import ifslib
-from ifslib.studies.batch import distance_fields, expand_batch, fit_many
 from ifslib.core.geometry.leaves import expand
 from ifslib.core.raster.leaf_distance import leaf_table, sdf_pairs, sdf_table
 from ifslib.core.raster.nearest import nearest_leaf, pixel_centres
 
+from common_testing import benchmark_module
 from conftest import PATTERNS, perturbed
+
+batching = benchmark_module("batch")
+distance_fields, expand_batch, fit_many = batching.distance_fields, batching.expand_batch, batching.fit_many
 
 SIZE = 32
 
