@@ -54,6 +54,8 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=256)
     parser.add_argument("--steps", type=int, nargs="+", default=[0, 300])
     parser.add_argument("--random", action="store_true", help="also fit from random starts with the same steps")
+    parser.add_argument("--known-maps", action="store_true",
+                        help="give the guess the true number of maps, as the random starts are (default: its own count)")
     parser.add_argument("--refine", default="fit", choices=["fit", "polish"],
                         help="the guess refined by the splat fit's defaults (coarse to fine, annealing, reselection), "
                              "or by the automatic path's polish (the target's size, no annealing or reselection)")
@@ -64,7 +66,7 @@ def main() -> None:
         picture = ifslib.render(truth, args.size, method="chaos", points=POINTS, seed=0).numpy() >= 0.5
         target = target_from_mask(picture, label)
         t0 = time.perf_counter()
-        start = guess(target)
+        start = guess(target, len(truth.rules) if args.known_maps else None)
         guessed = time.perf_counter() - t0
         for steps in args.steps:
             starts = [("guess", start)] + ([("random", None)] if args.random and steps else [])

@@ -9,8 +9,6 @@ GRID = SIZE // 4
 MAX_MAPS = 10
 #: Channels of the encoder's first stage (doubled at each of its four stages).
 WIDTH = 16
-#: A slot is a map of the guess when its presence probability is above this.
-PRESENT = 0.5
 #: The weight of a linear part's entry against a shift's in the set loss: a map's linear error moves the
 #: copy of an attractor of half-width about 0.4 by 0.4 times it, so both terms are in plane units.
 LINEAR_WEIGHT = 0.4

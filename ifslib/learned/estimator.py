@@ -11,7 +11,7 @@ import torch.nn.functional as F
 from ..core.geometry import patterns
 from ..core.geometry.ifs import IFS
 from ..core.targets.target import Target
-from ..errors import IFSError
+from ..errors import IFSError, check_int
 from . import config
 from .network import GuessNet
 
@@ -67,28 +67,40 @@ def clamped(maps: np.ndarray, top: float = MAX_SCALE) -> np.ndarray:
     return np.concatenate([linear, maps[:, :, 2:]], 2)
 
 
-def guess_maps(mask: np.ndarray, network: GuessNet | None = None) -> np.ndarray:
-    """``(k, 2, 3)`` maps (at least two) whose attractor the network reads in the figure ``mask``."""
+def guess_maps(mask: np.ndarray, network: GuessNet | None = None, maps: int | None = None) -> np.ndarray:
+    """``(k, 2, 3)`` maps whose attractor the network reads in the figure ``mask``: the ``maps`` slots most surely
+    present, or as many as the presence scores expect (`expected_maps`)."""
     network = network or load_network()
     k, b = framing(mask)
     with torch.no_grad():
-        maps, logits = network(reframed(mask, k, b, network.size)[None, None])
-    maps, present = maps[0].double().numpy(), logits[0].sigmoid().numpy()
-    keep = np.argsort(-present)[:min(config.MAX_MAPS, max(2, int((present > config.PRESENT).sum())))]
-    framed = clamped(maps[keep])
+        guessed, logits = network(reframed(mask, k, b, network.size)[None, None])
+    guessed, logits = guessed[0].double().numpy(), logits[0].double().numpy()
+    count = expected_maps(logits) if maps is None else maps
+    keep = np.argsort(-logits)[:count]
+    framed = clamped(guessed[keep])
     # back to the target's frame: S^-1 w S has the same linear part and the shift (t + L b - b) / k
     linear = framed[:, :, :2]
     shifts = (framed[:, :, 2] + linear @ b - b) / k
     return np.concatenate([linear, shifts[:, :, None]], 2)
 
 
-def guess(target, depth: int = 3) -> IFS:
+def expected_maps(logits: np.ndarray) -> int:
+    """The number of maps the presence scores expect, 2 to `config.MAX_MAPS`: the sum of the slots' chances of
+    holding a map. Training weighted a present slot `config.PRESENT_WEIGHT` times, so a score's odds are that many
+    times a chance's."""
+    odds = np.exp(np.minimum(logits, 50.0)) / config.PRESENT_WEIGHT
+    return int(np.clip(np.round((odds / (1 + odds)).sum()), 2, config.MAX_MAPS))
+
+
+def guess(target, maps: int | None = None, depth: int = 3) -> IFS:
     """The learned first guess of the IFS whose attractor ``target`` shows.
 
     Parameters
     ----------
     target : Target or array-like
         The figure: a `Target` or a square boolean mask, row 0 at the top.
+    maps : int, optional
+        The number of maps, 2 to 10; by default as many as the network expects (`expected_maps`).
     depth : int
         The returned IFS's drawing depth.
 
@@ -100,4 +112,6 @@ def guess(target, depth: int = 3) -> IFS:
     mask = target.mask if isinstance(target, Target) else np.asarray(target)
     if mask.ndim != 2 or mask.shape[0] != mask.shape[1] or not mask.any():
         raise IFSError(f"the learned guess reads a square mask with a figure in it, got shape {mask.shape}")
-    return patterns.affine(guess_maps(mask.astype(bool)), depth=depth, name="learned guess")
+    if maps is not None:
+        check_int(maps, "maps", 2, maximum=config.MAX_MAPS)
+    return patterns.affine(guess_maps(mask.astype(bool), maps=maps), depth=depth, name="learned guess")

@@ -8,7 +8,7 @@ from scipy import ndimage
 import ifslib
 from ifslib.errors import IFSError
 from ifslib.learned import config, guess
-from ifslib.learned.estimator import clamped, framing, guess_maps, load_network, reframed
+from ifslib.learned.estimator import clamped, expected_maps, framing, guess_maps, load_network, reframed
 from ifslib.learned.network import GuessNet
 from ifslib.learned.pairs import chaos_points, pair, picture
 
@@ -57,6 +57,15 @@ def test_the_shipped_guess_reads_a_fractal():
     ifs = guess(mask)
     assert 2 <= len(ifs.rules) <= config.MAX_MAPS
     assert torch.linalg.svdvals(ifs.maps()[:, :2, :2].double()).max() < 1
+    assert len(guess(mask, maps=3).rules) == 3
+
+
+def test_the_expected_number_of_maps_undoes_the_presence_weight():
+    sure, absent = np.log(config.PRESENT_WEIGHT * 1e6), -50.0       # a chance of 1 - 1e-6, and none
+    assert expected_maps(np.array([sure] * 4 + [absent] * 252)) == 4
+    even = np.log(config.PRESENT_WEIGHT)                            # odds of 1 after the weight: a chance of 1/2
+    assert expected_maps(np.array([even] * 12 + [absent] * 244)) == 6
+    assert expected_maps(np.full(256, absent)) == 2 and expected_maps(np.full(256, sure)) == config.MAX_MAPS
 
 
 def test_weights_load_without_pickle(monkeypatch):
@@ -75,3 +84,11 @@ def test_weights_load_without_pickle(monkeypatch):
 def test_bad_masks_are_refused(bad):
     with pytest.raises(IFSError, match="square mask"):
         guess(bad)
+
+
+@pytest.mark.parametrize("maps", [1, 11, 2.5, True])
+def test_a_bad_number_of_maps_is_refused(maps):
+    mask = np.zeros((32, 32), bool)
+    mask[8:24, 8:24] = True
+    with pytest.raises(IFSError, match="maps"):
+        guess(mask, maps=maps)
