@@ -16,7 +16,7 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
-from ..errors import check_int
+from ..errors import IFSError, check_int
 from ..threads import configure_threads
 from . import config
 from .estimator import WEIGHTS
@@ -43,6 +43,10 @@ class Training:
         for name in ("steps", "pool", "validation", "batch", "width", "curve_every"):
             check_int(getattr(self, name), name, 1)
         check_int(self.seed, "seed", 0)
+        if isinstance(self.lr, bool) or not isinstance(self.lr, (int, float)) or not 0 < self.lr < 1:
+            raise IFSError(f"lr must be a learning rate in (0, 1), got {self.lr!r}")
+        if not isinstance(self.progress, bool):
+            raise IFSError(f"progress must be True or False, got {self.progress!r}")
 
 
 def _pairs(tag: int, count: int, progress: bool) -> tuple[np.ndarray, list[np.ndarray]]:
@@ -114,7 +118,10 @@ def main(argv=None) -> None:
     parser.add_argument("--out", type=Path, default=Path(__file__).with_name(WEIGHTS))
     args = parser.parse_args(argv)
     print(f"training on {configure_threads(args.threads)} thread(s)")
-    options = Training(steps=args.steps, pool=args.pool, seed=args.seed)
+    try:
+        options = Training(steps=args.steps, pool=args.pool, seed=args.seed)
+    except IFSError as error:
+        parser.error(str(error))
     t0 = time.perf_counter()
     network, curve = train(options)
     save(network, args.out)

@@ -45,6 +45,14 @@ def test_weights_round_trip_through_the_file(tiny, tmp_path, monkeypatch):
     assert torch.allclose(got[0], want[0], atol=2e-2) and torch.allclose(got[1], want[1], atol=2e-2)
 
 
-def test_bad_options_are_refused():
-    with pytest.raises(IFSError):
-        training.Training(steps=0)
+@pytest.mark.parametrize("bad, message", [({"steps": 0}, "steps"), ({"pool": 2.5}, "pool"), ({"lr": 0}, "lr"),
+                                          ({"lr": float("nan")}, "lr"), ({"progress": "yes"}, "progress")])
+def test_bad_options_are_refused(bad, message):
+    with pytest.raises(IFSError, match=message):
+        training.Training(**bad)
+
+
+def test_the_command_refuses_bad_options_in_words(capsys):
+    with pytest.raises(SystemExit) as exit:
+        training.main(["--steps", "0", "--out", "unused.pt"])
+    assert exit.value.code == 2 and "steps" in capsys.readouterr().err
