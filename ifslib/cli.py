@@ -103,7 +103,8 @@ def _stages_text(history) -> str:
 def _spent_text(history) -> str:
     stages, auto = history.stages, history.auto
     if auto is not None and auto.kind == "fractal":
-        tried = ", ".join(f"{c.maps} maps score {c.value:.3f}" for c in auto.candidates)
+        tried = ", ".join(f"{c.maps} maps{' (the learned guess)' if c.by == 'learned score' else ''} score {c.value:.3f}"
+                          for c in auto.candidates)
         return (f"{history.cost} steps spent (auto: a fractal, {auto.chosen} maps chosen by the search's rule, "
                 f"1 - attractor IoU plus a cost per map ({tried}); then "
                 f"{', '.join(_stage_text(s) for s in stages)} steps)")

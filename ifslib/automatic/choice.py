@@ -22,7 +22,8 @@ class Candidate:
         Its number of maps and its depth.
     by : str
         What it was compared by: ``"loss"`` (a curve's or a shape's loss after ``AUTO.fit.probe_steps`` steps at
-        the coarsest size) or ``"score"`` (the fractal search's ``1 - attractor IoU + map_cost * maps``).
+        the coarsest size) or ``"score"`` (the fractal search's ``1 - attractor IoU + map_cost * maps``; ``"learned
+        score"`` for the learned guess's row, scored alike).
     value : float
         That loss or score, full precision: the least wins (fewer maps on a tie).
     steps : int

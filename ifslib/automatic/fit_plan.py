@@ -129,7 +129,8 @@ def _fit_fractal(plan: Plan, frame: Frame, options: RunOptions,
         result = frame.run(start, budget, options.replace(depth=start.depth), desc=f"{label} · {frame.target.size}²")
         stages = [Stage(size=frame.target.size, steps=result.history.cost, stopped=result.history.stopped,
                         best_loss=result.best_loss)]
-    searched = tuple(Candidate(row.maps, start.depth, "score", row.score, 0, row.seconds) for row in plan.search)
+    searched = tuple(Candidate(row.maps, start.depth, "learned score" if row.learned else "score", row.score, 0,
+                               row.seconds) for row in plan.search)
     run = AutoRun(plan.kind, len(start.rules), searched, dict(plan.pattern))
     return _finish(result, run, stages, sum(s.steps for s in stages)), iou
 
