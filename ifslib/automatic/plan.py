@@ -172,7 +172,7 @@ def discover(target: Target, maps: int | None = None, depth: int | None = None, 
     primitive : str
         The shapes' primitive.
     learned : bool
-        Offer the learned guess (`ifslib.learned`) beside the fractal search's maps (`with_learned`).
+        Offer the learned guess (`ifslib.learned.guess`) beside the fractal search's maps (`with_learned`).
 
     Returns
     -------

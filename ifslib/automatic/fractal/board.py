@@ -75,7 +75,7 @@ class Row:
     reoriented, grown : bool
         Whether its maps were turned (`reorient`), or are the fewer's and one more (`region_grow`).
     learned : bool
-        Whether its maps are the learned guess's (`ifslib.learned`), not the search's.
+        Whether its maps are the learned guess's (`ifslib.learned.guess`), not the search's.
     regions, swapped : int
         Rounds of `region_swap` and of `swap` that replaced maps.
     """
