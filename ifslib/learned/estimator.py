@@ -77,11 +77,7 @@ def guess_maps(mask: np.ndarray, network: GuessNet | None = None, maps: int | No
     guessed, logits = guessed[0].double().numpy(), logits[0].double().numpy()
     count = expected_maps(logits) if maps is None else maps
     keep = np.argsort(-logits)[:count]
-    framed = clamped(guessed[keep])
-    # back to the target's frame: S^-1 w S has the same linear part and the shift (t + L b - b) / k
-    linear = framed[:, :, :2]
-    shifts = (framed[:, :, 2] + linear @ b - b) / k
-    return np.concatenate([linear, shifts[:, :, None]], 2)
+    return patterns.conjugated(clamped(guessed[keep]), 1 / k, -b / k)   # back by S^-1(x) = (x - b) / k
 
 
 def expected_maps(logits: np.ndarray) -> int:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.geometry.patterns import random_affine
+from ..core.geometry.patterns import conjugated, random_affine
 from . import config
 
 
@@ -30,9 +30,7 @@ def framed(maps: np.ndarray, points: np.ndarray, extent: float = config.EXTENT) 
     lo, hi = points.min(0), points.max(0)
     k = extent / max(float((hi - lo).max()), 1e-12)
     b = -k * (lo + hi) / 2
-    linear = maps[:, :, :2]
-    shifts = k * maps[:, :, 2] + b - linear @ b
-    return np.concatenate([linear, shifts[:, :, None]], 2), k * points + b
+    return conjugated(maps, k, b), k * points + b
 
 
 def picture(points: np.ndarray, size: int = config.SIZE) -> np.ndarray:

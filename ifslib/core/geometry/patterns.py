@@ -194,8 +194,14 @@ def random_ifs(maps: int, seed: int = 0, depth: int = 3, extent: float = 0.8) ->
     lo, hi = cloud.min(0), cloud.max(0)
     k = extent / max(float((hi - lo).max()), 1e-12)
     b = -k * (lo + hi) / 2  # S(x) = k x + b puts the box's centre at the origin
-    fitted = k * shifts + b - matrices @ b
-    return affine(np.concatenate([matrices, fitted[:, :, None]], 2), depth=depth, name=f"random{maps}_{seed}")
+    return affine(conjugated(drawn, k, b), depth=depth, name=f"random{maps}_{seed}")
+
+
+def conjugated(maps: np.ndarray, k: float, b: np.ndarray) -> np.ndarray:
+    """``(m, 2, 3)`` maps ``S w S^-1`` for the similarity ``S(x) = k x + b``: the maps whose attractor is ``S`` of
+    theirs (the same linear parts, the shifts ``k t + b - L b``)."""
+    linear = maps[:, :, :2]
+    return np.concatenate([linear, (k * maps[:, :, 2] + b - linear @ b)[:, :, None]], 2)
 
 
 PATTERNS = {"koch": koch, "sierpinski_triangle": sierpinski_triangle, "triangle": sierpinski_triangle, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper,
