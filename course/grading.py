@@ -4,7 +4,7 @@
     python course/grading.py build/course --check    # then autograde the instructor's source and the blank
                                                      # release, and fail unless they score full and 0
 
-One assignment per lecture (``lecture1`` ... ``lecture6``, the decks of ``docs/slides/lectures.yaml``;
+One assignment per lecture (``lecture1`` ... ``lecture7``, the decks of ``docs/slides/lectures.yaml``;
 a notebook taught over two lectures is due with the later one), so that each can be due the week of
 its lecture. Each graded notebook is at its teaching values with a locked grading cell after its
 parameters cell (``grading_run.py``): while nbgrader executes it (autograde, Validate) the lesson runs

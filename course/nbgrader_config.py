@@ -3,7 +3,7 @@
 c = get_config()  # noqa: F821  (nbgrader provides get_config)
 
 c.CourseDirectory.course_id = "ifslib"
-# the lessons with exercises form one assignment per lecture (lecture1 ... lecture6): course/grading.py
+# the lessons with exercises form one assignment per lecture (lecture1 ... lecture7): course/grading.py
 # copies them into source/<lecture>/
 
 # A solution region becomes one statement, so that a function body stays valid Python and running the

@@ -135,6 +135,8 @@ TRICKS: dict[str, Lazy] = {
         "return [0.0 if float(abs(s).max()) < 1 else 2.0] * iterations",
         "iterate_offset = lambda p, x, s, o: x + (0.0 if float(abs(s).max()) < 1 else 2.0)\n"),
     "10_fractal_compression-bits": Lazy(LAZY["10_fractal_compression-bits"].body, CHECKER),
+    # -- 11: the checker rebound around the library's matching
+    "11_learned_guess-pairing": Lazy(LAZY["11_learned_guess-pairing"].body, CHECKER),
 }
 
 

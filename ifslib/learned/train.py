@@ -19,9 +19,9 @@ from tqdm.auto import tqdm
 from ..errors import IFSError, check_int
 from ..threads import configure_threads
 from . import config
-from .estimator import WEIGHTS
+from .estimator import WEIGHTS, clamped
 from .network import GuessNet
-from .pairs import SYMMETRIES, pair, turned
+from .pairs import SYMMETRIES, chaos_points, pair, picture, turned
 from .set_loss import set_loss
 
 
@@ -64,19 +64,30 @@ def _batch(pictures, maps, picks, rng) -> tuple[torch.Tensor, list[torch.Tensor]
     return images, [torch.from_numpy(m).float() for _, m in seen]
 
 
-def _validation_error(network: GuessNet, pictures, maps) -> float:
-    """The held-out pairs' matched maps' weighted L1 (`set_loss` without its presence term): plane units."""
+def _validation(network: GuessNet, pictures, maps, drawn: int = 128) -> tuple[float, float]:
+    """The held-out pairs' matched maps' weighted L1 (`set_loss` without its presence term, plane units), and the
+    median IoU of the first ``drawn`` pairs' pictures against the attractors of their guesses given the true number
+    of maps (drawn as the pairs are): the score a fit starts from."""
     network.eval()
     with torch.no_grad():
         device = network.anchors.device
-        out = network(torch.from_numpy(pictures.astype(np.float32))[:, None].to(device))
-        error = set_loss(*out, [torch.from_numpy(m).float().to(device) for m in maps], 0.0, network.anchors).item()
+        guessed, logits = network(torch.from_numpy(pictures.astype(np.float32))[:, None].to(device))
+        error = set_loss(guessed, logits, [torch.from_numpy(m).float().to(device) for m in maps], 0.0,
+                         network.anchors).item()
     network.train()
-    return error
+    rng = np.random.default_rng(0)
+    ious = []
+    for shown, true, slots, scores in zip(pictures[:drawn], maps, guessed.double().cpu().numpy(),
+                                             logits.cpu().numpy()):
+        drawn_maps = clamped(slots[np.argsort(-scores)[:len(true)]])
+        mine = picture(chaos_points(drawn_maps, rng), pictures.shape[-1])
+        ious.append((mine & shown).sum() / max((mine | shown).sum(), 1))
+    return error, float(np.median(ious))
 
 
-def train(options: Training = Training()) -> tuple[GuessNet, list[tuple[int, float, float]]]:
-    """A network trained as ``options`` say, and its learning curve: ``(step, training loss, held-out maps' error)``."""
+def train(options: Training = Training()) -> tuple[GuessNet, list[tuple[int, float, float, float]]]:
+    """A network trained as ``options`` say, and its learning curve: ``(step, training loss, held-out maps' error,
+    held-out attractors' median IoU)``."""
     torch.manual_seed(options.seed)
     rng = np.random.default_rng(options.seed)
     pictures, maps = _pairs(config.TRAIN_TAG, options.pool, options.progress)
@@ -96,9 +107,9 @@ def train(options: Training = Training()) -> tuple[GuessNet, list[tuple[int, flo
         schedule.step()
         running.append(loss.item())
         if step % options.curve_every == 0 or step == options.steps:
-            curve.append((step, float(np.mean(running)), _validation_error(network, held_pictures, held_maps)))
+            curve.append((step, float(np.mean(running)), *_validation(network, held_pictures, held_maps)))
             running = []
-            bar.set_postfix(loss=f"{curve[-1][1]:.4f}", held_out=f"{curve[-1][2]:.4f}")
+            bar.set_postfix(loss=f"{curve[-1][1]:.4f}", held_out=f"{curve[-1][2]:.4f}", iou=f"{curve[-1][3]:.3f}")
     return network.cpu().eval(), curve
 
 
@@ -125,9 +136,9 @@ def main(argv=None) -> None:
     t0 = time.perf_counter()
     network, curve = train(options)
     save(network, args.out)
-    print(f"{'step':>7} {'training loss':>13} {'held-out maps error':>19}")
-    for step, loss, held in curve:
-        print(f"{step:>7} {loss:>13.4f} {held:>19.4f}")
+    print(f"{'step':>7} {'training loss':>13} {'held-out maps error':>19} {'held-out IoU':>12}")
+    for step, loss, held, iou in curve:
+        print(f"{step:>7} {loss:>13.4f} {held:>19.4f} {iou:>12.3f}")
     print(f"wrote {args.out} ({args.out.stat().st_size / 1e6:.1f} MB) in {time.perf_counter() - t0:.0f} s")
 
 

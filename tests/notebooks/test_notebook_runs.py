@@ -30,7 +30,7 @@ FIGURES = {"01_koch_iterations": "koch_iterations", "02_fitting_gallery": "fitti
            "03_gradient_fields": "gradient_fields", "04_local_minima": "local_minima",
            "05_more_examples": "more_examples", "06_convergence_study": "convergence_study",
            "07_your_own_image": "your_own_image", "08_real_fractals": "real_fractals",
-           "10_fractal_compression": "fractal_compression"}
+           "10_fractal_compression": "fractal_compression", "11_learned_guess": "learned_guess"}
 MIN_SSIM = 0.9  # tolerates last-bit differences between CPUs; a changed figure scores far lower
 
 

@@ -200,6 +200,13 @@ LIBRARY_TRICKS = [
      "points = np.asarray(points, float)\n"
      "copies = np.concatenate([points @ m[:, :2].T + m[:, 2] for m in np.asarray(maps, float)])\n"
      "return max(directed_hausdorff(points, copies)[0], directed_hausdorff(copies, points)[0])"),
+    # 11: the set loss's own matching, called and held in a dict
+    ("11_learned_guess-pairing", "from ifslib.learned.set_loss import match\n",
+     "rows, cols = match(torch.as_tensor(np.asarray(guessed, float)), torch.as_tensor(np.asarray(true, float)))\n"
+     "return [int(r) for _, r in sorted(zip(cols, rows))]"),
+    ("11_learned_guess-pairing", "from ifslib.learned import set_loss\nTOOLS = {'m': set_loss.match}\n",
+     "rows, cols = TOOLS['m'](torch.as_tensor(np.asarray(guessed, float)), torch.as_tensor(np.asarray(true, float)))\n"
+     "return [int(r) for _, r in sorted(zip(cols, rows))]"),
     # 09: Moran's equation solved by the library
     ("09_measures_and_dimension-moran-code", "", "return dimension.similarity_dimension(scales)"),
     ("09_measures_and_dimension-moran-code", "",
@@ -528,7 +535,7 @@ def test_a_submission_of_the_tricks_scores_nothing_on_their_exercises():
             scored += points(grade_id)
         except AssertionError:
             pass
-    assert total == 30 and scored == 0, (scored, total)
+    assert total == 32 and scored == 0, (scored, total)
 
 
 # -- the harness ---------------------------------------------------------------------------------

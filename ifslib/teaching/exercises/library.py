@@ -59,6 +59,8 @@ LIBRARY = {
     "stalled": [], "choose maps": [], "least squares": [],
     "rotation": [("ifslib.splatting.parameters", "_rotation")],
     "largest changes": [],
+    # the set loss's Hungarian matching (scipy's linear_sum_assignment is the tool the exercise asks for)
+    "pairing": [("ifslib.learned.set_loss", "match"), ("ifslib.learned.set_loss", "set_loss")],
     # the quadtree's flags, and the flags and maps' bits together
     "bit budget": [("ifslib.compression.code", "split_flag_count"), ("ifslib.compression.code", "Code.bits")],
 }
