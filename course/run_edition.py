@@ -36,22 +36,30 @@ def with_quick_values(book):
 
 
 def is_test(cell) -> bool:
+    """nbgrader's test cell: graded, not an answer."""
     grader = cell.metadata.get("nbgrader", {})
-    return bool(grader.get("grade")) and not grader.get("solution")
+    return cell.cell_type == "code" and bool(grader.get("grade")) and not grader.get("solution")
 
 
-def run(path: Path, timeout: int) -> tuple[list[str], float]:
-    """Execute one notebook in its folder: the errors that are not an unanswered exercise's test, and seconds."""
+def execute(path: Path, timeout: int):
+    """The notebook at ``path`` executed at its quick values in its own folder, errors kept in its outputs:
+    ``(the executed notebook, seconds)``. ``notebooks/student.py --check`` runs the student edition with it too."""
     started = time.perf_counter()
     book = with_quick_values(nbformat.read(path, as_version=4))
     NotebookClient(book, timeout=timeout, kernel_name="python3", allow_errors=True,
                    resources={"metadata": {"path": str(path.parent)}}).execute()
+    return book, time.perf_counter() - started
+
+
+def run(path: Path, timeout: int) -> tuple[list[str], float]:
+    """Execute one notebook in its folder: the errors that are not an unanswered exercise's test, and seconds."""
+    book, seconds = execute(path, timeout)
     problems = []
     for index, cell in enumerate(book.cells):
         for output in cell.get("outputs", []):
             if output.output_type == "error" and not (is_test(cell) and output.ename == "AssertionError"):
                 problems.append(f"cell {index} raised {output.ename}: {output.evalue[:300]}")
-    return problems, time.perf_counter() - started
+    return problems, seconds
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -398,17 +398,13 @@ def _is_answer(cell) -> bool:
     return _student().is_exercise(cell)
 
 
-def _is_test(cell) -> bool:
-    return bool(_nbgrader(cell).get("grade")) and not _nbgrader(cell).get("solution")
-
-
 def _skipped(cells, index) -> bool:
     """The parameters cell, the short paragraph introducing it, nbgrader tests, empty cells."""
     cell = cells[index]
     after = cells[index + 1] if index + 1 < len(cells) else None
     intro = (cell.cell_type == "markdown" and after is not None and "parameters" in after.metadata.get("tags", [])
              and not heading(cell) and len(cell.source.strip().splitlines()) <= 3)
-    return not cell.source.strip() or "parameters" in cell.metadata.get("tags", []) or intro or _is_test(cell)
+    return not cell.source.strip() or "parameters" in cell.metadata.get("tags", []) or intro or _student().is_test(cell)
 
 
 def solution_text(cell) -> str:

@@ -44,7 +44,7 @@ import nbformat
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 sys.path.insert(0, str(ROOT / "course"))
-from run_edition import with_quick_values  # noqa: E402  the check runs each notebook at its quick values, as CI does
+from run_edition import execute, is_test  # noqa: E402  the check runs each notebook as CI runs the student edition
 DEFAULT_OUT = ROOT / "build" / "student"
 
 #: nbgrader's delimiters: a comment line (any number of comment characters) holding only the words.
@@ -168,12 +168,6 @@ def hidden_lines(book) -> set[str]:
     return inside - outside - {"### BEGIN HIDDEN TESTS", "### END HIDDEN TESTS"}
 
 
-def is_test(cell) -> bool:
-    """nbgrader's test cell: graded, not an answer."""
-    grader = cell.metadata.get("nbgrader", {})
-    return cell.cell_type == "code" and bool(grader.get("grade")) and not grader.get("solution")
-
-
 #: What a notebook that runs the exercises' harness but has no nbgrader cell is, in the student edition.
 UNMARKED = ("runs ifslib.exercises but has no nbgrader cell (no answer cell, no test cell): "
             "copied as it is, with any worked answer in it")
@@ -230,8 +224,6 @@ def _shown(path: Path) -> str:
 
 def check_notebook(path: Path, instructor_path: Path, timeout: int = 600) -> tuple[list[str], float, int]:
     """Execute the released notebook ``path`` in a temporary folder; returns (problems, seconds, test cells)."""
-    from nbclient import NotebookClient
-
     student = nbformat.read(path, as_version=4)
     instructor = nbformat.read(instructor_path, as_version=4)
     problems = [f"solution line left in: {line!r}" for line in surviving_solutions(instructor, student)]
@@ -241,13 +233,7 @@ def check_notebook(path: Path, instructor_path: Path, timeout: int = 600) -> tup
     if stored:
         problems.append(f"cells {stored} hold outputs or execution counts")
     with tempfile.TemporaryDirectory(prefix="student-") as folder:
-        copy_path = Path(folder) / path.name
-        shutil.copy2(path, copy_path)
-        book = with_quick_values(nbformat.read(copy_path, as_version=4))
-        started = time.perf_counter()
-        NotebookClient(book, timeout=timeout, kernel_name="python3", allow_errors=True,
-                       resources={"metadata": {"path": folder}}).execute()
-        seconds = time.perf_counter() - started
+        book, seconds = execute(Path(shutil.copy2(path, Path(folder) / path.name)), timeout)
     tests = 0
     for index, cell in enumerate(book.cells):
         if cell.cell_type != "code":
