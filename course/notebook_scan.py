@@ -1,5 +1,6 @@
 """The grader's side of `ifslib.teaching.exercises.integrity`: which cells of a submission are the student's, and
-what in them changes the checks (`scan_notebook`), the names an answer may not mention (`BANS`) included. Plain
+what in them changes the checks (`scan_notebook`), the names an answer may not mention (`BANS`) and the modules it
+may not import (`FORBIDDEN_IMPORTS`) included. Plain
 Python and nbformat's cells, no nbgrader: the tests import it too; ``course/grading.py`` copies it beside
 ``nbgrader_checks.py``, which imports it."""
 from __future__ import annotations
@@ -119,6 +120,32 @@ def banned(cells: list[tuple[str, str]], label: str, banned: set[str]) -> list[F
     return found
 
 
+#: Modules an answer has no reason to import: they reach the interpreter, the files or other processes. A lesson's own
+#: cells import some (io, pathlib), so only the grader, which knows the student's cells, judges imports.
+FORBIDDEN_IMPORTS = frozenset({
+    "builtins", "sys", "os", "gc", "ctypes", "inspect", "importlib", "types", "unittest", "mock", "shutil",
+    "subprocess", "pathlib", "io", "pickle", "marshal", "code", "codeop", "runpy", "dis", "threading",
+    "multiprocessing", "signal", "atexit", "IPython", "pytest", "_pytest", "nbgrader",
+})
+
+
+def forbidden_imports(cells: Iterable[tuple[str, str]]) -> list[Finding]:
+    """Each import in ``cells`` (``(label, source)``) of a module of `FORBIDDEN_IMPORTS`."""
+    found = []
+    for label, source in cells:
+        try:
+            tree = ast.parse(python_source(source))
+        except SyntaxError:
+            continue  # it raises when run
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                module = node.module if isinstance(node, ast.ImportFrom) else None
+                for name in ([module] if module else [a.name for a in node.names]):
+                    if name and name.split(".")[0] in FORBIDDEN_IMPORTS:
+                        found.append(Finding(str(label), node.lineno, "reaches the interpreter", f"imports {name}"))
+    return found
+
+
 def scan_notebook(book, stubs: dict[str, str], bans: dict[str, Iterable[str]]) -> list[tuple[int, Finding]]:
     """(cell index, finding) for each construct of ``book``'s student cells that changes its checks."""
     code = [(k, c) for k, c in enumerate(book.cells) if c.cell_type == "code"]
@@ -131,6 +158,7 @@ def scan_notebook(book, stubs: dict[str, str], bans: dict[str, Iterable[str]]) -
     bound = set().union(*(bound_names(c.source) for c in lesson if not nbgrader_meta(c).get("grade")))
     cells = [(label[k], c.source) for k, c in mine]
     findings = scan(cells, imported_names(c.source for c in lesson), (reads & bound) - set().union(*own.values()), own)
+    findings += forbidden_imports(cells)
     for name in label.values():
         if name in bans:
             findings += banned(cells, name, set(bans[name]))

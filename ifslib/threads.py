@@ -99,11 +99,6 @@ def refresh() -> int:
     return torch.get_num_threads()
 
 
-def is_auto() -> bool:
-    """Whether the thread count follows the free cores (``IFSLIB_THREADS`` unset or ``auto``)."""
-    return _state["auto"]
-
-
 @contextmanager
 def fixed_threads(threads: int) -> Iterator[int]:
     """Run a block with exactly ``threads`` torch threads (no `refresh`), then restore the previous setting (the

@@ -11,9 +11,14 @@ from ifslib import threads
 from ifslib.errors import IFSError
 
 
+def is_auto() -> bool:
+    """Whether the thread count follows the free cores (``IFSLIB_THREADS`` unset or ``auto``)."""
+    return threads._state["auto"]
+
+
 @pytest.fixture(autouse=True)
 def restore_threads():
-    saved = (threads.is_auto(), torch.get_num_threads())
+    saved = (is_auto(), torch.get_num_threads())
     yield
     threads._state["auto"] = saved[0]
     torch.set_num_threads(saved[1])
@@ -30,16 +35,16 @@ def spinner():
 
 
 def test_a_number_fixes_the_count_and_auto_follows_the_free_cores(monkeypatch):
-    assert ifslib.configure_threads(1) == 1 and not threads.is_auto()
+    assert ifslib.configure_threads(1) == 1 and not is_auto()
     assert threads.refresh() == 1  # fixed: refresh keeps it
     n = ifslib.configure_threads("auto")
-    assert threads.is_auto() and 1 <= n <= threads.cores()
+    assert is_auto() and 1 <= n <= threads.cores()
     monkeypatch.setenv("IFSLIB_THREADS", "1")
-    assert ifslib.configure_threads() == 1 and not threads.is_auto()
+    assert ifslib.configure_threads() == 1 and not is_auto()
     for unset in ("", " auto ", "AUTO"):
         monkeypatch.setenv("IFSLIB_THREADS", unset)
         ifslib.configure_threads()
-        assert threads.is_auto()
+        assert is_auto()
 
 
 @pytest.mark.parametrize("bad", ["x", "0", "-2", "1.5", 0, -1, True, 1.5])
@@ -54,9 +59,9 @@ def test_bad_thread_counts_are_clear_errors(bad, monkeypatch):
 def test_fixed_threads_restores_the_setting():
     ifslib.configure_threads("auto")
     with threads.fixed_threads(1) as n:
-        assert n == 1 and not threads.is_auto()
+        assert n == 1 and not is_auto()
         assert threads.refresh() == 1
-    assert threads.is_auto()
+    assert is_auto()
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="busy cores are read from /proc")

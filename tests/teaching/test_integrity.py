@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "course"))
 import tricks_submission  # noqa: E402
 from lazy_submission import answered  # noqa: E402
-from notebook_scan import BANS, banned  # noqa: E402
+from notebook_scan import BANS, banned, forbidden_imports  # noqa: E402
 from notebook_scan import scan_notebook as grader_scan  # noqa: E402
 
 SOLUTION = re.compile(r"^([ \t]*)### BEGIN SOLUTION.*?### END SOLUTION[ \t]*$", re.S | re.M)
@@ -103,7 +103,8 @@ def test_every_trick_makes_its_test_untrusted(path):
     ("!cp fake.py ifslib/", "runs a magic"),
 ])
 def test_each_kind_of_trick_is_named(source, kind):
-    findings = integrity.scan([("answer", source)], {"np", "ifslib", "numpy_"}, {"runs"})
+    cells = [("answer", source)]
+    findings = integrity.scan(cells, {"np", "ifslib", "numpy_"}, {"runs"}) + forbidden_imports(cells)
     assert kind in {f.kind for f in findings}, findings
 
 
@@ -113,6 +114,7 @@ def test_honest_constructs_are_not_named():
               "class Point:\n    def __init__(self, x):\n        self.x = x\n"
               "p = Point(1)\np.x = 2\nd = {}\nd['a'] = 1\nprint(f([1, -2], None), sorted([2, 1]))")
     assert integrity.scan([("answer", honest)], {"np", "ifslib"}, {"runs"}) == []
+    assert forbidden_imports([("answer", honest)]) == []
 
 
 def test_a_ban_follows_the_names_an_answer_reads_from_other_cells():

@@ -345,8 +345,8 @@ def _kernel_check() -> None:
     for k, source in enumerate(history):
         key = (source, modules)
         if source and key not in _SCANNED:
-            # a lesson's own imports (io, pathlib) are the lesson's: only what changes the checks is named here
-            _SCANNED[key] = [f for f in scan([(f"[{k}]", source)], modules) if f.kind != "reaches the interpreter"]
+            # a lesson's own imports (io, pathlib) are the lesson's: `scan` leaves imports to the grader
+            _SCANNED[key] = scan([(f"[{k}]", source)], modules)
         if source and _SCANNED[key]:
             raise AssertionError(f"{_SCANNED[key][0]}: the grader does not trust a notebook that does this and "
                                  "gives the tests after that cell no points; take it out and run the notebook again.")
