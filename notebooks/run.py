@@ -36,8 +36,9 @@ ROOT = Path(__file__).resolve().parents[1]
 #: What ``--preset`` takes: the values stored in the notebooks, and the quick ones CI runs.
 PRESETS = ("teaching", "quick")
 
-#: The notebooks that take longest at their teaching values, longest first: they start first.
-LONGEST = ("04_", "02_", "06_", "05_", "07_", "08_", "03_", "00_tutorial")
+#: The notebooks that take longest at their teaching values, longest first: they start first (the order of
+#: their times in `make figures`, two at a time, docs/results/tests.md).
+LONGEST = ("04_", "06_", "02_", "08_", "05_", "11_", "07_", "03_", "10_", "09_", "00_tutorial")
 
 
 def notebooks(only=()) -> list[Path]:

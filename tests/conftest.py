@@ -151,7 +151,7 @@ def pytest_collection_modifyitems(config, items):
 
 
 #: notebooks/run.py's ``LONGEST`` at the quick values (docs/results/tests.md), longest first.
-NOTEBOOK_LONGEST = ("07_", "02_", "08_", "04_", "05_", "00_tutorial", "06_", "01_", "03_")
+NOTEBOOK_LONGEST = ("07_", "11_", "02_", "08_", "04_", "05_", "00_tutorial", "06_", "01_", "03_")
 
 
 def pytest_addoption(parser):
