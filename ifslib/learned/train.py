@@ -16,6 +16,7 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
+from ..core.scoring.metrics import iou
 from ..errors import IFSError, check_int
 from ..threads import configure_threads
 from . import config
@@ -81,7 +82,7 @@ def _validation(network: GuessNet, pictures, maps, drawn: int = 128) -> tuple[fl
                                              logits.cpu().numpy()):
         drawn_maps = clamped(slots[np.argsort(-scores)[:len(true)]])
         mine = picture(chaos_points(drawn_maps, rng), pictures.shape[-1])
-        ious.append((mine & shown).sum() / max((mine | shown).sum(), 1))
+        ious.append(iou(mine, shown))
     return error, float(np.median(ious))
 
 
