@@ -51,7 +51,7 @@ def write_targets(folder: Path, poses: int, fractals: int) -> None:
         Image.fromarray((np.clip(picture, 0, 1) * 255).round().astype(np.uint8)).save(folder / f"{stem}.png")
         cases[stem] = ("auto", size)
     for i in range(fractals):
-        truth = ifslib.patterns.random_ifs(2 + i % 4, i)
+        truth = ifslib.random_fractals.random_ifs(2 + i % 4, i)
         picture = ifslib.render(truth, 256, method="chaos", points=2_000_000, seed=i).numpy()
         Image.fromarray(((picture >= 0.5) * 255).astype(np.uint8)).save(folder / f"fractal{i:02d}.png")
         cases[f"fractal{i:02d}"] = ("auto", 256)

@@ -45,7 +45,7 @@ def target_png(case: str, out: Path, size: int) -> Path:
     png = out / f"{case}.png"
     if case.startswith("fractal"):
         i = int(case[len("fractal"):])
-        truth = ifslib.patterns.random_ifs(2 + i % 4, i)
+        truth = ifslib.random_fractals.random_ifs(2 + i % 4, i)
         picture = ifslib.render(truth, size, method="chaos", points=2_000_000, seed=i).numpy()
     else:
         picture = ifslib.load_target(case, size).mask.astype(float)

@@ -1,6 +1,6 @@
 """Real fractals: the command line's automatic pattern on random IFS fractals of 2 to 5 maps.
 
-Fractal ``i`` has ``2 + i % 4`` maps and seed ``i`` (`ifslib.patterns.random_ifs`, the sampler of
+Fractal ``i`` has ``2 + i % 4`` maps and seed ``i`` (`ifslib.random_fractals.random_ifs`, the sampler of
 Anderson and Farrell), drawn by the float64 chaos game (two million points) at ``--size`` and
 written as a PNG; each is fitted by one command with every default,
 ``python -m ifslib fit TARGET.png --pattern auto --size SIZE -o FIT.json``, in a subprocess (wall
@@ -69,7 +69,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|")
     for i in chosen:
         maps, seed = 2 + i % 4, i
-        truth = ifslib.patterns.random_ifs(maps, seed)
+        truth = ifslib.random_fractals.random_ifs(maps, seed)
         picture = ifslib.render(truth, args.size, method="chaos", points=2_000_000, seed=seed).numpy()
         png, fit_json = out / f"fractal{i:02d}.png", out / f"fractal{i:02d}.json"
         Image.fromarray(((picture >= 0.5) * 255).astype(np.uint8)).save(png)

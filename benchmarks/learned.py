@@ -34,9 +34,9 @@ POINTS = 2_000_000
 
 def truths(name: str, seeds: list[int]) -> list[tuple[str, ifslib.IFS]]:
     if name == "ten":
-        return [(f"ten{s}", ifslib.patterns.random_ifs(10, s, extent=EXTENT)) for s in seeds]
+        return [(f"ten{s}", ifslib.random_fractals.random_ifs(10, s, extent=EXTENT)) for s in seeds]
     if name == "random":
-        return [(f"random{s}", ifslib.patterns.random_ifs(2 + s % 4, s, extent=EXTENT)) for s in seeds]
+        return [(f"random{s}", ifslib.random_fractals.random_ifs(2 + s % 4, s, extent=EXTENT)) for s in seeds]
     return [(f"{name}{s}", literature_ifs(name, 6 + s % 5 if name == "many" else 3 + s % 3, s, extent=EXTENT))
             for s in seeds]
 

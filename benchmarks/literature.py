@@ -69,7 +69,7 @@ def truths(args) -> list[tuple[str, str, int, int, ifslib.IFS]]:
     """``(label, class, maps, seed, IFS)`` of every fractal asked for."""
     if args.ten:
         seeds = args.seeds or list(range(10))[:args.count]
-        return [(f"ten{s}", "ten", 10, s, ifslib.patterns.random_ifs(10, s, extent=EXTENT)) for s in seeds]
+        return [(f"ten{s}", "ten", 10, s, ifslib.random_fractals.random_ifs(10, s, extent=EXTENT)) for s in seeds]
     seeds = args.seeds or list(HELD_OUT if args.held_out else DEVELOPMENT)[:args.count]
     out = []
     for kind in args.only or list(CLASSES):

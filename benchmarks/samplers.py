@@ -18,7 +18,8 @@ from scipy import ndimage
 from ifslib.errors import IFSError, LeafBudgetError, check_int, check_positive
 from ifslib.core.geometry.attractor import attractor_ball, attractor_leaves
 from ifslib.core.geometry.ifs import IFS
-from ifslib.core.geometry.patterns import MAX_RANDOM_SCALE, affine, random_ifs
+from ifslib.core.geometry.patterns import affine
+from ifslib.core.geometry.random_fractals import MAX_RANDOM_SCALE, random_ifs
 from ifslib.core.geometry.sampled import sample_attractor
 
 #: The classes, and the numbers of maps each draws (inclusive).

@@ -120,7 +120,7 @@ def ten(args) -> list[dict]:
     if tuned:
         print("options changed from the defaults:", tuned)
     for seed in args.seeds:
-        truth = ifslib.patterns.random_ifs(10, seed, extent=EXTENT)
+        truth = ifslib.random_fractals.random_ifs(10, seed, extent=EXTENT)
         picture = ifslib.render(truth, args.size, method="chaos", points=POINTS, seed=seed).numpy()
         target = target_from_mask(picture >= 0.5, f"ten{seed}")
         t0 = time.perf_counter()
@@ -190,7 +190,7 @@ def timed(step, repeats: int) -> float:
 
 
 def timing(args) -> None:
-    truth = ifslib.patterns.random_ifs(10, 0, extent=EXTENT)
+    truth = ifslib.random_fractals.random_ifs(10, 0, extent=EXTENT)
     print(f"one step, 10-map ten0, device {args.device}, threads {torch.get_num_threads()}")
     print("| size | splat points | splat fwd+bwd (s) | exact depth 3 fwd+bwd (s) |")
     print("|---|---|---|---|")

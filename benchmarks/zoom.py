@@ -24,13 +24,13 @@ import torch
 
 import ifslib
 from ifslib.errors import LeafBudgetError
-from ifslib.core.geometry import patterns
+from ifslib.core.geometry import patterns, random_fractals
 from ifslib.core.raster.chaos import chaos_field, chaos_game
 from ifslib.core.raster.distance import attractor_leaves_for, distance_field, pixel_size
 from ifslib.core.raster.render import render
 
 ZOOMS = (1, 10, 100, 1000)
-FIGURES = {"fern": patterns.fern, "random3_0": lambda: patterns.random_ifs(3, 0)}
+FIGURES = {"fern": patterns.fern, "random3_0": lambda: random_fractals.random_ifs(3, 0)}
 
 
 def window(ifs, zoom: float, seed: int) -> tuple[float, float, float, float]:

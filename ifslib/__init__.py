@@ -31,6 +31,7 @@ _PUBLIC = {
     # (each extension is a subpackage: ifslib.automatic, ifslib.measures, ifslib.splatting, ifslib.studies)
     "discover": ("automatic.plan", "discover"), "dimension": ("measures.dimension", None),
     "compression": ("compression", None), "sweep": ("studies.sweep", None),
+    "random_fractals": ("core.geometry.random_fractals", None),
     # the teaching modules load matplotlib
     "exercises": ("teaching.exercises", None), "figures": ("teaching.figures", None),
     "landscape": ("teaching.landscape", None), "animate": ("teaching.animate", "animate"),

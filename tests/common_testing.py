@@ -36,12 +36,12 @@ def benchmark_module(name):
 
 
 def fractal_target(maps=2, seed=4, size=64):
-    """A random fractal (`ifslib.patterns.random_ifs`) drawn by the float64 chaos game at 256², as the benchmark
+    """A random fractal (`ifslib.random_fractals.random_ifs`) drawn by the float64 chaos game at 256², as the benchmark
     draws them, then made ``size`` pixels wide as a fit does (`resize_target`)."""
     import ifslib
     from ifslib.core.targets.target import resize_target, target_from_mask
 
-    truth = ifslib.patterns.random_ifs(maps, seed)
+    truth = ifslib.random_fractals.random_ifs(maps, seed)
     mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=seed).numpy() >= 0.5
     return truth, resize_target(target_from_mask(mask, f"random{maps}_{seed}"), size)
 

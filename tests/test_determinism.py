@@ -24,7 +24,7 @@ import ifslib
 from dataclasses import replace
 from ifslib.automatic import fractal
 from ifslib.core.targets.target import resize_target, target_from_mask
-truth = ifslib.patterns.random_ifs(2, 6)  # one whose search reorients, grows regions and swaps (below)
+truth = ifslib.random_fractals.random_ifs(2, 6)  # one whose search reorients, grows regions and swaps (below)
 mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=4).numpy() >= 0.5
 speck = np.zeros((32, 32), bool)
 speck[10, 10:12] = True

@@ -9,6 +9,7 @@ import torch
 import torch.nn.functional as F
 
 from ..core.geometry import patterns
+from ..core.geometry.random_fractals import conjugated
 from ..core.geometry.ifs import IFS
 from ..core.targets.target import Target
 from ..errors import IFSError, check_int
@@ -77,7 +78,7 @@ def guess_maps(mask: np.ndarray, network: GuessNet | None = None, maps: int | No
     guessed, logits = guessed[0].double().numpy(), logits[0].double().numpy()
     count = expected_maps(logits) if maps is None else maps
     keep = np.argsort(-logits)[:count]
-    return patterns.conjugated(clamped(guessed[keep]), 1 / k, -b / k)   # back by S^-1(x) = (x - b) / k
+    return conjugated(clamped(guessed[keep]), 1 / k, -b / k)   # back by S^-1(x) = (x - b) / k
 
 
 def expected_maps(logits: np.ndarray) -> int:

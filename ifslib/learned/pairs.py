@@ -1,10 +1,10 @@
-"""Training pairs: random maps (`patterns.random_affine`, the benchmarks' sampler) fitted into the frame, and the
+"""Training pairs: random maps (`random_fractals.random_affine`, the benchmarks' sampler) fitted into the frame, and the
 picture of their attractor by the chaos game, as the automatic path sees a target."""
 from __future__ import annotations
 
 import numpy as np
 
-from ..core.geometry.patterns import conjugated, random_affine
+from ..core.geometry.random_fractals import conjugated, random_affine
 from . import config
 
 

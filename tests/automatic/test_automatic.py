@@ -33,7 +33,7 @@ def _fit_both(fractal, target):
 
 @pytest.mark.slow
 def test_a_fractal_is_kept_over_a_shape_when_its_attractor_draws_the_figure():
-    truth = ifslib.patterns.random_ifs(3, 1)
+    truth = ifslib.random_fractals.random_ifs(3, 1)
     target = ifslib.load_target(ifslib.render(truth, 64, method="chaos", points=200_000, seed=1).numpy(), 64)
     result = _fit_both(truth, target)
     rows = result.history.auto.kinds
@@ -67,7 +67,7 @@ def test_a_fractal_fit_never_returns_an_attractor_worse_than_its_start(monkeypat
     from ifslib.automatic import fit_plan as automatic
     from ifslib.core.fitting.result import FitResult, History, Stage
 
-    truth = ifslib.patterns.random_ifs(3, 1)
+    truth = ifslib.random_fractals.random_ifs(3, 1)
     target = ifslib.load_target(ifslib.render(truth, 64, method="chaos", points=200_000, seed=1).numpy(), 64)
     worse = truth.clone(truth.points.detach() * 0.8)  # every map's copy shrunk towards the centre
 
@@ -97,7 +97,7 @@ def test_a_fractal_that_falls_short_is_polished_by_the_splat_fit_and_the_better_
     from ifslib.core.fitting.result import FitResult, History, Stage
     from ifslib.splatting import fit as splat
 
-    truth = ifslib.patterns.random_ifs(3, 1)
+    truth = ifslib.random_fractals.random_ifs(3, 1)
     target = ifslib.load_target(ifslib.render(truth, 64, method="chaos", points=200_000, seed=1).numpy(), 64)
     moved = truth.clone(truth.points.detach() + 0.04)  # every copy off its place: the attractor falls short
     before = ifslib.evaluate(moved, target, depth="attractor")["iou"]
@@ -138,11 +138,11 @@ def test_the_kind_is_chosen_on_full_precision_scores_and_written_rounded():
     from ifslib.automatic.choice import AutoRun, Kind
     from ifslib.core.fitting.frame import Frame
 
-    target = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 32, method="chaos", points=50_000,
+    target = ifslib.load_target(ifslib.render(ifslib.random_fractals.random_ifs(3, 1), 32, method="chaos", points=50_000,
                                               seed=1).numpy(), 32)
     results = []
     for kind, maps in (("fractal", 3), ("shape", 4)):
-        result = ifslib.fit(ifslib.patterns.random_ifs(maps, 2), target, steps=0, strategy="plain", progress=False)
+        result = ifslib.fit(ifslib.random_fractals.random_ifs(maps, 2), target, steps=0, strategy="plain", progress=False)
         result.history.kind, result.history.auto = kind, AutoRun(kind, maps, (), {"kind": kind})
         for ifs in (result.best, result.final):
             ifs.meta["pattern"] = {"kind": kind}

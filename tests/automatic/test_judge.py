@@ -12,7 +12,7 @@ def test_chaos_occupancy_marks_the_pixels_of_the_float64_chaos_game_for_a_batch(
     from ifslib.automatic.fractal.judge import chaos_occupancy
     from ifslib.core.raster.chaos import chaos_game
 
-    systems = [ifslib.patterns.random_ifs(3, 1), ifslib.patterns.random_ifs(3, 5)]
+    systems = [ifslib.random_fractals.random_ifs(3, 1), ifslib.random_fractals.random_ifs(3, 5)]
     maps = torch.stack([s.maps().detach() for s in systems])
     batched = chaos_probabilities(maps)
     for one, s in zip(batched, systems):  # a batch is normalised one IFS at a time, as each alone

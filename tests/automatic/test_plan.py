@@ -65,7 +65,7 @@ def test_ambiguous_reads_the_chosen_iou_at_full_precision_and_the_figure_share()
     assert plan.ambiguous(auto.interior_share(creature), 5, plan.FIGURE.clear_fractal_iou) is None
     # just below the bar is below it, though it would round up to the bar in the file
     assert plan.ambiguous(auto.interior_share(creature), 5, plan.FIGURE.clear_fractal_iou - 1e-6) is not None
-    lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
+    lace = ifslib.load_target(ifslib.render(ifslib.random_fractals.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
     assert auto.interior_share(lace) < plan.FIGURE.ambiguous_share
     # a lace is a fractal however poorly it was found
@@ -96,7 +96,7 @@ def test_a_figure_that_may_be_a_shape_is_searched_once(searches):
     from ifslib.automatic import fractal
 
     creature = ifslib.load_target(silhouettes.limbed(128, seed=2, width=0.03).astype(float), 128)
-    lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
+    lace = ifslib.load_target(ifslib.render(ifslib.random_fractals.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
     assert plan.discover(creature, maps=4, depth=2).kind == "shape"
     assert plan.discover(lace, maps=4, depth=2).kind == "shape"
@@ -205,7 +205,7 @@ def test_a_porous_figure_with_a_smooth_edge_is_not_searched(searches):
     assert auto.edge_dimension(creature) >= auto.FIGURE.rough_edge
     assert "not_searched" not in plan.discover(creature, maps=4, depth=2).pattern
     assert [t for t, _ in searches] == [creature]
-    lace = ifslib.load_target(ifslib.render(ifslib.patterns.random_ifs(3, 1), 128, method="chaos",
+    lace = ifslib.load_target(ifslib.render(ifslib.random_fractals.random_ifs(3, 1), 128, method="chaos",
                                             points=200_000, seed=1).numpy(), 128)
     plan.discover(lace, maps=4, depth=2)
     assert [t for t, _ in searches] == [creature, lace]

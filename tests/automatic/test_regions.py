@@ -37,7 +37,7 @@ def test_moment_maps_contain_the_map_that_made_the_region():
 
 def _drawn(maps, seed):
     """A random fractal (`random_ifs`) at 256² by the chaos game, and at 128²."""
-    truth = ifslib.patterns.random_ifs(maps, seed)
+    truth = ifslib.random_fractals.random_ifs(maps, seed)
     judge = target_from_mask(ifslib.render(truth, 256, method="chaos", points=400_000, seed=seed).numpy() >= 0.5)
     return _maps(truth), resize_target(judge, 128), judge
 

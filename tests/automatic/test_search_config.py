@@ -45,7 +45,7 @@ def test_the_numbers_of_maps_follow_the_config_and_a_config_must_be_one():
         fractal.check_maps(4, config=small)
     with pytest.raises(IFSError, match="max_maps"):
         replace(small, max_maps=2)  # fractal_maps would exceed it
-    truth = ifslib.patterns.random_ifs(2, 4)
+    truth = ifslib.random_fractals.random_ifs(2, 4)
     target = target_from_mask(ifslib.render(truth, 32, method="chaos", points=100_000, seed=4).numpy() >= 0.5)
     with pytest.raises(IFSError, match="SearchConfig"):
         fractal.search(target, maps=2, progress=False, config={"again": 0})
@@ -55,7 +55,7 @@ def test_the_numbers_of_maps_follow_the_config_and_a_config_must_be_one():
 def test_again_and_the_bar_change_what_the_search_does_on_a_small_fractal():
     """With a bar no attractor reaches (IoU 1), ``again=1`` runs the search from seeds 0 and 1 and keeps the one
     whose chosen maps score least; ``again=0`` runs it once. The map cost set reaches the scores and the rule."""
-    truth = ifslib.patterns.random_ifs(2, 4)
+    truth = ifslib.random_fractals.random_ifs(2, 4)
     mask = ifslib.render(truth, 256, method="chaos", points=1_000_000, seed=4).numpy() >= 0.5
     target = resize_target(target_from_mask(mask), 32)
     strict = replace(DEFAULT, swap_below=1.0, map_cost=0.25, region_rounds=0, grow_rounds=0, swap_rounds=0,

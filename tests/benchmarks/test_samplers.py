@@ -8,7 +8,8 @@ import torch
 
 import ifslib
 from ifslib.errors import IFSError
-from ifslib.core.geometry.patterns import random_ifs, sierpinski_triangle
+from ifslib.core.geometry.patterns import sierpinski_triangle
+from ifslib.core.geometry.random_fractals import random_ifs
 from ifslib.core.geometry.rules import singular_values
 from common_testing import benchmark_module
 

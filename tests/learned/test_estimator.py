@@ -52,7 +52,7 @@ def test_clamped_maps_are_contractive_and_contractive_maps_unchanged():
 
 
 def test_the_shipped_guess_reads_a_fractal():
-    truth = ifslib.patterns.random_ifs(4, 1000, extent=0.75)
+    truth = ifslib.random_fractals.random_ifs(4, 1000, extent=0.75)
     mask = ifslib.render(truth, 128, method="chaos", points=200_000).numpy() >= 0.5
     ifs = guess(mask)
     assert 2 <= len(ifs.rules) <= config.MAX_MAPS

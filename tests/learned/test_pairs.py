@@ -31,9 +31,9 @@ def test_the_picture_is_the_maps_attractor_by_the_library_chaos_game():
 def test_pairs_are_seeded_and_apart_from_the_benchmarks_integer_seeds():
     a, b = pair(config.TRAIN_TAG, 7), pair(config.TRAIN_TAG, 7)
     assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
-    assert not np.array_equal(pair(config.TRAIN_TAG, 7, maps=10)[1].shape, ifslib.patterns.random_ifs(10, 7).maps().shape) \
+    assert not np.array_equal(pair(config.TRAIN_TAG, 7, maps=10)[1].shape, ifslib.random_fractals.random_ifs(10, 7).maps().shape) \
         or not np.allclose(pair(config.TRAIN_TAG, 7, maps=10)[1][:, :, :2],
-                           ifslib.patterns.random_ifs(10, 7).maps()[:, :2, :2].numpy())
+                           ifslib.random_fractals.random_ifs(10, 7).maps()[:, :2, :2].numpy())
 
 
 @pytest.mark.parametrize("k", range(8))

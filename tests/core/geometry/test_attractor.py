@@ -247,7 +247,7 @@ def test_sampled_leaves_do_not_depend_on_what_was_sampled_before():
     # in the same process (it did: the same fit ended at attractor IoU 0.888 first and 0.940 after).
     from ifslib.core.geometry import sampled
 
-    quick = ifslib.patterns.random_ifs(3, 1).maps().detach()
+    quick = ifslib.random_fractals.random_ifs(3, 1).maps().detach()
     slow = quick.clone()
     slow[0, :2, :2] *= 0.9 / float(torch.linalg.matrix_norm(slow[0, :2, :2], ord=2))  # longer words
     sampled._UNIFORMS.clear()

@@ -12,7 +12,7 @@ import torch
 
 import ifslib
 from ifslib.automatic import auto
-from ifslib.core.geometry import io, patterns
+from ifslib.core.geometry import io, patterns, random_fractals
 
 from conftest import mixed, sheared_mixed
 
@@ -45,7 +45,7 @@ PATTERNS = {
     "affine": lambda: patterns.affine([[[0.5, 0.1, 0.0], [0.0, 0.4, 0.1]]], primitive="segment"),
     "fern": lambda: patterns.fern(),
     "sierpinski_triangle": lambda: patterns.sierpinski_triangle(),
-    "random_ifs": lambda: patterns.random_ifs(3),
+    "random_ifs": lambda: random_fractals.random_ifs(3),
     "by_name": lambda: patterns.by_name("rosette5"),
 }
 

@@ -49,14 +49,14 @@ def test_the_chaos_games_mask_is_the_pixels_its_drawing_shades_at_least_half():
     from ifslib.core.raster.chaos import chaos_field, chaos_reach
     from ifslib.core.raster.render import figure_mask
 
-    for ifs in (ifslib.patterns.random_ifs(3, 1), literature_ifs("stem", 3, 0), ifslib.patterns.fern()):
+    for ifs in (ifslib.random_fractals.random_ifs(3, 1), literature_ifs("stem", 3, 0), ifslib.patterns.fern()):
         for size, points, sigma in ((64, 20_000, None), (97, 20_000, 0.03), (128, 5_000, 0.002)):
             fast = figure_mask(ifs, size, "attractor", sigma, method="chaos", points=points, seed=2)
             with torch.no_grad():
                 drawn = ifslib.render(ifs, size, "attractor", sigma, method="chaos", points=points, seed=2)
             assert np.array_equal(fast, drawn.numpy() >= 0.5)
     # where the nearest point is within reach, a pixel's least pair distance is the drawing's distance, exactly
-    ifs = ifslib.patterns.random_ifs(2, 4)
+    ifs = ifslib.random_fractals.random_ifs(2, 4)
     pixel, distance = chaos_reach(ifs, 50, 0.05, 3_000, seed=1)
     field = chaos_field(ifs, 50, 3_000, seed=1).numpy().ravel()
     least = np.full(50 * 50, np.inf)

@@ -11,7 +11,7 @@ from scipy.spatial import cKDTree
 
 import ifslib
 import ifslib.core.geometry.reach
-from ifslib.core.geometry import patterns
+from ifslib.core.geometry import patterns, random_fractals
 from ifslib.core.geometry.attractor import attractor_leaves, leaf_points
 from ifslib.core.geometry.expand import expand_attractor
 from ifslib.core.geometry.rules import rule_maps
@@ -23,7 +23,7 @@ from ifslib.core.raster.render import figure_mask
 
 SIZE = 48
 TOLERANCE = 0.5  # pixels, the default
-FIGURES = {"fern": patterns.fern, "random3_0": lambda: patterns.random_ifs(3, 0)}
+FIGURES = {"fern": patterns.fern, "random3_0": lambda: random_fractals.random_ifs(3, 0)}
 #: Points of each attractor the windows are centred on, by figure and number (chaos-game points, written out so
 #: that the windows, and what is measured in them, do not move with the chaos game's sampling).
 POINTS = {("fern", 7): (0.18454736886074358, -0.19226229635527686),
@@ -107,7 +107,7 @@ def test_sampled_leaves_confined_to_a_window_stand_for_its_attractor(point):
     """Walkers started at the copies near a 1000x window end there, on leaves of the certified cut (each within
     the tolerance of the attractor): the field from them is never more than twice the tolerance below the
     certified field (where the certified cut fits the budget), and it draws about the chaos game's figure."""
-    ifs = patterns.random_ifs(3, 0).to(torch.float64)
+    ifs = random_fractals.random_ifs(3, 0).to(torch.float64)
     window = _window(ifs, 1000, point)
     px = pixel_size(SIZE, window)
     sampled = distance_field(ifs, SIZE, window=window, method="sampled", budget=Budget(samples=20_000),
@@ -126,7 +126,7 @@ def test_sampled_leaves_confined_to_a_window_stand_for_its_attractor(point):
 def test_the_chaos_game_of_a_window_stays_on_the_attractor_inside_it():
     """Points of a 1000x window lie in it and on the attractor (each is a copy of chaos-game points), and a
     window far from the attractor has none."""
-    ifs = patterns.random_ifs(3, 0).to(torch.float64)
+    ifs = random_fractals.random_ifs(3, 0).to(torch.float64)
     window = _window(ifs, 1000, 11)
     points = chaos_window(ifs, 5000, window, seed=4)
     assert len(points) == 5000
