@@ -9,6 +9,7 @@ import torch
 
 from ...errors import IFSError, LeafBudgetError, check_int
 from .attractor import attractor_ball, attractor_leaves
+from .ifs import IFS
 from .patterns import affine
 
 
