@@ -9,7 +9,7 @@ import torch
 import torch.nn.functional as F
 
 from ..core.geometry import patterns
-from ..core.geometry.random_fractals import conjugated
+from ..core.geometry.patterns import conjugated
 from ..core.geometry.ifs import IFS
 from ..core.targets.target import Target
 from ..errors import IFSError, check_int

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.geometry.random_fractals import conjugated, random_affine
+from ..core.geometry.patterns import conjugated
+from ..core.geometry.random_fractals import random_affine
 from . import config
 
 

@@ -126,11 +126,8 @@ def fern(depth: int = 3, maps=FERN_MAPS, name: str = "fern") -> IFS:
     """Barnsley's fern scaled into the frame ``[-0.45, 0.45]^2``: four affine maps, the stem nearly singular.
     A drawing at a finite depth is not the fern: draw it with ``depth="attractor"``."""
     k = 0.09
-    b = -k * torch.tensor([0.25, 5.0], dtype=torch.float64)
-    m = torch.as_tensor(maps, dtype=torch.float64)
-    a, t = m[:, :, :2], m[:, :, 2]
-    shifted = k * t + b - a @ b
-    return affine(torch.cat([a, shifted[:, :, None]], 2), depth=depth, name=name)
+    return affine(conjugated(np.asarray(maps, dtype=np.float64), k, -k * np.array([0.25, 5.0])), depth=depth,
+                  name=name)
 
 
 def sierpinski_triangle(depth: int = 3, extent: float = 0.8, name: str = "sierpinski_triangle") -> IFS:
@@ -139,6 +136,13 @@ def sierpinski_triangle(depth: int = 3, extent: float = 0.8, name: str = "sierpi
     corners = [(-extent / 2, -h / 2), (extent / 2, -h / 2), (0.0, h / 2)]
     maps = [[[0.5, 0.0, cx / 2], [0.0, 0.5, cy / 2]] for cx, cy in corners]
     return affine(maps, depth=depth, name=name)
+
+
+def conjugated(maps: np.ndarray, k: float, b: np.ndarray) -> np.ndarray:
+    """``(m, 2, 3)`` maps ``S w S^-1`` for the similarity ``S(x) = k x + b``: the maps whose attractor is ``S`` of
+    theirs (the same linear parts, the shifts ``k t + b - L b``)."""
+    linear = maps[:, :, :2]
+    return np.concatenate([linear, (k * maps[:, :, 2] + b - linear @ b)[:, :, None]], 2)
 
 
 PATTERNS = {"koch": koch, "sierpinski_triangle": sierpinski_triangle, "triangle": sierpinski_triangle, "sierpinski_carpet": sierpinski_carpet, "carpet": sierpinski_carpet, "koch_paper": koch_paper,

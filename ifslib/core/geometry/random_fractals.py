@@ -10,7 +10,7 @@ import torch
 from ...errors import IFSError, LeafBudgetError, check_int
 from .attractor import attractor_ball, attractor_leaves
 from .ifs import IFS
-from .patterns import affine
+from .patterns import affine, conjugated
 
 
 def _singular_pairs(n: int, sigma: float, rng: np.random.Generator) -> np.ndarray:
@@ -67,9 +67,3 @@ def random_ifs(maps: int, seed: int = 0, depth: int = 3, extent: float = 0.8) ->
     b = -k * (lo + hi) / 2  # S(x) = k x + b puts the box's centre at the origin
     return affine(conjugated(drawn, k, b), depth=depth, name=f"random{maps}_{seed}")
 
-
-def conjugated(maps: np.ndarray, k: float, b: np.ndarray) -> np.ndarray:
-    """``(m, 2, 3)`` maps ``S w S^-1`` for the similarity ``S(x) = k x + b``: the maps whose attractor is ``S`` of
-    theirs (the same linear parts, the shifts ``k t + b - L b``)."""
-    linear = maps[:, :, :2]
-    return np.concatenate([linear, (k * maps[:, :, 2] + b - linear @ b)[:, :, None]], 2)

@@ -6,7 +6,8 @@ import pytest
 import torch
 
 import ifslib
-from ifslib.core.geometry.patterns import koch, koch_like
+from ifslib.core.geometry.patterns import conjugated, koch, koch_like
+from ifslib.core.geometry.random_fractals import random_affine
 
 
 def koch_points(width=0.8):
@@ -53,3 +54,16 @@ def test_the_attractor_is_clean_for_a_flat_peak():
 def test_a_bad_polyline_is_rejected_with_a_clear_value_error(points, words):
     with pytest.raises(ValueError, match=words):
         koch_like(points)
+
+
+def test_a_conjugated_map_fixes_the_image_of_the_fixed_point():
+    # S w S^-1 fixes S(p) when w fixes p: the attractor of the conjugated maps is S of theirs
+    maps = random_affine(4, np.random.default_rng(3))
+    k, b = 0.6, np.array([0.1, -0.2])
+
+    def fixed(m):
+        return np.linalg.solve(np.eye(2) - m[:, :2], m[:, 2])
+
+    for before, after in zip(maps, conjugated(maps, k, b)):
+        assert np.allclose(fixed(after), k * fixed(before) + b, atol=1e-12)
+        assert np.array_equal(after[:, :2], before[:, :2])

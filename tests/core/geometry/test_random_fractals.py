@@ -1,11 +1,9 @@
-"""random_fractals: the sigma-factor sampler's random IFSs, seeded, contractive, framed; and the conjugation that
-frames them."""
+"""random_fractals: the sigma-factor sampler's random IFSs, seeded, contractive, framed."""
 import numpy as np
 import pytest
 import torch
 
 import ifslib
-from ifslib.core.geometry.random_fractals import conjugated, random_affine
 
 
 def test_random_ifs_is_seeded_contractive_and_in_the_frame():
@@ -32,16 +30,3 @@ def test_random_ifs_is_seeded_contractive_and_in_the_frame():
 def test_random_ifs_refuses_bad_numbers_of_maps(maps):
     with pytest.raises(ifslib.IFSError, match="maps"):
         ifslib.random_fractals.random_ifs(maps)
-
-
-def test_a_conjugated_map_fixes_the_image_of_the_fixed_point():
-    # S w S^-1 fixes S(p) when w fixes p: the attractor of the conjugated maps is S of theirs
-    maps = random_affine(4, np.random.default_rng(3))
-    k, b = 0.6, np.array([0.1, -0.2])
-
-    def fixed(m):
-        return np.linalg.solve(np.eye(2) - m[:, :2], m[:, 2])
-
-    for before, after in zip(maps, conjugated(maps, k, b)):
-        assert np.allclose(fixed(after), k * fixed(before) + b, atol=1e-12)
-        assert np.array_equal(after[:, :2], before[:, :2])
